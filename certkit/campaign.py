@@ -1,0 +1,210 @@
+"""Loading a campaign: spec file -> validated spec -> checked run data, with input hashes."""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass
+from pathlib import Path
+
+from pydantic import ValidationError
+
+from . import requirement_sets
+from .errors import CertkitInputError, Problem, key_path
+from .rundata import RunSeries, read_run
+from .spec import CampaignSpec, GearUnit
+from .yamlsource import LineMap, line_of, load_yaml
+
+
+@dataclass(frozen=True)
+class InputFile:
+    """A file the results depend on, named relative to the campaign folder."""
+
+    name: str
+    sha256: str
+    size: int
+    path: Path
+
+
+@dataclass
+class Campaign:
+    """A validated campaign with its run data loaded (SI inside)."""
+
+    spec: CampaignSpec
+    spec_path: Path
+    root: Path
+    lines: LineMap
+    series: dict[str, RunSeries | None]
+    inputs: list[InputFile]
+
+    @property
+    def gear_units(self) -> dict[str, GearUnit]:
+        return {gear.id: gear for gear in self.spec.gear_units}
+
+    def line(self, *location) -> int | None:
+        return line_of(self.lines, location)
+
+
+def _sha256(path: Path) -> str:
+    digest = hashlib.sha256()
+    with path.open("rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def _message(error: dict) -> str:
+    kind = error["type"]
+    if kind == "extra_forbidden":
+        return "unknown key (not part of the campaign spec; check the spelling)"
+    if kind == "missing":
+        return "required key is missing"
+    message = error["msg"]
+    if kind in ("quantity", "unit"):
+        return message
+    found = error.get("input")
+    if isinstance(found, (str, int, float, bool)) or found is None:
+        return f"{message[0].lower()}{message[1:]}; got {found!r}"
+    return message[0].lower() + message[1:]
+
+
+def _validation_problems(error: ValidationError, display: str, lines: LineMap) -> list[Problem]:
+    problems = []
+    for item in error.errors():
+        location = tuple(part for part in item["loc"]
+                         if not (isinstance(part, str) and part.startswith("function-")))
+        problems.append(Problem(display, line_of(lines, location), key_path(location),
+                                _message(item)))
+    return problems
+
+
+def _cross_references(spec: CampaignSpec, display: str, lines: LineMap) -> list[Problem]:
+    """Checks that need the whole spec: unique ids, references between sections."""
+    problems: list[Problem] = []
+
+    def add(location: tuple, message: str) -> None:
+        problems.append(Problem(display, line_of(lines, location), key_path(location), message))
+
+    for index, entry in enumerate(spec.certification_basis):
+        if entry.requirement_set not in requirement_sets.available():
+            add(("certification_basis", index, "requirement_set"),
+                f"unknown requirement set {entry.requirement_set!r}; available: "
+                f"{', '.join(requirement_sets.available())}")
+    gear_ids = [gear.id for gear in spec.gear_units]
+    for index, gear_id in enumerate(gear_ids):
+        if gear_ids.index(gear_id) != index:
+            add(("gear_units", index, "id"), f"duplicate gear unit id {gear_id!r}")
+    for index, gear in enumerate(spec.gear_units):
+        if gear.static_weight.si <= 0:
+            add(("gear_units", index, "static_weight"), "must be positive")
+        if gear.design_stroke.si <= 0:
+            add(("gear_units", index, "design_stroke"), "must be positive")
+    if spec.aircraft.maximum_weight.si <= 0:
+        add(("aircraft", "maximum_weight"), "must be positive")
+    if spec.aircraft.wing_area.si <= 0:
+        add(("aircraft", "wing_area"), "must be positive")
+    if not 0 <= spec.aircraft.wing_lift_ratio.si <= 1:
+        add(("aircraft", "wing_lift_ratio"), f"expected a ratio between 0 and 1, got "
+                                             f"{spec.aircraft.wing_lift_ratio.text!r}")
+    run_ids = [run.id for run in spec.runs]
+    for index, run in enumerate(spec.runs):
+        if run_ids.index(run.id) != index:
+            add(("runs", index, "id"), f"duplicate run id {run.id!r}")
+        for position, gear_id in enumerate(run.gear_units):
+            if gear_id not in gear_ids:
+                add(("runs", index, "gear_units", position),
+                    f"unknown gear unit {gear_id!r}; declared: {', '.join(gear_ids)}")
+        if run.drop_height.si <= 0:
+            add(("runs", index, "drop_height"), f"must be positive, got {run.drop_height.text!r}")
+        if run.drop_mass.si <= 0:
+            add(("runs", index, "drop_mass"), f"must be positive, got {run.drop_mass.text!r}")
+        if run.lift.method == "none" and run.lift.ratio is not None and run.lift.ratio.si != 0:
+            add(("runs", index, "lift", "ratio"), "lift method 'none' takes no lift ratio")
+        if run.lift.method != "none":
+            if run.lift.ratio is None:
+                add(("runs", index, "lift", "ratio"),
+                    f"lift method {run.lift.method!r} needs the lift ratio L")
+            elif not 0 < run.lift.ratio.si <= 1:
+                add(("runs", index, "lift", "ratio"),
+                    f"expected a ratio in (0, 1], got {run.lift.ratio.text!r}")
+        if run.data is not None:
+            for gear_id in run.data.gears:
+                if gear_id not in run.gear_units:
+                    add(("runs", index, "data", "gears", gear_id),
+                        f"gear unit {gear_id!r} is not among this run's gear_units "
+                        f"({', '.join(run.gear_units)})")
+        if run.reported is not None:
+            for gear_id in run.reported.gears:
+                if gear_id not in run.gear_units:
+                    add(("runs", index, "reported", "gears", gear_id),
+                        f"gear unit {gear_id!r} is not among this run's gear_units "
+                        f"({', '.join(run.gear_units)})")
+    return problems
+
+
+def _resolve_data_path(root: Path, relative: str, display: str, location: tuple,
+                       lines: LineMap) -> Path:
+    candidate = (root / relative).resolve()
+    if not candidate.is_relative_to(root):
+        raise CertkitInputError.single(
+            display, line_of(lines, location), key_path(location),
+            f"data file {relative!r} is outside the campaign folder {root}")
+    if not candidate.is_file():
+        raise CertkitInputError.single(
+            display, line_of(lines, location), key_path(location),
+            f"data file {relative!r} not found (looked for {candidate})")
+    return candidate
+
+
+def load_campaign(path: str | Path) -> Campaign:
+    """Read, validate and load a campaign spec and its run data.
+
+    Parameters
+    ----------
+    path : str or Path
+        The campaign YAML file.  Data files are resolved relative to its folder
+        and must lie inside it.
+
+    Raises
+    ------
+    CertkitInputError
+        Listing every problem with file, line, key, what was expected and what was found.
+    """
+    spec_path = Path(path).resolve()
+    display = str(path)
+    raw, lines = load_yaml(spec_path, display)
+    if not isinstance(raw, dict):
+        raise CertkitInputError.single(display, 1, "", "expected a mapping of campaign sections "
+                                                        f"at the top level, got {type(raw).__name__}")
+    try:
+        spec = CampaignSpec.model_validate(raw)
+    except ValidationError as error:
+        raise CertkitInputError(_validation_problems(error, display, lines)) from None
+    problems = _cross_references(spec, display, lines)
+    if problems:
+        raise CertkitInputError(problems)
+
+    root = spec_path.parent
+    inputs = [InputFile(spec_path.name, _sha256(spec_path), spec_path.stat().st_size, spec_path)]
+    gear_units = {gear.id: gear for gear in spec.gear_units}
+    default_rate = spec.instrumentation.sampling_rate.si if spec.instrumentation else None
+    series: dict[str, RunSeries | None] = {}
+    errors: list[Problem] = []
+    for index, run in enumerate(spec.runs):
+        if run.data is None:
+            series[run.id] = None
+            continue
+        location = ("runs", index, "data", "file")
+        try:
+            data_path = _resolve_data_path(root, run.data.file, display, location, lines)
+            series[run.id] = read_run(
+                data_path, run.data.file, display, index, run, gear_units, default_rate, lines,
+                spec.audit.sample_rate_tolerance.si)
+        except CertkitInputError as error:
+            errors.extend(error.problems)
+            continue
+        name = data_path.relative_to(root).as_posix()
+        if name not in {item.name for item in inputs}:
+            inputs.append(InputFile(name, _sha256(data_path), data_path.stat().st_size, data_path))
+    if errors:
+        raise CertkitInputError(errors)
+    return Campaign(spec, spec_path, root, lines, series, inputs)

@@ -1,0 +1,36 @@
+"""certkit's own equations (those not written in a clause), numbered so every value can cite one.
+
+The report prints this table in its methods section; a value whose source is
+``certkit E1`` is traceable to the line ``E1`` here.
+"""
+
+EQUATIONS: dict[str, str] = {
+    "M1": "F_peak = max F_V(t) after touchdown (platform vertical load of the gear unit)",
+    "M2": "d_s = max s(t), d_t = max δ(t); d = max(δ(t) + s(t)·cos θ) "
+          "(tyre deflection plus vertical axle travel, 23.725(b)); from reported values "
+          "d = d_t + d_s·cos θ (an upper bound: the maxima need not coincide)",
+    "M3": "touchdown: first sample where F_V exceeds its pre-contact median by the larger of "
+          "2 % of the unit's static weight and 6 robust standard deviations of the pre-contact noise",
+    "E1": "E = ∫ F_V d(travel) from touchdown to maximum travel (strut: travel s·cos θ; "
+          "tyre: δ), cubic splines in time, Gauss-Legendre per sample interval",
+    "E2": "η = E/(F_peak·δ_max)",
+    "E3": "E_avail = W_drop·(h + d) − L·W_drop·d (potential energy of the drop and the travel, "
+          "less the work of a lift L·W_drop acting through d)",
+    "E4": "W_implied = (E_s + E_t)/(h + (1 − L)·d): the drop weight the absorbed energy implies",
+    "W1": "W_drop = m_drop·g for a single-unit drop; for a drop of the complete airplane each "
+          "unit's share W_drop = W_unit·m_drop·g/W_max",
+    "G1": "ground-reaction factor F_peak/W_unit",
+    "G2": "combined ground-reaction factor ΣF_peak(main units)/(m_drop·g) (sum of the main-unit "
+          "peaks, whether or not they coincide in time; nose unit not included)",
+    "V1": "v_0 = √(2·g·h), free drop without losses",
+    "V2": "v_0 measured: slope of a straight line fitted to the drop-mass displacement over "
+          "the 20 ms before touchdown",
+    "B1": "bottoming margin = design stroke − d_s",
+    "R1": "rebound: minimum stroke after the maximum; lift-off: time the load stays below 2 % "
+          "of the static weight after the peak",
+    "S1": "settling time: from touchdown until the stroke stays within ±5 % of its maximum "
+          "around its final value (mean of the last 5 % of the record)",
+}
+
+#: Standard gravity used for kgf and weight conversions.
+GRAVITY_NOTE = "g = 9.80665 m/s² (standard gravity; 1 kgf = 9.80665 N)"

@@ -1,0 +1,146 @@
+"""What a drop's time histories say: touchdown, peaks, travels, energies, rebound, settling.
+
+Plain functions on SI arrays, shared by measured runs and (later) simulated ones,
+so both go through identical code downstream.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .clauses import drop_test_load_factor
+from .energy import absorbed_energy
+
+#: Touchdown: load first exceeds this share of the unit's static weight (physics.md §4.1:
+#: 1-2 % of static load) or six robust standard deviations of the pre-contact noise.
+TOUCHDOWN_SHARE = 0.02
+TOUCHDOWN_SIGMAS = 6.0
+#: Settling: stroke stays within this share of its maximum around its final value.
+SETTLING_BAND = 0.05
+#: Final value: mean over this last share of the record.
+FINAL_SHARE = 0.05
+#: Window before touchdown used to fit the contact velocity from the drop-mass displacement.
+VELOCITY_WINDOW = 0.020
+
+
+def touchdown_index(load: np.ndarray, static_weight: float) -> int | None:
+    """First sample of tyre contact, from the load channel (None if the record starts loaded).
+
+    The threshold is the larger of 2 % of the unit's static weight and six robust
+    standard deviations (1.4826 x median absolute deviation) of the samples before
+    the load first reaches 20 % of its peak.
+    """
+    load = np.asarray(load, dtype=float)
+    peak = float(np.max(load))
+    if peak <= 0:
+        return None
+    rising = int(np.argmax(load >= 0.2 * peak))
+    quiet = load[:rising]
+    noise = 0.0
+    if quiet.size >= 5:
+        noise = 1.4826 * float(np.median(np.abs(quiet - np.median(quiet))))
+    baseline = float(np.median(quiet)) if quiet.size >= 5 else 0.0
+    threshold = baseline + max(TOUCHDOWN_SHARE * static_weight, TOUCHDOWN_SIGMAS * noise)
+    above = np.flatnonzero(load > threshold)
+    if above.size == 0 or above[0] == 0:
+        return None
+    return int(above[0])
+
+
+@dataclass(frozen=True)
+class GearMeasures:
+    """Quantities read off one gear unit's histories (SI; None when not recorded)."""
+
+    touchdown_time: float | None
+    peak_load: float
+    peak_load_time: float
+    max_stroke: float | None
+    max_tyre: float | None
+    max_total_travel: float | None
+    strut_energy: float | None
+    tyre_energy: float | None
+    min_stroke_after_peak: float | None
+    lift_off_duration: float | None
+    settling_time: float | None
+
+
+def measure_gear(time: np.ndarray, load: np.ndarray, stroke: np.ndarray | None,
+                 tyre: np.ndarray | None, static_weight: float,
+                 inclination: float = 0.0) -> GearMeasures:
+    """Read the drop quantities off one gear unit's load, stroke and tyre histories.
+
+    Energies are the vertical work of the platform load over each element's vertical
+    travel during its loading stroke: E_s = ∫ F_V d(s·cosθ), E_t = ∫ F_V dδ (the
+    strut force is taken equal to the platform load, i.e. the unsprung mass's inertia
+    and weight are neglected).  d = max over time of (δ + s·cosθ), 23.725(b).
+    """
+    start = touchdown_index(load, static_weight)
+    i0 = 0 if start is None else max(start - 1, 0)
+    t, f = time[i0:], load[i0:]
+    peak_index = int(np.argmax(f))
+    cos_theta = math.cos(inclination)
+
+    max_stroke = strut_energy = min_after = settling = None
+    if stroke is not None:
+        s = stroke[i0:]
+        max_stroke = float(np.max(s))
+        strut_energy = absorbed_energy(t, f, s * cos_theta)
+        after = s[int(np.argmax(s)):]
+        min_after = float(np.min(after))
+        settling = _settling_time(t, s, max_stroke)
+    max_tyre = tyre_energy = None
+    if tyre is not None:
+        d = tyre[i0:]
+        max_tyre = float(np.max(d))
+        tyre_energy = absorbed_energy(t, f, d)
+    total = None
+    if stroke is not None and tyre is not None:
+        total = float(np.max(tyre[i0:] + stroke[i0:] * cos_theta))
+
+    lift_off = None
+    contact_threshold = TOUCHDOWN_SHARE * static_weight
+    after_peak = f[peak_index:]
+    off = after_peak < contact_threshold
+    if off.any():
+        lift_off = float(np.count_nonzero(off) * np.median(np.diff(t)))
+    return GearMeasures(
+        touchdown_time=None if start is None else float(time[start]),
+        peak_load=float(f[peak_index]), peak_load_time=float(t[peak_index]),
+        max_stroke=max_stroke, max_tyre=max_tyre, max_total_travel=total,
+        strut_energy=strut_energy, tyre_energy=tyre_energy,
+        min_stroke_after_peak=min_after, lift_off_duration=lift_off, settling_time=settling)
+
+
+def _settling_time(t: np.ndarray, stroke: np.ndarray, max_stroke: float) -> float | None:
+    """Time from touchdown after which the stroke stays within ±5 % of its maximum
+    around its final value; None when it has not settled before the last 5 % of the record."""
+    tail = max(int(len(stroke) * FINAL_SHARE), 1)
+    final = float(np.mean(stroke[-tail:]))
+    outside = np.flatnonzero(np.abs(stroke - final) > SETTLING_BAND * max_stroke)
+    if outside.size == 0:
+        return 0.0
+    last = int(outside[-1])
+    if last >= len(stroke) - tail:
+        return None
+    return float(t[last + 1] - t[0])
+
+
+def drop_mass_load_factor(time: np.ndarray, acceleration: np.ndarray, reference: str,
+                          touchdown_time: float) -> float:
+    """n_j of 23.725(e) from the drop-mass acceleration after touchdown."""
+    after = acceleration[time >= touchdown_time]
+    return drop_test_load_factor(float(np.max(after)), reference)
+
+
+def contact_velocity(time: np.ndarray, displacement: np.ndarray,
+                     touchdown_time: float) -> float | None:
+    """Drop-mass velocity at touchdown: slope of a straight line fitted to the
+    displacement over the 20 ms before touchdown (None if fewer than 5 samples)."""
+    window = (time >= touchdown_time - VELOCITY_WINDOW) & (time <= touchdown_time)
+    if np.count_nonzero(window) < 5:
+        return None
+    slope, _ = np.polyfit(time[window] - touchdown_time, displacement[window], 1)
+    return float(slope)

@@ -1,0 +1,339 @@
+"""The campaign spec: one pydantic schema that validates, documents and exports JSON Schema.
+
+Every dimensional value is a string with its unit, parsed by pint into SI
+(:mod:`certkit.units`).  Unknown keys are errors.  Cross-references (a run
+naming a gear unit that does not exist, ...) are checked in
+:mod:`certkit.campaign`, where the line numbers are known.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, PlainSerializer, PlainValidator, WithJsonSchema
+from pydantic_core import PydanticCustomError
+
+from .units import QuantityError, SpecQuantity, _example_unit, kind_phrase, parse_quantity, parse_unit
+
+
+def _quantity(kind: str, description: str | None = None):
+    def validate(value):
+        try:
+            return parse_quantity(value, kind)
+        except QuantityError as exc:
+            raise PydanticCustomError("quantity", str(exc)) from None
+
+    if kind == "dimensionless":
+        schema = {"anyOf": [{"type": "number"}, {"type": "string"}],
+                  "description": description or "a number (or a percentage such as '10 %')"}
+    else:
+        schema = {"type": "string",
+                  "description": description or f"{kind_phrase(kind)} with its unit, "
+                                                 f"e.g. '1 {_example_unit(kind)}'"}
+    return Annotated[SpecQuantity, PlainValidator(validate),
+                     PlainSerializer(lambda q: q.text, return_type=str),
+                     WithJsonSchema(schema)]
+
+
+def _unit(kind: str):
+    def validate(value):
+        if not isinstance(value, str):
+            raise PydanticCustomError("unit", f"expected a unit of {kind} as text, got {value!r}")
+        try:
+            return parse_unit(value, kind)
+        except QuantityError as exc:
+            raise PydanticCustomError("unit", str(exc)) from None
+
+    return Annotated[str, PlainValidator(validate),
+                     WithJsonSchema({"type": "string", "description": f"a unit of {kind}"})]
+
+
+Length = _quantity("length")
+Area = _quantity("area")
+Volume = _quantity("volume")
+Mass = _quantity("mass")
+Force = _quantity("force")
+Weight = _quantity("weight")
+Pressure = _quantity("pressure")
+Energy = _quantity("energy")
+Frequency = _quantity("frequency")
+Angle = _quantity("angle")
+Density = _quantity("density")
+WingLoading = _quantity("wing_loading", "a wing loading (force per area), e.g. '10.15 lbf/ft^2'")
+Number = _quantity("dimensionless")
+
+Identifier = Annotated[str, Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$", max_length=64)]
+Text = Annotated[str, Field(min_length=1)]
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+# --------------------------------------------------------------------------- document
+class CampaignInfo(_Model):
+    id: Identifier
+    title: Text
+    description: str | None = None
+
+
+class Signatory(_Model):
+    role: Literal["prepared", "checked", "verified", "approved", "witnessed"]
+    name: Text
+    organisation: str | None = None
+    date: dt.date | None = None
+
+
+class Revision(_Model):
+    revision: Text
+    date: dt.date
+    description: Text
+
+
+class Document(_Model):
+    report_number: Text
+    revision: Text
+    date: dt.date = Field(description="Issue date; also fixes every date written into outputs")
+    applicant: Text
+    facility: Text
+    test_dates: list[dt.date] = Field(min_length=1)
+    signatories: list[Signatory] = Field(min_length=1)
+    revisions: list[Revision] = []
+    compliance_checklist_item: str | None = None
+
+
+class BasisEntry(_Model):
+    requirement_set: Text = Field(description="id of a shipped requirement set, see `certkit sets`")
+    edition: str | None = Field(None, description="edition the applicant is certifying against")
+    ground_load_dynamic_test: bool = Field(
+        False, description="strength shown dynamically by drop test (14 CFR 23.726)")
+
+
+# --------------------------------------------------------------------------- aircraft
+class Aircraft(_Model):
+    model: Text
+    maximum_weight: Weight
+    wing_area: Area
+    design_limit_inertia_load_factor: Number | None = Field(
+        None, description="limit inertia load factor used in the 23.473 landing conditions")
+    wing_lift_ratio: Number = Field(description="L: assumed wing lift / weight used in the loads basis")
+    design_landing_weight: Weight | None = None
+    notes: str | None = None
+
+
+class Tyre(_Model):
+    size: Text
+    pressure: Pressure
+    pressure_reference: Literal["gauge", "absolute"]
+    diameter: Length | None = None
+
+
+class Strut(_Model):
+    """Servicing and geometry of the shock strut (used by the physics model)."""
+
+    gas_precharge_pressure: Pressure | None = None
+    pressure_reference: Literal["gauge", "absolute"] | None = None
+    gas_volume: Volume | None = None
+    pneumatic_area: Area | None = None
+    hydraulic_area: Area | None = None
+    orifice_diameter: Length | None = None
+    orifice_area: Area | None = None
+    rebound_orifice_diameter: Length | None = None
+    discharge_coefficient: Number | None = None
+    oil_density: Density | None = None
+    polytropic_exponent: Number | None = None
+    inclination: Angle | None = None
+    static_stroke: Length | None = None
+    minimum_stroke: Length | None = None
+    unsprung_mass: Mass | None = None
+    notes: str | None = None
+
+
+class GearUnit(_Model):
+    id: Identifier
+    position: Literal["main", "nose", "tail"]
+    static_weight: Weight = Field(description="W of 14 CFR 23.725(b) for this unit")
+    static_weight_basis: Literal["level-attitude-nose-wheel-clear", "tail-down-attitude",
+                                 "nose-reaction-1g-down-0.33g-forward", "assumed"] = Field(
+        description="how W was obtained: one of the 23.725(b) definitions, or 'assumed'")
+    static_weight_note: str | None = None
+    shock_absorber: Text
+    design_stroke: Length
+    tyre: Tyre
+    strut: Strut | None = None
+    wheel_diameter: Length | None = None
+
+
+# --------------------------------------------------------------------------- instrumentation and data
+class InstrumentChannel(_Model):
+    name: Text
+    measures: Text
+    transducer: str | None = None
+    range: str | None = None
+    filter: str | None = None
+    calibration_date: dt.date | None = None
+    calibration_reference: str | None = None
+
+
+class Instrumentation(_Model):
+    sampling_rate: Frequency
+    logger: str | None = None
+    channels: list[InstrumentChannel] = []
+
+
+class Column(_Model):
+    """Where a channel sits in the data file and how to bring it to SI.
+
+    value_SI = sign * scale * (raw - offset) converted from ``unit``.
+    """
+
+    column: Text
+    unit: str
+    scale: float = 1.0
+    sign: Literal[1, -1] = 1
+    offset: float = Field(0.0, description="zero offset, in the column's own unit")
+    full_scale: float | None = Field(
+        None, description="transducer full-scale reading in the column's unit (clipping check)")
+
+
+class LoadColumn(Column):
+    unit: _unit("weight")  # type: ignore[valid-type]
+
+
+class LengthColumn(Column):
+    unit: _unit("length")  # type: ignore[valid-type]
+
+
+class AccelerationColumn(Column):
+    unit: _unit("acceleration")  # type: ignore[valid-type]
+    reference: Literal["kinematic", "specific_force"] = Field(
+        description="kinematic: dv/dt (free fall reads -1 g); specific_force: what an "
+                    "accelerometer reads (free fall reads 0 g, rest +1 g)")
+
+
+class TimeColumn(_Model):
+    column: Text
+    unit: _unit("time")  # type: ignore[valid-type]
+
+
+class GearChannels(_Model):
+    vertical_load: LoadColumn
+    strut_stroke: LengthColumn | None = None
+    tyre_deflection: LengthColumn | None = None
+
+
+WaivableCheck = Literal["sample_rate", "gaps", "clipping", "implausible_range"]
+
+
+class Waiver(_Model):
+    check: WaivableCheck
+    reason: Text
+
+
+class RunData(_Model):
+    file: Text
+    time: TimeColumn
+    sampling_rate: Frequency | None = Field(
+        None, description="declared rate; defaults to instrumentation.sampling_rate")
+    gears: dict[str, GearChannels] = Field(min_length=1)
+    drop_mass_acceleration: AccelerationColumn | None = None
+    drop_mass_displacement: LengthColumn | None = None
+    waivers: list[Waiver] = []
+
+
+class Lift(_Model):
+    method: Literal["none", "reduced_mass", "lift_device"]
+    ratio: Number | None = Field(None, description="L, required unless method is none")
+
+
+class ReportedGear(_Model):
+    strut_stroke: Length | None = None
+    tyre_deflection: Length | None = None
+    peak_vertical_load: Force | None = None
+    strut_energy: Energy | None = None
+    tyre_energy: Energy | None = None
+
+
+class ReportedRun(_Model):
+    impact_load_factor: Number | None = Field(
+        None, description="a load factor the source states for this drop (definition unknown)")
+    gears: dict[str, ReportedGear] = {}
+
+
+class Inspection(_Model):
+    failure: bool | None = None
+    yielding: bool | None = None
+    permanent_set: Length | None = None
+    notes: str | None = None
+
+
+class Run(_Model):
+    id: Identifier
+    test_type: Literal["build-up", "limit", "reserve", "dynamic", "small-signal"]
+    gear_units: list[Identifier] = Field(min_length=1)
+    date: dt.date | None = None
+    drop_height: Length
+    drop_mass: Mass
+    lift: Lift
+    data: RunData | None = None
+    reported: ReportedRun | None = None
+    deviations: list[str] = []
+    inspection: Inspection | None = None
+    notes: str | None = None
+
+
+# --------------------------------------------------------------------------- claims, audit, report
+class CampaignReported(_Model):
+    wing_loading: WingLoading | None = None
+    required_drop_height: Length | None = None
+
+
+class AuditSettings(_Model):
+    asymmetry_threshold: Number = Field(parse_quantity("10 %", "dimensionless"))
+    reported_tolerance: Number = Field(parse_quantity("2 %", "dimensionless"))
+    energy_tolerance: Number = Field(parse_quantity("1 %", "dimensionless"))
+    bottoming_margin: Number = Field(parse_quantity("5 %", "dimensionless"))
+    drop_mass_spread: Number = Field(parse_quantity("10 %", "dimensionless"))
+    sample_rate_tolerance: Number = Field(parse_quantity("1 %", "dimensionless"))
+
+
+class DisplayUnits(_Model):
+    length: _unit("length") = "mm"  # type: ignore[valid-type]
+    force: _unit("weight") = "N"  # type: ignore[valid-type]
+    mass: _unit("mass") = "kg"  # type: ignore[valid-type]
+    energy: _unit("energy") = "J"  # type: ignore[valid-type]
+    velocity: _unit("velocity") = "m/s"  # type: ignore[valid-type]
+    pressure: _unit("pressure") = "kPa"  # type: ignore[valid-type]
+    area: _unit("area") = "m^2"  # type: ignore[valid-type]
+    wing_loading: _unit("wing_loading") = "N/m^2"  # type: ignore[valid-type]
+    time: _unit("time") = "ms"  # type: ignore[valid-type]
+
+
+class ReportSettings(_Model):
+    units: DisplayUnits = DisplayUnits()
+
+
+class CampaignSpec(_Model):
+    """A drop-test campaign: who, what aircraft, which gear, which runs, against which rules."""
+
+    certkit: Literal[1] = Field(description="spec format version")
+    campaign: CampaignInfo
+    document: Document
+    certification_basis: list[BasisEntry] = Field(min_length=1)
+    aircraft: Aircraft
+    gear_units: list[GearUnit] = Field(min_length=1)
+    instrumentation: Instrumentation | None = None
+    runs: list[Run] = Field(min_length=1)
+    reported: CampaignReported | None = None
+    assumptions: list[str] = []
+    audit: AuditSettings = AuditSettings()
+    report: ReportSettings = ReportSettings()
+
+
+def json_schema() -> dict:
+    """JSON Schema of the campaign spec (for editors and CI)."""
+    schema = CampaignSpec.model_json_schema()
+    schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
+    schema["title"] = "certkit campaign spec"
+    return schema

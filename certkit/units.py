@@ -1,0 +1,226 @@
+"""Units at the edges: parsing quantities typed by users and formatting them back.
+
+Everything inside certkit is SI (m, kg, s, N, Pa, J).  A user types quantities
+with their unit (``"650 kg"``, ``"140.85 ft^2"``); :func:`parse_quantity` checks
+the dimension and returns a :class:`SpecQuantity` carrying the SI magnitude and
+the text as typed, so the report can quote the user's own value.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+import pint
+
+#: The one unit registry of the process (quantities from two registries cannot be mixed).
+ureg = pint.UnitRegistry()
+
+#: Standard acceleration of gravity [m/s^2] (also 1 kgf = 9.80665 N), ISO 80000-3.
+STANDARD_GRAVITY = 9.80665
+
+#: Named physical kinds accepted in a campaign spec, with the pint dimensionality
+#: they must have and the SI unit they are stored in.
+KINDS: dict[str, tuple[str, str]] = {
+    "length": ("[length]", "m"),
+    "area": ("[length]**2", "m**2"),
+    "volume": ("[length]**3", "m**3"),
+    "mass": ("[mass]", "kg"),
+    "force": ("[force]", "N"),
+    "pressure": ("[pressure]", "Pa"),
+    "energy": ("[energy]", "J"),
+    "time": ("[time]", "s"),
+    "frequency": ("1/[time]", "Hz"),
+    "velocity": ("[length]/[time]", "m/s"),
+    "acceleration": ("[length]/[time]**2", "m/s**2"),
+    "angle": ("[]", "rad"),
+    "wing_loading": ("[pressure]", "Pa"),
+    "density": ("[mass]/[length]**3", "kg/m**3"),
+}
+
+_ARTICLE = {"area": "an area", "acceleration": "an acceleration", "angle": "an angle",
+            "energy": "an energy"}
+
+
+def kind_phrase(kind: str) -> str:
+    """'a length', 'an area', ... for error messages."""
+    if kind == "weight":
+        return "a weight (a force such as '2868 N' or '292.5 kgf', or a mass such as '650 kg')"
+    return _ARTICLE.get(kind, f"a {kind.replace('_', ' ')}")
+
+
+@dataclass(frozen=True)
+class SpecQuantity:
+    """A quantity as typed in a spec: SI magnitude plus the user's own text.
+
+    Attributes
+    ----------
+    si : float
+        Magnitude in the SI unit of its kind.
+    unit : str
+        The SI unit ``si`` is expressed in (``"m"``, ``"N"``, ...).
+    text : str
+        The value exactly as the user typed it (``"300 mm"``).
+    """
+
+    si: float
+    unit: str
+    text: str
+
+    def __str__(self) -> str:  # pragma: no cover - convenience
+        return self.text
+
+    @property
+    def stated_resolution_si(self) -> float:
+        """Half a unit in the last digit the user typed, in SI.
+
+        ``"4.8"`` states 4.8 +- 0.05; ``"831.92 kgf"`` states +- 0.005 kgf.  Used to
+        decide whether a recomputed value agrees with a reported one "to the
+        precision stated".
+        """
+        magnitude_text, unit_text = _split_magnitude(self.text)
+        decimals = len(magnitude_text.split(".")[1]) if "." in magnitude_text else 0
+        exponent_match = re.search(r"[eE]([+-]?\d+)", magnitude_text)
+        if exponent_match:
+            mantissa = magnitude_text[: exponent_match.start()]
+            decimals = (len(mantissa.split(".")[1]) if "." in mantissa else 0) - int(
+                exponent_match.group(1))
+        half_step = 0.5 * 10.0 ** (-decimals)
+        if not unit_text:
+            return half_step
+        return float(ureg.Quantity(half_step, unit_text).to(self.unit).magnitude)
+
+
+_NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
+
+
+def _split_magnitude(text: str) -> tuple[str, str]:
+    match = re.match(rf"\s*({_NUMBER})\s*(.*)$", text)
+    if not match:
+        return text, ""
+    return match.group(1), match.group(2).strip()
+
+
+class QuantityError(ValueError):
+    """A value that is not a quantity of the expected kind."""
+
+
+def _to_weight_newton(quantity: pint.Quantity) -> float:
+    if quantity.check("[force]"):
+        return float(quantity.to("N").magnitude)
+    if quantity.check("[mass]"):
+        return float(quantity.to("kg").magnitude) * STANDARD_GRAVITY
+    raise QuantityError
+
+
+def parse_quantity(value: object, kind: str) -> SpecQuantity:
+    """Parse ``value`` (text such as ``"300 mm"``) as a quantity of ``kind``.
+
+    ``kind`` is a key of :data:`KINDS`, ``"weight"`` (force or mass, stored in N
+    using standard gravity) or ``"dimensionless"`` (a bare number, stored as is).
+    A bare number where a dimension is required is refused: a unit must be typed.
+
+    Raises
+    ------
+    QuantityError
+        With a message of the form ``expected a length, got "0.3 m/s"``.
+    """
+    if kind == "dimensionless":
+        if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+            raise QuantityError(f"expected a number, got {value!r}")
+        try:
+            quantity = ureg.Quantity(value) if isinstance(value, str) else None
+            number = float(quantity.to("dimensionless").magnitude) if quantity is not None \
+                else float(value)
+        except (pint.errors.PintError, ValueError, TypeError, AttributeError):
+            raise QuantityError(f"expected a number, got {value!r}") from None
+        if not math.isfinite(number):
+            raise QuantityError(f"expected a finite number, got {value!r}")
+        return SpecQuantity(number, "1", str(value))
+
+    expected = kind_phrase(kind)
+    if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+        raise QuantityError(f"expected {expected} with its unit, got {value!r}")
+    if not isinstance(value, str):
+        raise QuantityError(
+            f"expected {expected} with its unit, got the bare number {value!r} "
+            f"(write the unit, e.g. \"{value} {_example_unit(kind)}\")")
+    text = value.strip()
+    try:
+        quantity = ureg.Quantity(text)
+    except (pint.errors.PintError, ValueError, TypeError, AttributeError, SyntaxError) as exc:
+        raise QuantityError(f"expected {expected}, got {value!r} ({exc})") from None
+    if not isinstance(quantity, pint.Quantity) or quantity.unitless and kind != "angle":
+        raise QuantityError(
+            f"expected {expected} with its unit, got {value!r} without a unit "
+            f"(e.g. \"{text} {_example_unit(kind)}\")")
+    try:
+        if kind == "weight":
+            si, unit = _to_weight_newton(quantity), "N"
+        else:
+            dimension, unit = KINDS[kind]
+            if kind == "angle":
+                if quantity.unitless:
+                    raise QuantityError(
+                        f"expected an angle with its unit, got {value!r} (e.g. \"{text} deg\")")
+                si = float(quantity.to("rad").magnitude)
+            else:
+                if not quantity.check(dimension):
+                    raise QuantityError
+                si = float(quantity.to(unit).magnitude)
+    except (QuantityError, pint.errors.DimensionalityError):
+        raise QuantityError(f"expected {expected}, got \"{value}\"") from None
+    if not math.isfinite(si):
+        raise QuantityError(f"expected a finite {kind}, got {value!r}")
+    return SpecQuantity(si, unit, text)
+
+
+def _example_unit(kind: str) -> str:
+    return {"length": "mm", "area": "m^2", "volume": "L", "mass": "kg", "force": "N",
+            "pressure": "MPa", "energy": "J", "time": "s", "frequency": "Hz",
+            "velocity": "m/s", "acceleration": "m/s^2", "angle": "deg", "weight": "kg",
+            "wing_loading": "lbf/ft^2", "density": "kg/m^3"}.get(kind, "")
+
+
+def parse_unit(text: str, kind: str) -> str:
+    """Check that ``text`` names a unit of ``kind`` and return it unchanged."""
+    try:
+        unit = ureg.Unit(text)
+    except (pint.errors.PintError, ValueError, TypeError, AttributeError, SyntaxError):
+        raise QuantityError(f"expected a unit of {kind}, got {text!r}") from None
+    if kind == "weight":
+        ok = (1 * unit).check("[force]") or (1 * unit).check("[mass]")
+    elif kind == "dimensionless":
+        ok = (1 * unit).dimensionless
+    else:
+        ok = (1 * unit).check(KINDS[kind][0])
+    if not ok:
+        raise QuantityError(f"expected a unit of {kind}, got {text!r}")
+    return text
+
+
+def convert(value_si: float, si_unit: str, unit: str) -> float:
+    """Convert an SI magnitude to ``unit`` (for display at the edges)."""
+    if si_unit == unit:
+        return value_si
+    if si_unit == "N" and (1 * ureg.Unit(unit)).check("[mass]"):
+        return float(ureg.Quantity(value_si / STANDARD_GRAVITY, "kg").to(unit).magnitude)
+    return float(ureg.Quantity(value_si, si_unit).to(unit).magnitude)
+
+
+def to_si(value: float, unit: str, kind: str) -> float:
+    """Convert a magnitude given in ``unit`` to SI for ``kind`` (used for data columns)."""
+    quantity = ureg.Quantity(value, unit)
+    if kind == "weight" or kind == "force" and quantity.check("[mass]"):
+        return _to_weight_newton(quantity)
+    if kind == "acceleration" and str(ureg.Unit(unit)) in ("standard_gravity", "g0"):
+        return value * STANDARD_GRAVITY
+    return float(quantity.to(KINDS[kind][1]).magnitude)
+
+
+def scale_to_si(unit: str, kind: str) -> float:
+    """Multiplier taking values in ``unit`` to SI (all data-channel units are linear)."""
+    if kind == "force" and (1 * ureg.Unit(unit)).check("[mass]"):
+        return float(ureg.Quantity(1.0, unit).to("kg").magnitude) * STANDARD_GRAVITY
+    return float(ureg.Quantity(1.0, unit).to(KINDS[kind][1]).magnitude)
