@@ -354,7 +354,7 @@ def _run_result(campaign: Campaign, run: Run, index: int) -> RunResult:
         velocity = contact_velocity(series.time, series.displacement, min(touchdowns))
         values["v0_measured"] = Value(
             "v0_measured", "Contact velocity measured", "v_0,meas", velocity, "m/s", "velocity",
-            "certkit V2", "slope of drop-mass displacement, 20 ms before touchdown",
+            "certkit V2", "dx/dt at touchdown, parabola fitted over the 20 ms before it",
             {"x": "drop_mass_displacement"},
             None if velocity is not None else "fewer than 5 samples before touchdown")
     n_j = None

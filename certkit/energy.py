@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 # 3-point Gauss-Legendre nodes and weights on [0, 1]: exact for polynomials of degree 5,
 # which is the degree of (cubic load spline) x (derivative of the cubic travel spline).
@@ -31,6 +30,8 @@ def absorbed_energy(time: np.ndarray, load: np.ndarray, travel: np.ndarray) -> f
     integrated exactly by 3-point Gauss-Legendre quadrature.  Fourth-order accurate
     in the sample interval; exact when F is linear in s.
     """
+    from scipy.interpolate import CubicSpline  # imported here: only time series need it
+
     time = np.asarray(time, dtype=float)
     load = np.asarray(load, dtype=float)
     travel = np.asarray(travel, dtype=float)

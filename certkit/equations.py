@@ -23,8 +23,8 @@ EQUATIONS: dict[str, str] = {
     "G2": "combined ground-reaction factor ΣF_peak(main units)/(m_drop·g) (sum of the main-unit "
           "peaks, whether or not they coincide in time; nose unit not included)",
     "V1": "v_0 = √(2·g·h), free drop without losses",
-    "V2": "v_0 measured: slope of a straight line fitted to the drop-mass displacement over "
-          "the 20 ms before touchdown",
+    "V2": "v_0 measured: derivative at touchdown of a parabola fitted to the drop-mass "
+          "displacement over the 20 ms before touchdown",
     "B1": "bottoming margin = design stroke − d_s",
     "R1": "rebound: minimum stroke after the maximum; lift-off: time the load stays below 2 % "
           "of the static weight after the peak",

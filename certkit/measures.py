@@ -137,10 +137,11 @@ def drop_mass_load_factor(time: np.ndarray, acceleration: np.ndarray, reference:
 
 def contact_velocity(time: np.ndarray, displacement: np.ndarray,
                      touchdown_time: float) -> float | None:
-    """Drop-mass velocity at touchdown: slope of a straight line fitted to the
-    displacement over the 20 ms before touchdown (None if fewer than 5 samples)."""
+    """Drop-mass velocity at touchdown: derivative at touchdown of a parabola fitted to
+    the displacement over the 20 ms before it (a free fall is a parabola, so a straight
+    line would return the velocity 10 ms early); None if fewer than 5 samples."""
     window = (time >= touchdown_time - VELOCITY_WINDOW) & (time <= touchdown_time)
     if np.count_nonzero(window) < 5:
         return None
-    slope, _ = np.polyfit(time[window] - touchdown_time, displacement[window], 1)
+    _, slope, _ = np.polyfit(time[window] - touchdown_time, displacement[window], 2)
     return float(slope)

@@ -19,7 +19,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
 from .errors import CertkitInputError, Problem, key_path
 from .spec import Column, GearUnit, Run
@@ -102,8 +101,10 @@ class _Checker:
             raise CertkitInputError(self.errors)
 
 
-def _read_table(path: Path, display: str) -> tuple[pd.DataFrame, int]:
+def _read_table(path: Path, display: str):
     """Read CSV or Parquet; returns the frame and the file line of its first data row."""
+    import pandas as pd  # imported here: a campaign of reported values needs no pandas
+
     suffix = path.suffix.lower()
     try:
         if suffix == ".csv":
@@ -133,6 +134,8 @@ def read_run(path: Path, display: str, spec_file: str, run_index: int, run: Run,
     CertkitInputError
         Naming the data file and row, or the spec line and key, for every problem.
     """
+    import pandas as pd
+
     data = run.data
     frame, first_line = _read_table(path, display)
     check = _Checker(spec_file, run_index, run, display, lines)

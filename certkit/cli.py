@@ -1,0 +1,124 @@
+"""The certkit command line: a thin shell over the library.
+
+Exit codes: 0 success; 1 campaign not compliant (only with ``--strict``); 2 bad input.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.text import Text
+
+from . import __version__, requirement_sets
+from .errors import CertkitInputError
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+                  help="Turn a landing-gear drop-test campaign into airworthiness evidence.")
+err = Console(stderr=True, highlight=False, soft_wrap=True)
+out = Console(highlight=False, soft_wrap=True)
+
+SpecArgument = Annotated[Path, typer.Argument(help="campaign spec (YAML)", show_default=False)]
+
+
+def _fail_input(error: CertkitInputError) -> None:
+    for problem in error.problems:
+        err.print(Text.assemble(("error: ", "bold red"), str(problem)))
+    raise typer.Exit(2)
+
+
+def _version(value: bool) -> None:
+    if value:
+        out.print(f"certkit {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def main(version: Annotated[bool, typer.Option("--version", callback=_version, is_eager=True,
+                                               help="print the version and exit")] = False):
+    """certkit: drop-test campaign -> compliance report, audit tables and evidence."""
+
+
+@app.command()
+def validate(spec: SpecArgument) -> None:
+    """Check a campaign spec and its data files; print what was found wrong."""
+    from .campaign import load_campaign
+    try:
+        campaign = load_campaign(spec)
+    except CertkitInputError as error:
+        _fail_input(error)
+    runs = len(campaign.spec.runs)
+    with_data = sum(series is not None for series in campaign.series.values())
+    out.print(f"{spec}: valid — {runs} run(s), {with_data} with time series, "
+              f"{len(campaign.inputs)} input file(s)")
+
+
+@app.command()
+def report(spec: SpecArgument,
+           output: Annotated[Path, typer.Option("-o", "--output", help="output folder")] = Path("out"),
+           strict: Annotated[bool, typer.Option(
+               "--strict", help="exit 1 when a criterion fails or the data-quality audit "
+                                "finds an error")] = False) -> None:
+    """Write report.html, report.pdf (PDF/A-3b), results.json and tables/*.csv."""
+    from rich.status import Status
+
+    from .campaign import load_campaign
+    from .compliance import assess
+    from .report import render_report
+
+    status = Status("loading campaign", console=err) if err.is_terminal else None
+    if status:
+        status.start()
+    try:
+        def progress(message: str) -> None:
+            if status:
+                status.update(message)
+
+        try:
+            campaign = load_campaign(spec)
+        except CertkitInputError as error:
+            if status:
+                status.stop()
+            _fail_input(error)
+        progress("assessing")
+        assessment = assess(campaign)
+        try:
+            render_report(assessment, output, progress)
+        except CertkitInputError as error:
+            if status:
+                status.stop()
+            _fail_input(error)
+    finally:
+        if status:
+            status.stop()
+    counts, findings = assessment.counts(), assessment.finding_counts()
+    out.print(f"{assessment.outcome}: {counts['PASS']} pass, {counts['FAIL']} fail, "
+              f"{counts['NOT SHOWN']} not shown; data-quality findings: {findings['error']} "
+              f"error, {findings['warning']} warning")
+    out.print(f"wrote {output}/report.pdf, report.html, results.json, tables/")
+    if strict and (counts["FAIL"] or findings["error"]):
+        raise typer.Exit(1)
+
+
+@app.command()
+def schema() -> None:
+    """Print the JSON Schema of the campaign spec (for editors and CI)."""
+    from .spec import json_schema
+    sys.stdout.write(json.dumps(json_schema(), indent=2, ensure_ascii=False) + "\n")
+
+
+@app.command()
+def sets() -> None:
+    """List the shipped requirement sets."""
+    for set_id in requirement_sets.available():
+        rules = requirement_sets.load(set_id)
+        marker = " (values to be confirmed against the licensed standard)" if rules.to_confirm else ""
+        out.print(f"{set_id}: {rules.title}{marker}")
+
+
+if __name__ == "__main__":  # pragma: no cover
+    app()

@@ -1,0 +1,114 @@
+"""Figures a reviewer would rather look at, as inline SVG with byte-stable output."""
+
+from __future__ import annotations
+
+import io
+import re
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from .units import convert  # noqa: E402
+
+_STYLE = {
+    "svg.hashsalt": "certkit",      # stable element ids across processes
+    "svg.fonttype": "none",         # text stays text (searchable, small)
+    "font.family": "DejaVu Sans",
+    "font.size": 8.0,
+    "axes.grid": True,
+    "grid.linewidth": 0.4,
+    "grid.alpha": 0.5,
+    "lines.linewidth": 1.1,
+    "figure.dpi": 100,
+}
+_WIDTH, _HEIGHT = 6.6, 2.6  # inches: fits A4 portrait with 15 mm margins
+_LEAD = 0.05                 # seconds shown before touchdown
+
+
+def _to_svg(figure) -> str:
+    buffer = io.StringIO()
+    figure.savefig(buffer, format="svg", metadata={"Date": None, "Creator": None},
+                   bbox_inches="tight")
+    plt.close(figure)
+    text = buffer.getvalue()
+    text = text[text.index("<svg"):]  # drop the XML prolog and DOCTYPE for inline use
+    return re.sub(r'\s(width|height)="[\d.]+pt"', lambda m: f' {m.group(1)}="100%"'
+                  if m.group(1) == "width" else "", text, count=2)
+
+
+def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | None,
+                units) -> list[dict]:
+    """Load, travel and load-travel figures of one run.
+
+    Parameters
+    ----------
+    gears : dict
+        gear id -> (GearSeries, GearMeasures).
+    units : DisplayUnits
+        Display units for length and force.
+
+    Returns
+    -------
+    list of dict
+        ``{"title": ..., "caption": ..., "svg": ...}``.
+    """
+    length_unit, force_unit = units.length, units.force
+    start = (touchdown - _LEAD) if touchdown is not None else float(time[0])
+    window = time >= start
+    t_ms = (time[window] - (touchdown if touchdown is not None else time[0])) * 1e3
+    figures = []
+    with plt.rc_context(_STYLE):
+        figure, axes = plt.subplots(figsize=(_WIDTH, _HEIGHT))
+        for gear_id, (series, _) in gears.items():
+            axes.plot(t_ms, convert(1.0, "N", force_unit) * series.load[window], label=gear_id)
+        axes.set_xlabel("time from touchdown [ms]")
+        axes.set_ylabel(f"vertical load [{force_unit}]")
+        axes.legend(loc="upper right", frameon=False)
+        figures.append({"title": f"Run {run_id}: platform vertical load",
+                        "caption": "Vertical load per gear unit against time from touchdown "
+                                   "(certkit M3).", "svg": _to_svg(figure)})
+
+        travels = [(g, s) for g, (s, _) in gears.items() if s.stroke is not None or s.tyre is not None]
+        if travels:
+            figure, axes = plt.subplots(figsize=(_WIDTH, _HEIGHT))
+            scale = convert(1.0, "m", length_unit)
+            for gear_id, series in travels:
+                if series.stroke is not None:
+                    axes.plot(t_ms, scale * series.stroke[window], label=f"{gear_id} strut stroke")
+                if series.tyre is not None:
+                    axes.plot(t_ms, scale * series.tyre[window], linestyle="--",
+                              label=f"{gear_id} tyre deflection")
+            axes.set_xlabel("time from touchdown [ms]")
+            axes.set_ylabel(f"travel [{length_unit}]")
+            axes.legend(loc="upper right", frameon=False, ncol=2)
+            figures.append({"title": f"Run {run_id}: strut stroke and tyre deflection",
+                            "caption": "Travel of each element against time from touchdown.",
+                            "svg": _to_svg(figure)})
+
+        for gear_id, (series, measures) in gears.items():
+            pairs = [(series.stroke, "strut stroke", measures.strut_energy),
+                     (series.tyre, "tyre deflection", measures.tyre_energy)]
+            pairs = [p for p in pairs if p[0] is not None]
+            if not pairs:
+                continue
+            figure, all_axes = plt.subplots(1, len(pairs), figsize=(_WIDTH, _HEIGHT))
+            all_axes = np.atleast_1d(all_axes)
+            for axes, (travel, name, energy) in zip(all_axes, pairs):
+                x = convert(1.0, "m", length_unit) * travel[window]
+                y = convert(1.0, "N", force_unit) * series.load[window]
+                end = int(np.argmax(travel[window]))
+                axes.fill_between(x[: end + 1], y[: end + 1], alpha=0.25, linewidth=0,
+                                  label=f"absorbed {energy:.5g} J (E1)")
+                axes.plot(x, y)
+                axes.set_xlabel(f"{name} [{length_unit}]")
+                axes.set_ylabel(f"vertical load [{force_unit}]")
+                axes.legend(loc="upper left", frameon=False)
+            figure.tight_layout()
+            figures.append({"title": f"Run {run_id}, {gear_id}: load against travel",
+                            "caption": "Shaded: loading stroke from touchdown to maximum travel, "
+                                       "whose area is the absorbed energy (certkit E1).",
+                            "svg": _to_svg(figure)})
+    return figures

@@ -1,0 +1,51 @@
+"""What produced a report: inputs by hash, certkit version and commit, library versions.
+
+No wall-clock time is recorded, so the same inputs in the same environment give the
+same bytes.
+"""
+
+from __future__ import annotations
+
+import platform
+import subprocess
+from importlib import metadata
+from pathlib import Path
+
+import certkit
+
+DEPENDENCIES = ("numpy", "scipy", "pandas", "pyarrow", "jinja2", "matplotlib", "weasyprint",
+                "pydantic", "pint", "PyYAML")
+
+
+def _git_commit() -> str | None:
+    """Commit of the certkit source tree, with '-dirty' when it has uncommitted changes."""
+    source = Path(certkit.__file__).resolve().parent.parent
+    if not (source / ".git").exists():
+        return None
+    try:
+        commit = subprocess.run(["git", "-C", str(source), "rev-parse", "HEAD"], check=True,
+                                capture_output=True, text=True, timeout=10).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(source), "status", "--porcelain",
+                                "--untracked-files=no"], check=True, capture_output=True,
+                               text=True, timeout=10).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return commit + ("-dirty" if dirty else "")
+
+
+def provenance(inputs) -> dict:
+    """Provenance record for results.json and the report."""
+    versions = {}
+    for name in DEPENDENCIES:
+        try:
+            versions[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            versions[name] = "not installed"
+    return {
+        "certkit_version": certkit.__version__,
+        "certkit_commit": _git_commit(),
+        "python": platform.python_version(),
+        "dependencies": versions,
+        "inputs": [{"file": item.name, "sha256": item.sha256, "bytes": item.size}
+                   for item in inputs],
+    }

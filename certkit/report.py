@@ -1,0 +1,509 @@
+"""Rendering the evidence: results.json, CSV tables, self-contained HTML and PDF/A-3b.
+
+Python prepares plain data (strings already formatted with their display units);
+the Jinja2 templates only lay it out.  Outputs are written into a temporary folder
+beside the target and moved into place at the end, so a failed or interrupted run
+leaves no partial report.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import datetime as dt
+import io
+import json
+import math
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+import matplotlib
+from jinja2 import Environment, FileSystemLoader, StrictUndefined, select_autoescape
+from markupsafe import Markup
+
+from . import __version__
+from .compliance import Assessment
+from .errors import CertkitInputError
+from .equations import EQUATIONS, GRAVITY_NOTE
+from .provenance import provenance
+from .results import Value
+from .units import convert
+
+SI_UNITS = {"length": "m", "force": "N", "mass": "kg", "energy": "J", "velocity": "m/s",
+            "pressure": "Pa", "area": "m^2", "time": "s", "wing_loading": "Pa"}
+SIGNIFICANT = 5
+DISPLAY_RULE = (f"Values are shown to {SIGNIFICANT} significant figures in the units chosen in "
+                f"the campaign's report.units; results.json and tables/*.csv hold full precision "
+                f"in SI.")
+
+
+def templates_dir() -> Path:
+    """The Jinja2 templates: packaged copy in a wheel, the repository's templates/ otherwise."""
+    packaged = Path(__file__).parent / "_templates"
+    return packaged if packaged.is_dir() else Path(__file__).resolve().parent.parent / "templates"
+
+
+def fonts_dir() -> Path:
+    """DejaVu fonts shipped with matplotlib (a core dependency): embedded in every PDF."""
+    return Path(matplotlib.get_data_path()) / "fonts" / "ttf"
+
+
+# --------------------------------------------------------------------------- formatting
+def _number(value: float) -> str:
+    if value == 0:
+        return "0"
+    text = f"{value:.{SIGNIFICANT}g}"
+    if "e" in text:
+        mantissa, exponent = text.split("e")
+        return f"{mantissa}×10^{int(exponent)}"
+    return text
+
+
+def display(value: float | None, kind: str, units) -> tuple[str, str]:
+    """(number text, unit text) of an SI value in the campaign's display unit."""
+    unit = getattr(units, kind, None) if kind in SI_UNITS else None
+    if value is None:
+        return "—", unit or ""
+    if unit is None:
+        return _number(value), ""
+    return _number(convert(value, SI_UNITS[kind], unit)), unit
+
+
+def _with_unit(value: float | None, kind: str, units) -> str:
+    number, unit = display(value, kind, units)
+    return f"{number} {unit}".strip() if value is not None else "—"
+
+
+def _value_row(value: Value, units) -> dict:
+    number, unit = display(value.value, value.kind, units)
+    return {"label": value.label, "symbol": value.symbol, "value": number, "unit": unit,
+            "source": value.source, "formula": value.formula,
+            "inputs": "; ".join(f"{k}: {v}" for k, v in value.inputs.items()),
+            "note": value.note or ""}
+
+
+# --------------------------------------------------------------------------- view model
+def build_view(assessment: Assessment, record: dict) -> dict:
+    """Plain data for the templates: every string already formatted."""
+    campaign = assessment.campaign
+    spec = campaign.spec
+    units = spec.report.units
+    doc = spec.document
+
+    basis = []
+    for item in assessment.basis:
+        rules = item.rules
+        criteria = []
+        for criterion in rules.criteria:
+            applicable = not criterion.applies_if or getattr(item.entry, criterion.applies_if)
+            criteria.append({"id": criterion.id, "clause": criterion.clause,
+                             "title": criterion.title, "formula": criterion.formula,
+                             "applicable": "yes" if applicable else
+                             "no (strength not shown dynamically)"})
+        basis.append({
+            "id": rules.id, "title": rules.title, "edition": rules.edition,
+            "stated_edition": item.entry.edition or "not stated", "to_confirm": rules.to_confirm,
+            "status_note": rules.status_note, "criteria": criteria,
+            "derived": [_value_row(v, units) for v in item.values.values()]})
+
+    gear_rows = []
+    for gear in spec.gear_units:
+        strut = gear.strut
+        fields = [("Position", gear.position), ("Static weight W", gear.static_weight.text),
+                  ("Basis of W", gear.static_weight_basis + (f" — {gear.static_weight_note.strip()}"
+                                                           if gear.static_weight_note else "")),
+                  ("Shock absorber", gear.shock_absorber),
+                  ("Design stroke", gear.design_stroke.text),
+                  ("Tyre", f"{gear.tyre.size}, {gear.tyre.pressure.text} "
+                           f"({gear.tyre.pressure_reference})")]
+        if gear.wheel_diameter:
+            fields.append(("Wheel diameter", gear.wheel_diameter.text))
+        if strut is not None:
+            for name, label in (("gas_precharge_pressure", "Gas pre-charge pressure"),
+                                ("pressure_reference", "Gas pressure reference"),
+                                ("gas_volume", "Gas volume (extended)"),
+                                ("pneumatic_area", "Pneumatic area"),
+                                ("hydraulic_area", "Hydraulic area"),
+                                ("orifice_diameter", "Orifice diameter (compression)"),
+                                ("orifice_area", "Orifice area"),
+                                ("rebound_orifice_diameter", "Orifice diameter (rebound)"),
+                                ("discharge_coefficient", "Discharge coefficient"),
+                                ("oil_density", "Oil density"),
+                                ("polytropic_exponent", "Polytropic exponent"),
+                                ("inclination", "Strut inclination"),
+                                ("static_stroke", "Static stroke"),
+                                ("minimum_stroke", "Minimum stroke"),
+                                ("unsprung_mass", "Unsprung mass"), ("notes", "Notes")):
+                value = getattr(strut, name)
+                if value is not None:
+                    fields.append((label, getattr(value, "text", value)))
+        gear_rows.append({"id": gear.id, "fields": fields})
+
+    instrumentation = None
+    if spec.instrumentation:
+        inst = spec.instrumentation
+        instrumentation = {
+            "sampling_rate": inst.sampling_rate.text, "logger": inst.logger or "not stated",
+            "channels": [{"name": c.name, "measures": c.measures,
+                          "transducer": c.transducer or "—", "range": c.range or "—",
+                          "filter": c.filter or "—",
+                          "calibration": (f"{c.calibration_date.isoformat()}"
+                                          f"{' (' + c.calibration_reference + ')' if c.calibration_reference else ''}"
+                                          if c.calibration_date else "not stated")}
+                         for c in inst.channels]}
+
+    matrix = []
+    for run in assessment.runs:
+        spec_run = run.run
+        matrix.append({
+            "id": spec_run.id, "type": spec_run.test_type,
+            "gears": ", ".join(spec_run.gear_units), "height": spec_run.drop_height.text,
+            "mass": spec_run.drop_mass.text,
+            "lift": spec_run.lift.method + (f", L = {spec_run.lift.ratio.text}"
+                                            if spec_run.lift.ratio else ""),
+            "data": spec_run.data.file if spec_run.data else "none (reported values)",
+            "date": spec_run.date.isoformat() if spec_run.date else "—"})
+    completeness = []
+    for item in assessment.basis:
+        for key, test_type, what in (("h_req", "limit", "Limit drop at ≥ h_req"),
+                                     ("h_reserve", "reserve", "Reserve drop at ≥ 1.44·h_req")):
+            if key not in item.values:
+                continue
+            required = item.values[key].value
+            runs = [r.run.id for r in assessment.runs
+                    if r.run.test_type == test_type and r.get("h") >= required]
+            completeness.append({"set": item.rules.id, "requirement": what,
+                                 "required": _with_unit(required, "length", units),
+                                 "runs": ", ".join(runs) or "none",
+                                 "status": "present" if runs else "missing"})
+
+    results_rows = []
+    for run in assessment.runs:
+        for gear in run.gears:
+            def cell(key, kind, gear=gear):
+                return display(gear.get(key), kind, units)[0]
+            energy_keys = [k for k in gear.values if k.startswith("n_j_energy[")]
+            results_rows.append({
+                "run": run.run.id, "gear": gear.gear_id,
+                "height": display(run.get("h"), "length", units)[0],
+                "d_s": cell("d_s", "length"), "d_t": cell("d_t", "length"),
+                "F_peak": cell("F_peak", "force"), "E_s": cell("E_s", "energy"),
+                "E_t": cell("E_t", "energy"), "eta_s": cell("eta_s", "ratio"),
+                "eta_t": cell("eta_t", "ratio"), "FW": cell("F/W", "ratio"),
+                "nE": cell(energy_keys[0], "ratio") if energy_keys else "—",
+                "basis": gear.basis})
+    results_units = {kind: getattr(units, kind) for kind in ("length", "force", "energy")}
+
+    runs = []
+    for run in assessment.runs:
+        gears = []
+        for gear in run.gears:
+            gears.append({"id": gear.gear_id, "basis": gear.basis,
+                          "value_rows": [_value_row(v, units) for v in gear.values.values()]})
+        figures = []
+        if run.series is not None:
+            from .figures import run_figures  # matplotlib only when there is something to plot
+
+            touchdowns = [g.get("t0") for g in run.gears if g.get("t0") is not None]
+            figures = [dict(f, svg=Markup(f["svg"])) for f in run_figures(
+                run.run.id, run.series.time,
+                {g.gear_id: (run.series.gears[g.gear_id], g.measures) for g in run.gears
+                 if g.measures is not None},
+                min(touchdowns) if touchdowns else None, units)]
+        inspection = run.run.inspection
+        runs.append({
+            "id": run.run.id, "type": run.run.test_type,
+            "value_rows": [_value_row(v, units) for v in run.values.values()],
+            "gears": gears, "figures": figures,
+            "deviations": list(run.run.deviations),
+            "inspection": None if inspection is None else {
+                "failure": {True: "yes", False: "no", None: "not recorded"}[inspection.failure],
+                "yielding": {True: "yes", False: "no", None: "not recorded"}[inspection.yielding],
+                "permanent_set": inspection.permanent_set.text if inspection.permanent_set
+                else "not recorded", "notes": inspection.notes or ""},
+            "notes": run.run.notes or ""})
+
+    verdicts = []
+    for verdict in assessment.verdicts:
+        kind = verdict.kind
+        verdicts.append({
+            "id": verdict.id, "set": verdict.requirement_set, "clause": verdict.clause,
+            "title": verdict.title, "scope": " / ".join(p for p in (verdict.run, verdict.gear) if p)
+            or "campaign", "value": _with_unit(verdict.value, kind, units),
+            "limit": (f"{verdict.comparison} {_with_unit(verdict.limit, kind, units)}"
+                      if verdict.limit is not None else "—"),
+            "margin": _with_unit(verdict.margin, kind, units), "verdict": verdict.verdict,
+            "css": verdict.verdict.replace(" ", "-").lower(), "reason": verdict.reason,
+            "to_confirm": verdict.to_confirm})
+
+    findings = [{"id": f.id, "severity": f.severity, "message": f.message}
+                for f in sorted(assessment.findings,
+                                key=lambda f: ("error", "warning", "info").index(f.severity))]
+    comparisons = []
+    for item in assessment.comparisons:
+        comparisons.append({
+            "scope": " / ".join(p for p in (item.run, item.gear) if p) or "campaign",
+            "quantity": item.quantity, "reported": item.reported_text,
+            "recomputed": _with_unit(item.recomputed, item.kind, units),
+            "difference": ("—" if item.difference is None or item.recomputed in (None, 0)
+                           else f"{item.difference / item.recomputed:+.2%}"),
+            "tolerance": _with_unit(item.tolerance, item.kind, units),
+            "agrees": {True: "agrees", False: "DISAGREES", None: "—"}[item.agrees],
+            "basis": item.basis})
+
+    counts = assessment.counts()
+    finding_counts = assessment.finding_counts()
+    signatories = [{"role": s.role, "name": s.name, "organisation": s.organisation or "",
+                    "date": s.date.isoformat() if s.date else ""} for s in doc.signatories]
+    return {
+        "lang": "en",
+        "title": f"{doc.report_number} rev {doc.revision}: {spec.campaign.title}",
+        "campaign": {"id": spec.campaign.id, "title": spec.campaign.title,
+                     "description": (spec.campaign.description or "").strip()},
+        "document": {"report_number": doc.report_number, "revision": doc.revision,
+                     "date": doc.date.isoformat(), "applicant": doc.applicant,
+                     "facility": doc.facility,
+                     "test_dates": ", ".join(d.isoformat() for d in doc.test_dates),
+                     "checklist": doc.compliance_checklist_item or "—",
+                     "signatories": signatories,
+                     "revisions": [{"revision": r.revision, "date": r.date.isoformat(),
+                                    "description": r.description} for r in doc.revisions]},
+        "created": f"{doc.date.isoformat()}T00:00:00Z",
+        "outcome": assessment.outcome,
+        "outcome_css": assessment.outcome.replace(" ", "-").lower(),
+        "counts": counts, "finding_counts": finding_counts,
+        "aircraft": {"model": spec.aircraft.model, "notes": (spec.aircraft.notes or "").strip()},
+        "design": [_value_row(v, units) for v in assessment.design.values()],
+        "basis": basis, "any_to_confirm": any(b["to_confirm"] for b in basis),
+        "gear_units": gear_rows, "instrumentation": instrumentation,
+        "matrix": matrix, "completeness": completeness,
+        "results_rows": results_rows, "results_units": results_units,
+        "runs": runs, "verdicts": verdicts, "findings": findings, "comparisons": comparisons,
+        "equations": sorted(EQUATIONS.items()), "gravity_note": GRAVITY_NOTE,
+        "display_rule": DISPLAY_RULE,
+        "assumptions": [a.strip() for a in spec.assumptions],
+        "audit": {name: getattr(spec.audit, name).text for name in type(spec.audit).model_fields},
+        "provenance": record, "version": __version__,
+    }
+
+
+# --------------------------------------------------------------------------- results.json and CSV
+def _finite(value):
+    if isinstance(value, float) and not math.isfinite(value):
+        raise ValueError("internal error: a non-finite number reached the results")
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    return value
+
+
+def results_document(assessment: Assessment, record: dict) -> dict:
+    """Every computed number with its SI unit, source and inputs."""
+    spec = assessment.campaign.spec
+    return _finite({
+        "format": "certkit-results/1",
+        "campaign": {"id": spec.campaign.id, "title": spec.campaign.title,
+                     "report_number": spec.document.report_number,
+                     "revision": spec.document.revision, "date": spec.document.date.isoformat()},
+        "outcome": assessment.outcome,
+        "counts": assessment.counts(),
+        "finding_counts": assessment.finding_counts(),
+        "design": [v.as_dict() for v in assessment.design.values()],
+        "requirement_sets": [{"id": b.rules.id, "title": b.rules.title,
+                              "edition": b.rules.edition, "stated_edition": b.entry.edition,
+                              "status": b.rules.status, "status_note": b.rules.status_note,
+                              "values": [v.as_dict() for v in b.values.values()]}
+                             for b in assessment.basis],
+        "runs": [{"id": r.run.id, "test_type": r.run.test_type,
+                  "values": [v.as_dict() for v in r.values.values()],
+                  "gears": [{"gear": g.gear_id, "basis": g.basis,
+                             "values": [v.as_dict() for v in g.values.values()]}
+                            for g in r.gears]} for r in assessment.runs],
+        "verdicts": [v.as_dict() for v in assessment.verdicts],
+        "findings": [f.as_dict() for f in assessment.findings],
+        "comparisons": [c.as_dict() for c in assessment.comparisons],
+        "equations": EQUATIONS,
+        "provenance": record,
+    })
+
+
+def _write_csv(path: Path, header: list[str], rows: list[list]) -> None:
+    with path.open("w", newline="", encoding="utf-8") as handle:
+        writer = csv.writer(handle, lineterminator="\n")
+        writer.writerow(header)
+        for row in rows:
+            writer.writerow(["" if cell is None else repr(cell) if isinstance(cell, float)
+                             else cell for cell in row])
+
+
+def write_tables(assessment: Assessment, folder: Path) -> None:
+    """tables/*.csv: the audit tables a CI job or a spreadsheet reads."""
+    folder.mkdir()
+    _write_csv(folder / "verdicts.csv",
+               ["id", "requirement_set", "criterion", "clause", "run", "gear", "verdict", "value",
+                "limit", "margin", "unit", "comparison", "to_confirm", "reason"],
+               [[v.id, v.requirement_set, v.criterion, v.clause, v.run, v.gear, v.verdict,
+                 v.value, v.limit, v.margin, v.unit, v.comparison, v.to_confirm, v.reason]
+                for v in assessment.verdicts])
+    _write_csv(folder / "findings.csv", ["id", "check", "severity", "run", "gear", "message"],
+               [[f.id, f.check, f.severity, f.run, f.gear, f.message]
+                for f in assessment.findings])
+    rows = []
+    for value in assessment.design.values():
+        rows.append(["design", None, None, value])
+    for item in assessment.basis:
+        for value in item.values.values():
+            rows.append([item.rules.id, None, None, value])
+    for run in assessment.runs:
+        for value in run.values.values():
+            rows.append(["run", run.run.id, None, value])
+        for gear in run.gears:
+            for value in gear.values.values():
+                rows.append(["gear", run.run.id, gear.gear_id, value])
+    _write_csv(folder / "values.csv",
+               ["scope", "run", "gear", "key", "label", "value", "unit", "source", "formula",
+                "note"],
+               [[scope, run, gear, v.key, v.label, v.value, v.unit, v.source, v.formula, v.note]
+                for scope, run, gear, v in rows])
+    _write_csv(folder / "comparisons.csv",
+               ["run", "gear", "quantity", "reported_text", "reported_si", "recomputed_si",
+                "unit", "difference_si", "tolerance_si", "agrees", "basis"],
+               [[c.run, c.gear, c.quantity, c.reported_text, c.reported, c.recomputed, c.unit,
+                 c.difference, c.tolerance, c.agrees, c.basis] for c in assessment.comparisons])
+
+
+# --------------------------------------------------------------------------- HTML and PDF
+def _environment() -> Environment:
+    return Environment(loader=FileSystemLoader(str(templates_dir())),
+                       autoescape=select_autoescape(default=True, default_for_string=True),
+                       undefined=StrictUndefined, trim_blocks=True, lstrip_blocks=True,
+                       keep_trailing_newline=True)
+
+
+def render_html(view: dict) -> str:
+    """The self-contained report HTML (inline CSS and SVG, nothing fetched)."""
+    css = (templates_dir() / "report.css").read_text(encoding="utf-8")
+    return _environment().get_template("report.html.j2").render(view=view, css=Markup(css))
+
+
+class _LocalOnlyFetcher:
+    """URL fetcher for WeasyPrint that serves only the templates and the font folder."""
+
+    def __init__(self, roots: list[Path]):
+        from weasyprint.urls import URLFetcher
+        self._fetcher = URLFetcher(allowed_protocols=("file", "data"))
+        self._fail_on_errors = True
+        self.roots = [root.resolve() for root in roots]
+
+    def __call__(self, url: str):
+        from urllib.parse import unquote, urlparse
+
+        from weasyprint.urls import FatalURLFetchingError
+        parsed = urlparse(url)
+        if parsed.scheme == "file":
+            path = Path(unquote(parsed.path)).resolve()
+            if not any(path.is_relative_to(root) for root in self.roots):
+                raise FatalURLFetchingError(f"refused to fetch {url}: outside the report's folders")
+        elif parsed.scheme != "data":
+            raise FatalURLFetchingError(f"refused to fetch {url}: only local files are used")
+        return self._fetcher.fetch(url)
+
+
+def _font_css() -> str:
+    faces = []
+    for name, weight, style in (("DejaVuSans.ttf", "normal", "normal"),
+                                ("DejaVuSans-Bold.ttf", "bold", "normal"),
+                                ("DejaVuSans-Oblique.ttf", "normal", "italic"),
+                                ("DejaVuSansMono.ttf", "normal", "normal")):
+        family = "DejaVu Sans Mono" if "Mono" in name else "DejaVu Sans"
+        faces.append(f"@font-face {{ font-family: '{family}'; src: url('{(fonts_dir() / name).as_uri()}');"
+                     f" font-weight: {weight}; font-style: {style}; }}")
+    return "\n".join(faces)
+
+
+@contextlib.contextmanager
+def _source_date_epoch(epoch: int):
+    """fontTools stamps subset fonts with the current time unless SOURCE_DATE_EPOCH is set."""
+    previous = os.environ.get("SOURCE_DATE_EPOCH")
+    os.environ["SOURCE_DATE_EPOCH"] = str(epoch)
+    try:
+        yield
+    finally:
+        if previous is None:
+            del os.environ["SOURCE_DATE_EPOCH"]
+        else:
+            os.environ["SOURCE_DATE_EPOCH"] = previous
+
+
+def render_pdf(html: str, attachments: list[tuple[str, bytes, str]], date: dt.date) -> bytes:
+    """PDF/A-3b of the report with ``attachments`` (name, bytes, relationship) embedded."""
+    from weasyprint import CSS, HTML, Attachment
+    from weasyprint.text.fonts import FontConfiguration
+
+    stamp = dt.datetime(date.year, date.month, date.day, tzinfo=dt.timezone.utc)
+    fetcher = _LocalOnlyFetcher([templates_dir(), fonts_dir()])
+    fonts = FontConfiguration()
+    files = [Attachment(file_obj=io.BytesIO(content), name=name, created=stamp, modified=stamp,
+                        relationship=relationship, url_fetcher=fetcher)
+             for name, content, relationship in attachments]
+    document = HTML(string=html, base_url=str(templates_dir()) + "/", url_fetcher=fetcher)
+    with _source_date_epoch(int(stamp.timestamp())):
+        return document.write_pdf(
+            stylesheets=[CSS(string=_font_css(), font_config=fonts, url_fetcher=fetcher)],
+            font_config=fonts, pdf_variant="pdf/a-3b", attachments=files,
+            uncompressed_pdf=False)
+
+
+# --------------------------------------------------------------------------- writing
+def _write_outputs(assessment: Assessment, folder: Path, progress) -> None:
+    campaign = assessment.campaign
+    record = provenance(campaign.inputs)
+    progress("computing results")
+    results = results_document(assessment, record)
+    results_bytes = (json.dumps(results, indent=2, ensure_ascii=False, allow_nan=False)
+                     + "\n").encode("utf-8")
+    (folder / "results.json").write_bytes(results_bytes)
+    write_tables(assessment, folder / "tables")
+    progress("drawing figures and laying out HTML")
+    html = render_html(build_view(assessment, record))
+    (folder / "report.html").write_text(html, encoding="utf-8")
+    progress("writing PDF/A-3b")
+    attachments = [(f"inputs/{item.name}", item.path.read_bytes(), "Source")
+                   for item in campaign.inputs]
+    attachments.append(("results.json", results_bytes, "Data"))
+    (folder / "report.pdf").write_bytes(render_pdf(html, attachments, campaign.spec.document.date))
+
+
+def render_report(assessment: Assessment, out_dir: str | Path, progress=None) -> Path:
+    """Write report.html, report.pdf, results.json and tables/*.csv into ``out_dir``.
+
+    Everything is written into a temporary sibling folder and moved into place at
+    the end; on any failure (or interruption) nothing is left behind and an
+    existing ``out_dir`` is untouched.
+    """
+    progress = progress or (lambda message: None)
+    target = Path(out_dir)
+    if target.exists() and not target.is_dir():
+        raise CertkitInputError.single(target, None, "--output", "exists and is not a folder")
+    target.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
+    staging.chmod(0o755)  # mkdtemp makes it private; a report folder is an ordinary folder
+    old = None
+    try:
+        _write_outputs(assessment, staging, progress)
+        if target.exists():
+            old = Path(tempfile.mkdtemp(prefix=f".{target.name}.old-", dir=target.parent))
+            old.rmdir()
+            target.rename(old)
+        staging.rename(target)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        if old is not None and old.exists() and not target.exists():
+            old.rename(target)
+        raise
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
+    return target
