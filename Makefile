@@ -1,0 +1,27 @@
+# Two commands do all the set-up on a fresh machine:
+#   make report   -> .venv with certkit, then out/report.pdf, report.html, results.json, tables/
+#   make test     -> .venv with certkit and the test tools, then the test suite
+PYTHON ?= python3
+VENV   ?= .venv
+CAMPAIGN ?= campaigns/seed-amphibian/campaign.yaml
+OUT    ?= out
+
+$(VENV)/.installed: pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(VENV)/bin/python -m pip install --quiet --disable-pip-version-check -e '.[test]'
+	touch $@
+
+.PHONY: install report test bench clean
+install: $(VENV)/.installed
+
+report: $(VENV)/.installed
+	$(VENV)/bin/certkit report $(CAMPAIGN) -o $(OUT)
+
+test: $(VENV)/.installed
+	$(VENV)/bin/python -m pytest -q
+
+bench: $(VENV)/.installed
+	$(VENV)/bin/python benchmarks/bench_report.py
+
+clean:
+	rm -rf $(VENV) $(OUT)

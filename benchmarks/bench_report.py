@@ -1,0 +1,43 @@
+"""Wall time of `certkit report` on the example campaign (target: median <= 5 s).
+
+Run:  .venv/bin/python benchmarks/bench_report.py [--runs N] [--campaign PATH]
+
+Each run is a fresh process, so imports count, as they do for a user.  Prints
+every run and the median; this machine is shared, so quote the median.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--campaign", type=Path,
+                        default=REPO / "campaigns" / "seed-amphibian" / "campaign.yaml")
+    args = parser.parse_args()
+    times = []
+    with tempfile.TemporaryDirectory() as folder:
+        for index in range(args.runs):
+            out = Path(folder) / f"out{index}"
+            start = time.perf_counter()
+            subprocess.run([sys.executable, "-m", "certkit.cli", "report", str(args.campaign),
+                            "-o", str(out)], check=True, capture_output=True)
+            times.append(time.perf_counter() - start)
+            print(f"run {index + 1}: {times[-1]:.2f} s")
+    print(f"certkit report {args.campaign.relative_to(REPO) if args.campaign.is_relative_to(REPO) else args.campaign}: "
+          f"median {statistics.median(times):.2f} s, min {min(times):.2f} s, "
+          f"max {max(times):.2f} s over {args.runs} runs (target <= 5 s)")
+
+
+if __name__ == "__main__":
+    main()

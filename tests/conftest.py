@@ -1,0 +1,138 @@
+"""Shared fixtures: the example campaign and a small campaign with analytic time series.
+
+The analytic run is built so that its energies are known in closed form:
+
+* stroke      s(τ) = s_max·sin(πτ/2T)             for 0 ≤ τ ≤ T, τ = t − t_0
+* tyre        δ = δ_max·sin(π s/(2 s_max))
+* load        F = F_0·δ/δ_max
+
+so on the loading stroke F is linear in δ (E_t = F_0·δ_max/2) and a quarter sine of s
+(E_s = ∫ F_0 sin(π s/2s_max) ds = 2·F_0·s_max/π).  After T the load and travel relax
+smoothly.  The drop mass falls freely before touchdown (x = v_0 τ + g τ²/2) and its
+kinematic acceleration peaks at A_peak.
+"""
+
+from __future__ import annotations
+
+import math
+import shutil
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+REPO = Path(__file__).resolve().parent.parent
+SEED = REPO / "campaigns" / "seed-amphibian" / "campaign.yaml"
+
+G = 9.80665
+RATE = 1000.0
+T0 = 0.100          # touchdown [s]
+T_LOAD = 0.060      # loading time to maximum stroke [s]
+S_MAX = 0.080       # [m]
+D_MAX = 0.040       # [m]
+F0 = 12000.0        # [N]
+V0 = 2.2            # [m/s]
+A_PEAK = 30.0       # [m/s^2], kinematic, upward
+DURATION = 0.600    # [s]
+
+
+def analytic_signals(rate: float = RATE) -> dict[str, np.ndarray]:
+    t = np.arange(0.0, DURATION, 1.0 / rate)
+    tau = t - T0
+    s = np.zeros_like(t)
+    loading = (tau >= 0) & (tau <= T_LOAD)
+    s[loading] = S_MAX * np.sin(math.pi * tau[loading] / (2 * T_LOAD))
+    after = tau > T_LOAD
+    # relax to 60 % of the maximum stroke with a smooth cosine over 0.2 s, then hold
+    relax = np.clip((tau[after] - T_LOAD) / 0.2, 0, 1)
+    s[after] = S_MAX * (1 - 0.4 * (1 - np.cos(math.pi * relax)) / 2)
+    delta = D_MAX * np.sin(math.pi * s / (2 * S_MAX))
+    load = F0 * delta / D_MAX
+    x = np.where(tau < 0, V0 * tau + 0.5 * G * tau ** 2, V0 * tau)  # free fall, then anything
+    a = np.where(tau < 0, -G, 0.0)
+    a[loading] = A_PEAK * np.sin(math.pi * tau[loading] / T_LOAD)
+    return {"t_s": t, "Fz_kN": load / 1000.0, "stroke_mm": s * 1000.0,
+            "tyre_mm": delta * 1000.0, "acc_ms2": a, "x_mm": x * 1000.0}
+
+
+ANALYTIC_STRUT_ENERGY = 2 * F0 * S_MAX / math.pi
+ANALYTIC_TYRE_ENERGY = F0 * D_MAX / 2
+
+
+def write_csv(path: Path, columns: dict[str, np.ndarray]) -> None:
+    names = list(columns)
+    rows = np.column_stack([columns[name] for name in names])
+    with path.open("w", encoding="utf-8") as handle:
+        handle.write(",".join(names) + "\n")
+        for row in rows:
+            handle.write(",".join(repr(float(v)) for v in row) + "\n")
+
+
+TIMESERIES_SPEC = textwrap.dedent("""\
+    certkit: 1
+    campaign: {id: TS-TEST, title: Analytic single-gear campaign}
+    document:
+      report_number: TS-0001
+      revision: "1"
+      date: 2025-03-01
+      applicant: Test applicant
+      facility: Test rig
+      test_dates: [2025-02-27]
+      signatories: [{role: prepared, name: A. Tester}]
+    certification_basis:
+      - requirement_set: 14CFR23-amdt62
+    aircraft:
+      model: Test aircraft
+      maximum_weight: 600 kg
+      wing_area: 12 m^2
+      wing_lift_ratio: 0.667
+      design_limit_inertia_load_factor: 4.4
+    gear_units:
+      - id: left-main
+        position: main
+        static_weight: 2600 N
+        static_weight_basis: level-attitude-nose-wheel-clear
+        shock_absorber: oleo-pneumatic
+        design_stroke: 120 mm
+        tyre: {size: 5.00-5, pressure: 30 psi, pressure_reference: gauge, diameter: 380 mm}
+    instrumentation:
+      sampling_rate: 1000 Hz
+    runs:
+      - id: R1
+        test_type: limit
+        gear_units: [left-main]
+        drop_height: 300 mm
+        drop_mass: 250 kg
+        lift: {method: reduced_mass, ratio: 0.667}
+        data:
+          file: data/r1.csv
+          time: {column: t_s, unit: s}
+          gears:
+            left-main:
+              vertical_load: {column: Fz_kN, unit: kN}
+              strut_stroke: {column: stroke_mm, unit: mm}
+              tyre_deflection: {column: tyre_mm, unit: mm}
+          drop_mass_acceleration: {column: acc_ms2, unit: m/s^2, reference: kinematic}
+          drop_mass_displacement: {column: x_mm, unit: mm}
+        inspection: {failure: false}
+    """)
+
+
+@pytest.fixture
+def timeseries_campaign(tmp_path: Path) -> Path:
+    """A campaign folder with one analytic run; returns the spec path."""
+    folder = tmp_path / "campaign"
+    (folder / "data").mkdir(parents=True)
+    write_csv(folder / "data" / "r1.csv", analytic_signals())
+    spec = folder / "campaign.yaml"
+    spec.write_text(TIMESERIES_SPEC, encoding="utf-8")
+    return spec
+
+
+@pytest.fixture
+def seed_copy(tmp_path: Path) -> Path:
+    """A writable copy of the example campaign folder; returns the spec path."""
+    folder = tmp_path / "seed"
+    shutil.copytree(SEED.parent, folder)
+    return folder / "campaign.yaml"

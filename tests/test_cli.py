@@ -1,0 +1,51 @@
+"""The command line: exit codes, help on every command, schema output."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+from typer.testing import CliRunner
+
+from certkit.cli import app
+
+from .conftest import SEED
+
+runner = CliRunner()
+
+
+@pytest.mark.parametrize("command", [[], ["validate"], ["report"], ["schema"], ["sets"]])
+def test_every_command_has_help(command):
+    result = runner.invoke(app, command + ["--help"])
+    assert result.exit_code == 0
+    assert "Usage" in result.output
+
+
+def test_validate_accepts_the_example():
+    result = runner.invoke(app, ["validate", str(SEED)])
+    assert result.exit_code == 0, result.output
+    assert "valid" in result.output
+
+
+def test_schema_is_json_schema_of_the_spec():
+    result = runner.invoke(app, ["schema"])
+    schema = json.loads(result.output)
+    assert schema["title"] == "certkit campaign spec"
+    assert schema["additionalProperties"] is False
+    assert {"campaign", "document", "aircraft", "gear_units", "runs"} <= set(schema["required"])
+
+
+def test_strict_exits_1_when_the_audit_finds_errors(tmp_path):
+    # the seed campaign has data-quality errors (strut efficiency above 1, ...)
+    out = tmp_path / "out"
+    completed = subprocess.run([sys.executable, "-m", "certkit.cli", "report", str(SEED), "-o",
+                                str(out), "--strict"], capture_output=True, text=True, timeout=300)
+    assert completed.returncode == 1, completed.stderr
+    assert (out / "report.pdf").exists()
+    assert "Traceback" not in completed.stderr
+
+
+def test_timeseries_campaign_reports_with_exit_0(timeseries_campaign, tmp_path):
+    result = runner.invoke(app, ["report", str(timeseries_campaign), "-o", str(tmp_path / "o")])
+    assert result.exit_code == 0, result.output
+    assert "wrote" in result.output

@@ -1,0 +1,154 @@
+"""Bad input: exit code 2, a message naming file, line and key, and no output left behind."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from certkit.cli import app
+
+from .conftest import analytic_signals, write_csv
+
+runner = CliRunner()
+
+
+def run_report(spec: Path, out: Path):
+    return runner.invoke(app, ["report", str(spec), "-o", str(out)])
+
+
+def edit_spec(spec: Path, old: str, new: str) -> None:
+    text = spec.read_text(encoding="utf-8")
+    assert old in text, f"fixture text {old!r} not found"
+    spec.write_text(text.replace(old, new, 1), encoding="utf-8")
+
+
+def line_of(spec: Path, fragment: str) -> int:
+    for number, line in enumerate(spec.read_text(encoding="utf-8").splitlines(), start=1):
+        if fragment in line:
+            return number
+    raise AssertionError(fragment)
+
+
+def assert_input_error(result, out: Path, *fragments: str) -> None:
+    assert result.exit_code == 2, result.output
+    assert "Traceback" not in result.output
+    for fragment in fragments:
+        assert fragment in result.output, f"{fragment!r} not in:\n{result.output}"
+    assert not out.exists()
+    assert not list(out.parent.glob(f".{out.name}.tmp-*"))
+
+
+SPEC_CASES = [
+    # (old text, new text, key path in message, expected words, line fragment)
+    ("drop_height: 300 mm", "drop_height: 0.3 m/s", "runs[0].drop_height",
+     'expected a length, got "0.3 m/s"', "drop_height: 0.3 m/s"),
+    ("wing_area: 12 m^2", "wing_area: 12", "aircraft.wing_area",
+     "expected an area with its unit, got the bare number 12", "wing_area: 12"),
+    ("drop_mass: 250 kg", "drop_mas: 250 kg", "runs[0].drop_mas",
+     "unknown key", "drop_mas: 250 kg"),
+    ("  wing_lift_ratio: 0.667\n", "", "aircraft.wing_lift_ratio",
+     "required key is missing", "aircraft:"),
+    ("gear_units: [left-main]", "gear_units: [left-mian]", "runs[0].gear_units[0]",
+     "unknown gear unit 'left-mian'", "gear_units: [left-mian]"),
+    ("requirement_set: 14CFR23-amdt62", "requirement_set: 14CFR23", "certification_basis[0].requirement_set",
+     "unknown requirement set '14CFR23'", "requirement_set: 14CFR23"),
+    ("file: data/r1.csv", "file: ../outside.csv", "runs[0].data.file",
+     "outside the campaign folder", "file: ../outside.csv"),
+    ("file: data/r1.csv", "file: data/missing.csv", "runs[0].data.file",
+     "not found", "file: data/missing.csv"),
+    ("vertical_load: {column: Fz_kN, unit: kN}", "vertical_load: {column: Fz_left, unit: kN}",
+     "runs[0].data.gears.left-main.vertical_load.column", "column 'Fz_left' not found",
+     "column: Fz_left"),
+    ("vertical_load: {column: Fz_kN, unit: kN}", "vertical_load: {column: Fz_kN, unit: mm}",
+     "runs[0].data.gears.left-main.vertical_load.unit", "expected a unit of weight", "unit: mm}"),
+    ("lift: {method: reduced_mass, ratio: 0.667}", "lift: {method: reduced_mass}",
+     "runs[0].lift.ratio", "needs the lift ratio", "lift: {method: reduced_mass}"),
+    ("test_type: limit", "test_type: limt", "runs[0].test_type", "input should be",
+     "test_type: limt"),
+]
+
+
+@pytest.mark.parametrize("old, new, key, words, line_text", SPEC_CASES,
+                         ids=[case[2] + ":" + case[3][:20] for case in SPEC_CASES])
+def test_bad_spec_value_names_file_line_and_key(timeseries_campaign, tmp_path, old, new, key,
+                                                words, line_text):
+    edit_spec(timeseries_campaign, old, new)
+    line = line_of(timeseries_campaign, line_text)
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", f"campaign.yaml:{line} {key}:", words)
+
+
+def test_yaml_syntax_error_names_the_line(timeseries_campaign, tmp_path):
+    edit_spec(timeseries_campaign, "drop_height: 300 mm", "drop_height: [300 mm")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "campaign.yaml:", "not valid YAML")
+
+
+def test_duplicate_key_is_an_error(timeseries_campaign, tmp_path):
+    edit_spec(timeseries_campaign, "drop_height: 300 mm", "drop_height: 300 mm\n    drop_height: 250 mm")
+    line = line_of(timeseries_campaign, "drop_height: 250 mm")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", f"campaign.yaml:{line}", "duplicate key 'drop_height'")
+
+
+def data_file(spec: Path) -> Path:
+    return spec.parent / "data" / "r1.csv"
+
+
+def rewrite(spec: Path, change) -> None:
+    columns = analytic_signals()
+    change(columns)
+    write_csv(data_file(spec), columns)
+
+
+DATA_CASES = [
+    # (name, change to the columns, expected words, CSV line of the first bad row or None)
+    ("time not increasing", lambda c: c["t_s"].__setitem__(200, c["t_s"][198]),
+     "time not increasing", 202),
+    ("duplicated time", lambda c: c["t_s"].__setitem__(300, c["t_s"][299]),
+     "time duplicated", 302),
+    ("sample rate", lambda c: c["t_s"].__imul__(2.0), "sample rate 500 Hz differs", None),
+    ("NaN in a channel", lambda c: c["stroke_mm"].__setitem__(150, np.nan),
+     "missing or non-numeric", 152),
+    ("gap in time", lambda c: c["t_s"].__setitem__(slice(400, None), c["t_s"][400:] + 0.05),
+     "gap(s) in time", 402),
+    ("clipped load", lambda c: c["Fz_kN"].__setitem__(slice(150, 160), c["Fz_kN"].max() * 1.0)
+     or c["Fz_kN"].__setitem__(slice(150, 160), 12.5), "flat at its maximum", 152),
+    # 10 x stroke passes 1.2 x 120 mm when 0.8 sin(pi tau/0.12) > 0.144, i.e. tau > 6.95 ms:
+    # first at tau = 7 ms, sample 107, CSV line 109
+    ("implausible stroke", lambda c: c["stroke_mm"].__imul__(10.0), "outside the plausible range",
+     109),
+]
+
+
+@pytest.mark.parametrize("name, change, words, row", DATA_CASES, ids=[c[0] for c in DATA_CASES])
+def test_bad_data_names_file_row_and_channel(timeseries_campaign, tmp_path, name, change, words, row):
+    rewrite(timeseries_campaign, change)
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    where = f"data/r1.csv:{row} " if row else "data/r1.csv "
+    assert_input_error(result, tmp_path / "out", where + "runs[0].data.", words)
+
+
+def test_waived_data_problem_becomes_a_finding(timeseries_campaign, tmp_path):
+    rewrite(timeseries_campaign, lambda c: c["t_s"].__imul__(2.0))
+    edit_spec(timeseries_campaign, "    inspection: {failure: false}",
+              "      waivers: [{check: sample_rate, reason: logger set to 500 Hz by mistake}]\n"
+              "    inspection: {failure: false}")
+    from certkit import assess, load_campaign
+    assessment = assess(load_campaign(timeseries_campaign))
+    finding = next(f for f in assessment.findings if f.check == "data-sample-rate")
+    assert "logger set to 500 Hz" in finding.message
+
+
+def test_missing_spec_file(tmp_path):
+    result = run_report(tmp_path / "nope.yaml", tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "nope.yaml: file not found")
+
+
+def test_validate_reports_every_problem_at_once(timeseries_campaign):
+    edit_spec(timeseries_campaign, "drop_height: 300 mm", "drop_height: 300")
+    edit_spec(timeseries_campaign, "wing_area: 12 m^2", "wing_area: 12 kg")
+    result = runner.invoke(app, ["validate", str(timeseries_campaign)])
+    assert result.exit_code == 2
+    assert "runs[0].drop_height" in result.output and "aircraft.wing_area" in result.output

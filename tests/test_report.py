@@ -1,0 +1,141 @@
+"""The evidence files: content, determinism, safety and all-or-nothing writing."""
+
+import hashlib
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pikepdf
+import pytest
+
+from certkit import assess, load_campaign, render_report
+from certkit import report as report_module
+
+from .conftest import SEED
+
+
+@pytest.fixture(scope="module")
+def seed_outputs(tmp_path_factory):
+    out = tmp_path_factory.mktemp("seed") / "out"
+    render_report(assess(load_campaign(SEED)), out)
+    return out
+
+
+def test_report_writes_the_three_outputs_and_tables(seed_outputs):
+    for name in ("report.html", "report.pdf", "results.json", "tables/verdicts.csv",
+                 "tables/findings.csv", "tables/values.csv", "tables/comparisons.csv"):
+        assert (seed_outputs / name).stat().st_size > 0, name
+
+
+def test_results_json_gives_every_value_a_unit_and_a_source(seed_outputs):
+    results = json.loads((seed_outputs / "results.json").read_text(encoding="utf-8"))
+    values = results["design"] + [v for s in results["requirement_sets"] for v in s["values"]]
+    for run in results["runs"]:
+        values += run["values"] + [v for g in run["gears"] for v in g["values"]]
+    assert len(values) > 100
+    for value in values:
+        assert value["unit"] and value["source"], value
+        assert value["value"] is not None or value["note"], value
+    h_req = next(v for v in results["requirement_sets"][1]["values"] if v["key"] == "h_req")
+    assert h_req["unit"] == "m" and h_req["value"] == pytest.approx(0.2913572, abs=1e-7)
+    assert results["provenance"]["inputs"][0]["sha256"] == hashlib.sha256(
+        SEED.read_bytes()).hexdigest()
+
+
+def test_pdf_is_pdf_a_3b_with_the_spec_and_results_attached(seed_outputs):
+    with pikepdf.open(seed_outputs / "report.pdf") as pdf:
+        with pdf.open_metadata() as meta:
+            assert meta.pdfa_status == "3B"
+        attached = {name: spec.get_file().read_bytes()
+                    for name, spec in pdf.attachments.items()}
+    assert attached["inputs/campaign.yaml"] == SEED.read_bytes()
+    assert attached["results.json"] == (seed_outputs / "results.json").read_bytes()
+
+
+def test_pdf_embeds_only_the_bundled_fonts(seed_outputs):
+    with pikepdf.open(seed_outputs / "report.pdf") as pdf:
+        fonts = set()
+        for page in pdf.pages:
+            for font in page.Resources.get("/Font", {}).values():
+                fonts.add(str(font.BaseFont).split("+")[-1])
+                descendant = font.get("/DescendantFonts")
+                descriptor = descendant[0].FontDescriptor if descendant else font.FontDescriptor
+                assert "/FontFile2" in descriptor or "/FontFile3" in descriptor
+    assert fonts and all(name.startswith("DejaVu") for name in fonts), fonts
+
+
+def test_html_is_self_contained(seed_outputs):
+    html = (seed_outputs / "report.html").read_text(encoding="utf-8")
+    # no stylesheet, script, image or font is fetched from anywhere
+    assert not re.search(r"<(link|script|img)\b", html)
+    assert not re.search(r"""(src|href)\s*=\s*["'](?!#)""", html)
+    assert "url(" not in html
+
+
+def test_report_states_the_impact_load_factor_definition(seed_outputs):
+    html = (seed_outputs / "report.html").read_text(encoding="utf-8")
+    assert "ΣF_peak(main units)/(m_drop·g)" in html
+    assert "Values to be confirmed against the licensed standard" in html
+
+
+def test_campaign_title_with_markup_is_rendered_as_text(seed_copy, tmp_path):
+    text = seed_copy.read_text(encoding="utf-8").replace(
+        "title: Full-airplane drop test", "title: <script>alert(1)</script> Full-airplane drop test")
+    seed_copy.write_text(text, encoding="utf-8")
+    out = tmp_path / "out"
+    render_report(assess(load_campaign(seed_copy)), out)
+    html = (out / "report.html").read_text(encoding="utf-8")
+    assert "<script>" not in html
+    assert "&lt;script&gt;alert(1)&lt;/script&gt;" in html
+
+
+def test_renderer_refuses_to_fetch_outside_its_folders():
+    html = ('<html><body><img src="file:///etc/passwd"></body></html>')
+    with pytest.raises(BaseException, match="refused"):
+        report_module.render_pdf(html, [], __import__("datetime").date(2024, 1, 1))
+    html = '<html><body><img src="http://example.com/x.png"></body></html>'
+    with pytest.raises(BaseException, match="refused"):
+        report_module.render_pdf(html, [], __import__("datetime").date(2024, 1, 1))
+
+
+def test_failed_render_leaves_nothing_and_keeps_the_previous_report(tmp_path, monkeypatch):
+    assessment = assess(load_campaign(SEED))
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "report.pdf").write_bytes(b"previous")
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("disk full")
+
+    monkeypatch.setattr(report_module, "render_pdf", broken)
+    with pytest.raises(RuntimeError):
+        render_report(assessment, out)
+    assert (out / "report.pdf").read_bytes() == b"previous"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+    with pytest.raises(RuntimeError):
+        render_report(assessment, tmp_path / "new")
+    assert not (tmp_path / "new").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def _render_in_fresh_process(spec: Path, out: Path) -> None:
+    subprocess.run([sys.executable, "-m", "certkit.cli", "report", str(spec), "-o", str(out)],
+                   check=True, capture_output=True, timeout=300)
+
+
+def _digests(folder: Path) -> dict[str, str]:
+    return {p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def test_same_inputs_give_identical_bytes_across_processes(timeseries_campaign, tmp_path):
+    # the time-series campaign exercises figures, fonts and attachments
+    _render_in_fresh_process(timeseries_campaign, tmp_path / "a")
+    _render_in_fresh_process(timeseries_campaign, tmp_path / "b")
+    first, second = _digests(tmp_path / "a"), _digests(tmp_path / "b")
+    assert set(first) >= {"report.html", "report.pdf", "results.json", "tables/values.csv"}
+    assert first == second
+    html = (tmp_path / "a" / "report.html").read_text(encoding="utf-8")
+    assert html.count("<svg") == 3  # load, travel, load-travel figures

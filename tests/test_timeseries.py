@@ -1,0 +1,54 @@
+"""A campaign with time histories whose energies and peaks are known in closed form."""
+
+import pytest
+
+from certkit import assess, load_campaign
+from certkit.results import PASS
+
+from .conftest import (A_PEAK, ANALYTIC_STRUT_ENERGY, ANALYTIC_TYRE_ENERGY, D_MAX, F0, G, S_MAX,
+                       T0, V0)
+
+
+@pytest.fixture
+def assessment(timeseries_campaign):
+    return assess(load_campaign(timeseries_campaign))
+
+
+def test_energies_from_time_series_match_the_analytic_areas(assessment):
+    gear = assessment.runs[0].gears[0]
+    # 60 samples over the loading stroke; spline-in-time integration is 4th order
+    assert gear.get("E_t") == pytest.approx(ANALYTIC_TYRE_ENERGY, rel=1e-6)
+    assert gear.get("E_s") == pytest.approx(ANALYTIC_STRUT_ENERGY, rel=1e-5)
+    assert gear.get("eta_t") == pytest.approx(0.5, rel=1e-6)
+    assert gear.get("eta_s") == pytest.approx(2 / 3.141592653589793, rel=1e-5)
+
+
+def test_peaks_travel_and_touchdown(assessment):
+    gear = assessment.runs[0].gears[0]
+    assert gear.get("F_peak") == pytest.approx(F0, rel=1e-9)
+    assert gear.get("d_s") == pytest.approx(S_MAX, rel=1e-9)
+    assert gear.get("d_t") == pytest.approx(D_MAX, rel=1e-9)
+    assert gear.get("d") == pytest.approx(S_MAX + D_MAX, rel=1e-9)
+    # the first sample above 2 % of W is 1 ms after contact
+    assert gear.get("t0") == pytest.approx(T0 + 0.001, abs=1e-9)
+
+
+def test_drop_mass_load_factor_and_contact_velocity(assessment):
+    run = assessment.runs[0]
+    assert run.get("n_j") == pytest.approx(A_PEAK / G + 1, rel=1e-3)
+    # parabola fit of the free fall ends 1 ms after contact (x = V0*tau there)
+    assert run.get("v0_measured") == pytest.approx(V0, rel=0.02)
+
+
+def test_effective_weight_and_load_factor_of_23_725(assessment):
+    gear = assessment.runs[0].gears[0]
+    h, d, lift, weight = 0.300, S_MAX + D_MAX, 0.667, 2600.0
+    w_e = weight * (h + (1 - lift) * d) / (h + d)
+    assert gear.get("W_e") == pytest.approx(w_e, rel=1e-9)
+    n_j = assessment.runs[0].get("n_j")
+    # n = n_j * W_drop/W + L, W_drop = 250 kg * g (single-unit rig)
+    assert gear.get("n") == pytest.approx(n_j * 250 * G / weight + lift, rel=1e-9)
+    verdicts = {v.criterion: v for v in assessment.verdicts}
+    # W_drop = 250 kg * g = 2451.7 N >= W_e = 2600*(0.3 + 0.333*0.12)/0.42 = 2104.5 N
+    assert verdicts["CFR23.725b-effective-weight"].verdict == PASS
+    assert verdicts["CFR23.725f-load-factor"].limit == 4.4
