@@ -195,6 +195,7 @@ def build_view(assessment: Assessment, record: dict) -> dict:
                 "nE": cell(energy_keys[0], "ratio") if energy_keys else "—",
                 "basis": gear.basis})
     results_units = {kind: getattr(units, kind) for kind in ("length", "force", "energy")}
+    load_factors, load_factor_statement = _load_factor_view(assessment)
 
     runs = []
     for run in assessment.runs:
@@ -280,6 +281,7 @@ def build_view(assessment: Assessment, record: dict) -> dict:
         "gear_units": gear_rows, "instrumentation": instrumentation,
         "matrix": matrix, "completeness": completeness,
         "results_rows": results_rows, "results_units": results_units,
+        "load_factors": load_factors, "load_factor_statement": load_factor_statement,
         "runs": runs, "verdicts": verdicts, "findings": findings, "comparisons": comparisons,
         "equations": sorted(EQUATIONS.items()), "gravity_note": GRAVITY_NOTE,
         "display_rule": DISPLAY_RULE,
@@ -287,6 +289,40 @@ def build_view(assessment: Assessment, record: dict) -> dict:
         "audit": {name: getattr(spec.audit, name).text for name in type(spec.audit).model_fields},
         "provenance": record, "version": __version__,
     }
+
+
+def _load_factor_view(assessment: Assessment) -> tuple[list[dict], str]:
+    """Every load factor of each run side by side, and what a stated one turned out to be."""
+    rows = []
+    for run in assessment.runs:
+        stated = run.run.reported.impact_load_factor if run.run.reported else None
+        for index, gear in enumerate(run.gears):
+            energy = [(key.split("[")[1].rstrip("]"), gear.get(key)) for key in gear.values
+                      if key.startswith("n_energy[")]
+            rows.append({
+                "run": run.run.id if index == 0 else "", "gear": gear.gear_id,
+                "stated": (stated.text if stated is not None else "—") if index == 0 else "",
+                "combined": display(run.get("n_combined"), "ratio", None)[0] if index == 0 else "",
+                "n_j": display(run.get("n_j"), "ratio", None)[0] if index == 0 else "",
+                "FW": display(gear.get("F/W"), "ratio", None)[0],
+                "n": display(gear.get("n"), "ratio", None)[0],
+                "n_energy": "; ".join(f"{display(v, 'ratio', None)[0]} ({set_id})"
+                                      for set_id, v in energy) or "—"})
+    checked = [c for c in assessment.comparisons if c.quantity == "impact load factor"]
+    if not checked:
+        return rows, ""
+    pairs = ", ".join(f"{c.reported_text} → {_number(c.recomputed)}" for c in checked)
+    if all(c.agrees for c in checked):
+        statement = (f"The source's stated impact load factors are reproduced, to the precision "
+                     f"stated, by ΣF_peak(main units)/(m_drop·g) (certkit G2): {pairs}. They are "
+                     f"the sum of the main-unit peak loads over the weight dropped: neither the "
+                     f"inertia load factor n = n_j·W_e/W + L of 14 CFR 23.725(e) nor a per-unit "
+                     f"ground-reaction factor F_peak/W, which are listed beside them.")
+    else:
+        statement = (f"The source's stated impact load factors are not all reproduced by "
+                     f"ΣF_peak(main units)/(m_drop·g) (certkit G2): {pairs}; their definition "
+                     f"is unknown.")
+    return rows, statement
 
 
 # --------------------------------------------------------------------------- results.json and CSV

@@ -52,3 +52,16 @@ def test_effective_weight_and_load_factor_of_23_725(assessment):
     # W_drop = 250 kg * g = 2451.7 N >= W_e = 2600*(0.3 + 0.333*0.12)/0.42 = 2104.5 N
     assert verdicts["CFR23.725b-effective-weight"].verdict == PASS
     assert verdicts["CFR23.725f-load-factor"].limit == 4.4
+
+
+def test_parquet_data_give_the_same_results_as_csv(timeseries_campaign):
+    import pandas as pd
+
+    folder = timeseries_campaign.parent
+    pd.read_csv(folder / "data" / "r1.csv").to_parquet(folder / "data" / "r1.parquet")
+    from_csv = assess(load_campaign(timeseries_campaign)).runs[0].gears[0]
+    text = timeseries_campaign.read_text(encoding="utf-8").replace("data/r1.csv", "data/r1.parquet")
+    timeseries_campaign.write_text(text, encoding="utf-8")
+    from_parquet = assess(load_campaign(timeseries_campaign)).runs[0].gears[0]
+    for key in ("F_peak", "d_s", "d_t", "E_s", "E_t", "t0"):
+        assert from_parquet.get(key) == from_csv.get(key), key
