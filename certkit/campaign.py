@@ -126,16 +126,10 @@ def _cross_references(spec: CampaignSpec, display: str, lines: LineMap) -> list[
             elif not 0 < run.lift.ratio.si <= 1:
                 add(("runs", index, "lift", "ratio"),
                     f"expected a ratio in (0, 1], got {run.lift.ratio.text!r}")
-        if run.data is not None:
-            for gear_id in run.data.gears:
+        for section, mapping in (("data", run.data), ("reported", run.reported)):
+            for gear_id in (mapping.gears if mapping is not None else {}):
                 if gear_id not in run.gear_units:
-                    add(("runs", index, "data", "gears", gear_id),
-                        f"gear unit {gear_id!r} is not among this run's gear_units "
-                        f"({', '.join(run.gear_units)})")
-        if run.reported is not None:
-            for gear_id in run.reported.gears:
-                if gear_id not in run.gear_units:
-                    add(("runs", index, "reported", "gears", gear_id),
+                    add(("runs", index, section, "gears", gear_id),
                         f"gear unit {gear_id!r} is not among this run's gear_units "
                         f"({', '.join(run.gear_units)})")
     return problems

@@ -25,8 +25,17 @@ from .units import STANDARD_GRAVITY
 g = STANDARD_GRAVITY
 
 
+class _Values:
+    values: dict[str, Value]
+
+    def get(self, key: str) -> float | None:
+        """The SI magnitude of a value (None when absent or not computable)."""
+        value = self.values.get(key)
+        return None if value is None else value.value
+
+
 @dataclass
-class GearResult:
+class GearResult(_Values):
     """Everything known about one gear unit in one run."""
 
     run_id: str
@@ -35,22 +44,14 @@ class GearResult:
     values: dict[str, Value]
     measures: GearMeasures | None = None
 
-    def get(self, key: str) -> float | None:
-        value = self.values.get(key)
-        return None if value is None else value.value
-
 
 @dataclass
-class RunResult:
+class RunResult(_Values):
     run: Run
     index: int
     values: dict[str, Value]
     gears: list[GearResult]
     series: RunSeries | None
-
-    def get(self, key: str) -> float | None:
-        value = self.values.get(key)
-        return None if value is None else value.value
 
 
 @dataclass
