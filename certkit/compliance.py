@@ -75,13 +75,33 @@ class Assessment:
 
     @property
     def outcome(self) -> str:
-        """COMPLIANT only when every criterion passed; otherwise what stops it."""
+        """COMPLIANT only when every criterion passed on evidence free of data-quality errors
+        and from confirmed requirement values; otherwise what stops it."""
         states = {verdict.verdict for verdict in self.verdicts}
         if FAIL in states:
             return "NOT COMPLIANT"
-        if NOT_SHOWN in states:
+        if NOT_SHOWN in states or any(f.severity == "error" for f in self.findings):
             return "COMPLIANCE NOT SHOWN"
+        if any(verdict.to_confirm for verdict in self.verdicts):
+            return "COMPLIANT SUBJECT TO CONFIRMATION"
         return "COMPLIANT"
+
+    def outcome_reasons(self) -> list[str]:
+        """Why the outcome is what it is, in words, for the cover page."""
+        counts, findings = self.counts(), self.finding_counts()
+        reasons = []
+        if counts[FAIL]:
+            reasons.append(f"{counts[FAIL]} criterion verdict(s) FAIL")
+        if counts[NOT_SHOWN]:
+            reasons.append(f"{counts[NOT_SHOWN]} criterion verdict(s) NOT SHOWN")
+        if findings["error"]:
+            reasons.append(f"{findings['error']} data-quality error(s): the evidence they "
+                           f"concern cannot support a compliance statement until resolved")
+        unconfirmed = sorted({v.requirement_set for v in self.verdicts if v.to_confirm})
+        if unconfirmed:
+            reasons.append("verdicts of " + ", ".join(unconfirmed) + " rest on values to be "
+                           "confirmed against the licensed standard")
+        return reasons
 
     def counts(self) -> dict[str, int]:
         return {state: sum(v.verdict == state for v in self.verdicts)
@@ -167,7 +187,14 @@ def _basis_values(rules: RequirementSet, design: dict[str, Value]) -> dict[str, 
 
 # --------------------------------------------------------------------------- per run, per gear
 def _lift_ratio(run: Run) -> float:
+    """L the drop represents (0 when lift is not simulated)."""
     return 0.0 if run.lift.method == "none" else run.lift.ratio.si
+
+
+def _lift_force_ratio(run: Run) -> float:
+    """L of a lift force acting during the drop: only a lift device applies one; a reduced
+    drop mass represents lift by having less weight, with no force acting."""
+    return run.lift.ratio.si if run.lift.method == "lift_device" else 0.0
 
 
 def _drop_weight_share(run: Run, unit: GearUnit, campaign: Campaign) -> tuple[float, str]:
@@ -272,7 +299,7 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
 def _derived_gear_values(result: GearResult, run: Run, unit: GearUnit, cos_theta: float) -> None:
     values = result.values
     get = result.get
-    h, lift = run.drop_height.si, _lift_ratio(run)
+    h, lift, lift_force = run.drop_height.si, _lift_ratio(run), _lift_force_ratio(run)
 
     def put(key, label, symbol, value, unit_, kind, source, formula, inputs, note=None):
         values[key] = Value(key, label, symbol, value, unit_, kind, source, formula, inputs, note)
@@ -281,40 +308,48 @@ def _derived_gear_values(result: GearResult, run: Run, unit: GearUnit, cos_theta
     put("F/W", "Ground-reaction factor", "F_peak/W",
         None if f_peak is None else f_peak / weight, "1", "ratio", "certkit G1",
         "F_peak/W", {"F_peak": "F_peak", "W": "W"})
-    for element, energy, travel in (("s", "E_s", "d_s"), ("t", "E_t", "d_t")):
+    for element, energy, travel, factor in (("s", "E_s", "d_s", cos_theta), ("t", "E_t", "d_t", 1.0)):
         e, d = get(energy), get(travel)
         eta = None
         if None not in (e, d, f_peak):
-            eta = e / (f_peak * d) if f_peak > 0 and d > 0 else None
+            eta = e / (f_peak * d * factor) if f_peak > 0 and d > 0 else None
         name = "strut" if element == "s" else "tyre"
+        vertical = f"{travel}·cos θ" if element == "s" else travel
         put(f"eta_{element}", f"Efficiency of the {name}", f"η_{element}", eta, "1", "ratio",
-            "certkit E2", f"η_{element} = {energy}/(F_peak·{travel})",
+            "certkit E2", f"η_{element} = {energy}/(F_peak·{vertical})",
             {energy: energy, "F_peak": "F_peak", travel: travel},
             None if eta is not None else "needs energy, peak load and travel")
     d, drop_weight = get("d"), get("W_drop")
-    available = None if d is None else clauses.available_energy(drop_weight, h, d, lift)
+    available = None if d is None else clauses.available_energy(drop_weight, h, d, lift_force)
     put("E_avail", "Energy available to absorb", "E_avail", available, "J", "energy",
-        "certkit E3", "E_avail = W_drop·(h + d) − L·W_drop·d",
-        {"W_drop": "W_drop", "h": f"drop height {run.drop_height.text}", "d": "d", "L": str(lift)})
+        "certkit E3", "E_avail = W_drop·(h + d) − L_dev·W_drop·d",
+        {"W_drop": "W_drop", "h": f"drop height {run.drop_height.text}", "d": "d",
+         "L_dev": f"{lift_force:g} (lift force applied by a device)"})
     e_s, e_t = get("E_s"), get("E_t")
     implied = None
     if None not in (e_s, e_t, d):
-        implied = (e_s + e_t) / (h + (1 - lift) * d)
+        implied = (e_s + e_t) / (h + (1 - lift_force) * d)
     put("W_implied", "Drop weight implied by the absorbed energy", "W_implied", implied, "N",
-        "force", "certkit E4", "W_implied = (E_s + E_t)/(h + (1 − L)·d)",
-        {"E_s": "E_s", "E_t": "E_t", "h": run.drop_height.text, "d": "d", "L": str(lift)})
+        "force", "certkit E4", "W_implied = (E_s + E_t)/(h + (1 − L_dev)·d)",
+        {"E_s": "E_s", "E_t": "E_t", "h": run.drop_height.text, "d": "d",
+         "L_dev": f"{lift_force:g}"})
 
-    if run.lift.method == "reduced_mass" or run.test_type != "reserve":
-        w_e = None if d is None else clauses.effective_weight(weight, h, d, lift)
-        put("W_e", "Effective weight", "W_e", w_e, "N", "force", "14 CFR 23.725(b)",
-            "W_e = W·(h + (1 − L)·d)/(h + d)",
-            {"W": "W", "h": run.drop_height.text, "d": "d (measured, 23.725(d))", "L": str(lift)},
-            None if d is not None else "needs d")
-    if run.test_type == "reserve" and run.lift.method != "none":
+    if run.lift.method == "reduced_mass" and run.test_type == "reserve":
         w_e = None if d is None else clauses.reserve_effective_weight(weight, h, d)
         put("W_e", "Effective weight (reserve drop)", "W_e", w_e, "N", "force",
             "14 CFR 23.727(b)", "W_e = W·h/(h + d)",
             {"W": "W", "h": run.drop_height.text, "d": "d"}, None if d is not None else "needs d")
+    elif run.lift.method == "reduced_mass":
+        w_e = None if d is None else clauses.effective_weight(weight, h, d, lift)
+        put("W_e", "Effective weight", "W_e", w_e, "N", "force", "14 CFR 23.725(b)",
+            "W_e = W·(h + (1 − L)·d)/(h + d)",
+            {"W": "W", "h": run.drop_height.text, "d": "d (measured, 23.725(d))", "L": f"{lift:g}"},
+            None if d is not None else "needs d")
+    else:
+        reason = ("no lift simulated" if run.lift.method == "none"
+                  else "lift applied by a device, not by a reduced mass")
+        put("W_e", "Weight to be dropped", "W_e", weight, "N", "force", "14 CFR 23.725(b)",
+            "W_e = W", {"W": "W"}, f"{reason}: the full static weight is dropped")
     if unit.design_stroke is not None:
         d_s = get("d_s")
         put("bottoming_margin", "Stroke left before the design stroke", "s_design − d_s",
@@ -380,11 +415,19 @@ def _run_result(campaign: Campaign, run: Run, index: int) -> RunResult:
         weight = gear.get("W")
         if n_j is not None:
             ratio = gear.get("W_drop") / weight
-            n = clauses.inertia_load_factor(n_j, gear.get("W_drop"), weight, _lift_ratio(run))
+            if run.lift.method == "lift_device":
+                # the device's lift acts on the drop mass, so n_j already contains L
+                n = clauses.inertia_load_factor(n_j, gear.get("W_drop"), weight, 0.0)
+                formula = "n = n_j·W_drop/W (lift applied by a device is already in n_j)"
+                lift_text = "in n_j"
+            else:
+                n = clauses.inertia_load_factor(n_j, gear.get("W_drop"), weight, _lift_ratio(run))
+                formula = "n = n_j·W_e/W + L (W_e: the weight actually dropped)"
+                lift_text = f"{_lift_ratio(run):g}"
             gear.values["n"] = Value(
                 "n", "Limit inertia load factor from the drop", "n", n, "1", "ratio",
-                "14 CFR 23.725(e)", "n = n_j·W_e/W + L (W_e: the weight actually dropped)",
-                {"n_j": "n_j", "W_e/W": f"{ratio:.6g}", "L": str(_lift_ratio(run))})
+                "14 CFR 23.725(e)", formula,
+                {"n_j": "n_j", "W_e/W": f"{ratio:.6g}", "L": lift_text})
     return result
 
 
@@ -441,7 +484,34 @@ def check_reserve_drop_height(ctx, criterion):
 
 
 def check_dynamic_drop_height(ctx, criterion):
-    return _height_check(ctx, criterion, "dynamic", "h_dynamic", "ground load dynamic")
+    """23.726(a): 2.25·h_req, or (option 2) a height developing 1.5 times the limit load factor."""
+    required = ctx.basis.values["h_dynamic"]
+    runs = _runs_of(ctx.assessment, "dynamic")
+    if not runs:
+        return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=required.value, unit="m",
+                            kind="length", reason="no ground load dynamic drop in the test matrix")]
+    n_limit = ctx.assessment.design["n_limit"].value
+    verdicts = []
+    for run in runs:
+        h = run.get("h")
+        if h >= required.value:
+            verdicts.append(ctx.verdict(criterion, run.run.id, None, PASS, value=h,
+                                        limit=required.value, margin=h - required.value,
+                                        unit="m", kind="length", reason="option (1): 2.25·h_req"))
+            continue
+        factors = [gear.get("n") for gear in run.gears]
+        if n_limit is None or None in factors:
+            verdicts.append(ctx.verdict(
+                criterion, run.run.id, None, NOT_SHOWN, value=h, limit=required.value,
+                margin=h - required.value, unit="m", kind="length",
+                reason="below 2.25·h_req; option (2) needs n measured and n_limit declared"))
+            continue
+        n = max(factors)
+        verdicts.append(ctx.verdict(
+            criterion, run.run.id, None, _at_least(n, 1.5 * n_limit), value=n,
+            limit=1.5 * n_limit, margin=n - 1.5 * n_limit,
+            reason="option (2): height developing 1.5 times the limit load factor"))
+    return verdicts
 
 
 def check_reserve_no_failure(ctx, criterion):
@@ -473,12 +543,17 @@ def check_effective_weight(ctx, criterion):
     verdicts = []
     for run in runs:
         lift = run.get("L")
-        if run.run.lift.method == "reduced_mass" and run.run.test_type == "limit" and lift > maximum:
+        method = run.run.lift.method
+        if method != "none" and run.run.test_type == "limit":
             verdicts.append(ctx.verdict(
-                criterion, run.run.id, None, FAIL, value=lift, limit=maximum,
-                margin=maximum - lift, comparison="≤",
-                reason=f"lift ratio L = {lift:g} exceeds {maximum:g}"))
-            continue
+                criterion, run.run.id, None, PASS if lift <= maximum else FAIL, value=lift,
+                limit=maximum, margin=maximum - lift, comparison="≤",
+                reason=f"wing-lift ratio L represented in the drop ({method})"))
+        reason = {"none": "no lift simulated: W_e = W",
+                  "lift_device": "lift by a device: the full weight W is dropped",
+                  "reduced_mass": ("reserve drop, W_e = W·h/(h + d), d measured (23.727(b))"
+                                   if run.run.test_type == "reserve" else
+                                   f"reduced mass, L = {lift:g}, d measured (23.725(d))")}[method]
         for gear in run.gears:
             w_e, w_drop = gear.get("W_e"), gear.get("W_drop")
             if w_e is None:
@@ -488,8 +563,7 @@ def check_effective_weight(ctx, criterion):
                 continue
             verdicts.append(ctx.verdict(
                 criterion, run.run.id, gear.gear_id, _at_least(w_drop, w_e), value=w_drop,
-                limit=w_e, margin=w_drop - w_e, unit="N", kind="force",
-                reason=f"lift method {run.run.lift.method}, L = {lift:g}, d measured"))
+                limit=w_e, margin=w_drop - w_e, unit="N", kind="force", reason=reason))
     return verdicts
 
 
@@ -586,11 +660,15 @@ def _energy_method_values(assessment: Assessment) -> None:
         for run in assessment.runs:
             h = run.get("h")
             for gear in run.gears:
+                unit = assessment.campaign.gear_units[gear.gear_id]
+                strut = unit.strut
+                cos_theta = math.cos(strut.inclination.si if strut and strut.inclination else 0.0)
                 d_t, d_s = gear.get("d_t"), gear.get("d_s")
                 n_g = None
                 if d_t is not None and d_s is not None:
-                    n_g = clauses.energy_method_load_factor(h, d_t, d_s, lift, eta_t, eta_s)
-                formula = (f"n_j = (h + (1 − L)·d)/(η_t·d_t + η_s·d_s), L = {lift:.4g}, "
+                    n_g = clauses.energy_method_load_factor(h, d_t, d_s * cos_theta, lift,
+                                                            eta_t, eta_s)
+                formula = (f"n_j = (h + (1 − L)·d)/(η_t·d_t + η_s·d_s·cos θ), L = {lift:.4g}, "
                            f"η_t = {eta_t}, η_s = {eta_s}")
                 inputs = {"h": "h", "d_t": "d_t", "d_s": "d_s"}
                 gear.values[f"n_j_energy[{rules.id}]"] = Value(

@@ -13,10 +13,11 @@ EQUATIONS: dict[str, str] = {
           "2 % of the unit's static weight and 6 robust standard deviations of the pre-contact noise",
     "E1": "E = ∫ F_V d(travel) from touchdown to maximum travel (strut: travel s·cos θ; "
           "tyre: δ), cubic splines in time, Gauss-Legendre per sample interval",
-    "E2": "η = E/(F_peak·δ_max)",
-    "E3": "E_avail = W_drop·(h + d) − L·W_drop·d (potential energy of the drop and the travel, "
-          "less the work of a lift L·W_drop acting through d)",
-    "E4": "W_implied = (E_s + E_t)/(h + (1 − L)·d): the drop weight the absorbed energy implies",
+    "E2": "η = E/(F_peak·δ_max), δ_max the element's vertical travel (strut: d_s·cos θ)",
+    "E3": "E_avail = W_drop·(h + d) − L_dev·W_drop·d: potential energy of the drop through h + d, "
+          "less the work of a lift force L_dev·W_drop applied by a lift device (L_dev = 0 when "
+          "lift is not simulated or is represented by a reduced drop mass, which applies no force)",
+    "E4": "W_implied = (E_s + E_t)/(h + (1 − L_dev)·d): the drop weight the absorbed energy implies",
     "W1": "W_drop = m_drop·g for a single-unit drop; for a drop of the complete airplane each "
           "unit's share W_drop = W_unit·m_drop·g/W_max",
     "G1": "ground-reaction factor F_peak/W_unit",

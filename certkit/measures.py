@@ -65,6 +65,8 @@ class GearMeasures:
     min_stroke_after_peak: float | None
     lift_off_duration: float | None
     settling_time: float | None
+    stroke_at_touchdown: float | None = None
+    tyre_at_touchdown: float | None = None
 
 
 def measure_gear(time: np.ndarray, load: np.ndarray, stroke: np.ndarray | None,
@@ -111,7 +113,9 @@ def measure_gear(time: np.ndarray, load: np.ndarray, stroke: np.ndarray | None,
         peak_load=float(f[peak_index]), peak_load_time=float(t[peak_index]),
         max_stroke=max_stroke, max_tyre=max_tyre, max_total_travel=total,
         strut_energy=strut_energy, tyre_energy=tyre_energy,
-        min_stroke_after_peak=min_after, lift_off_duration=lift_off, settling_time=settling)
+        min_stroke_after_peak=min_after, lift_off_duration=lift_off, settling_time=settling,
+        stroke_at_touchdown=None if stroke is None else float(stroke[i0]),
+        tyre_at_touchdown=None if tyre is None else float(tyre[i0]))
 
 
 def _settling_time(t: np.ndarray, stroke: np.ndarray, max_stroke: float) -> float | None:

@@ -10,7 +10,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from .results import Comparison, Finding
-from .units import convert, ureg
+from .units import STANDARD_GRAVITY, convert, ureg
 
 if TYPE_CHECKING:
     from .compliance import Assessment, GearResult, RunResult
@@ -322,9 +322,79 @@ def check_reported_values(assessment: Assessment) -> None:
                          f"{item.difference / item.recomputed:+.1%}")
 
 
+def check_acceleration_against_load(assessment: Assessment) -> None:
+    """n_j from the drop-mass accelerometer agrees with the platform loads.
+
+    When every unit that carries the drop mass is measured (a single-unit rig, or all the
+    aircraft's units), the peak of ΣF + L_dev·W_drop over W_drop is the drop-mass load
+    factor (unsprung-mass inertia neglected, hence a tolerance).
+    """
+    tolerance = assessment.campaign.spec.audit.load_consistency_tolerance.si
+    all_units = set(assessment.campaign.gear_units)
+    for run in assessment.runs:
+        n_j = run.get("n_j")
+        if n_j is None or run.series is None:
+            continue
+        measured = set(run.run.gear_units)
+        if len(measured) > 1 and measured != all_units:
+            continue
+        total = sum(run.series.gears[g].load for g in run.run.gear_units if g in run.series.gears)
+        drop_weight = run.run.drop_mass.si * STANDARD_GRAVITY
+        lift = run.run.lift.ratio.si if run.run.lift.method == "lift_device" else 0.0
+        from_load = float(total.max()) / drop_weight + lift
+        if abs(n_j / from_load - 1) > tolerance:
+            _add(assessment, "acceleration-vs-load", "warning", run.run.id, None,
+                 f"run {run.run.id}: the drop-mass accelerometer gives n_j = {n_j:.4g}, the "
+                 f"platform load gives max ΣF_V/W_drop + L_dev = {from_load:.4g} "
+                 f"({n_j / from_load - 1:+.1%}, tolerance ±{tolerance:.0%}): check the "
+                 f"accelerometer's reference, sign and calibration, or the drop mass",
+                 n_j=n_j, from_load=from_load)
+
+
+def check_travel_zero_at_touchdown(assessment: Assessment) -> None:
+    """Stroke and tyre deflection read zero at touchdown (else an offset is missing)."""
+    tolerance = assessment.campaign.spec.audit.zero_travel_tolerance.si
+    for run, gear in _gear_items(assessment):
+        measures = gear.measures
+        if measures is None or measures.touchdown_time is None:
+            continue
+        for name, value in (("strut stroke", measures.stroke_at_touchdown),
+                            ("tyre deflection", measures.tyre_at_touchdown)):
+            if value is not None and abs(value) > tolerance:
+                _add(assessment, f"{name.split()[0]}-not-zero-at-touchdown", "warning",
+                     run.run.id, gear.gear_id,
+                     f"run {run.run.id}, {gear.gear_id}: {name} reads "
+                     f"{_display(assessment, value, 'length')} at touchdown, not zero; the "
+                     f"maxima and energies are measured from zero, so set the channel's offset",
+                     value=value)
+
+
+def check_energy_method_lift(assessment: Assessment) -> None:
+    """The energy method assumes a lift L acting through d; say when the drop simulated another."""
+    for basis in assessment.basis:
+        if "energy_method_wing_lift_ratio" not in basis.rules.parameters:
+            continue
+        assumed = basis.rules.number("energy_method_wing_lift_ratio")
+        for run, gear in _gear_items(assessment):
+            n_energy = gear.get(f"n_energy[{basis.rules.id}]")
+            if n_energy is None or run.run.test_type != "limit":
+                continue
+            simulated = run.get("L")
+            if abs(simulated - assumed) > 1e-3:
+                measured = gear.get("F/W")
+                message = (f"run {run.run.id}, {gear.gear_id}: the {basis.rules.id} energy-method "
+                           f"load factor n = {n_energy:.4g} assumes L = {assumed:.4g} acting "
+                           f"through d, but the drop simulated L = {simulated:g}, so d is not "
+                           f"the travel the method models")
+                if measured is not None:
+                    message += f"; the measured ground-reaction factor F_peak/W is {measured:.4g}"
+                _add(assessment, "energy-method-lift", "warning", run.run.id, gear.gear_id, message)
+
+
 CHECKS = (check_static_weight_basis, check_data_waivers, check_energy_bounds,
           check_available_energy, check_implied_drop_weight, check_stroke_trend, check_bottoming,
-          check_asymmetry, check_reported_values)
+          check_asymmetry, check_reported_values, check_acceleration_against_load,
+          check_travel_zero_at_touchdown, check_energy_method_lift)
 
 
 def audit(assessment: Assessment) -> None:

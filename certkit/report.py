@@ -33,7 +33,7 @@ from .units import convert
 
 SI_UNITS = {"length": "m", "force": "N", "mass": "kg", "energy": "J", "velocity": "m/s",
             "pressure": "Pa", "area": "m^2", "time": "s", "wing_loading": "Pa"}
-SIGNIFICANT = 5
+SIGNIFICANT = 6  # enough to show typed values (1305.97 J, 1222.05 kgf) as typed
 DISPLAY_RULE = (f"Values are shown to {SIGNIFICANT} significant figures in the units chosen in "
                 f"the campaign's report.units; results.json and tables/*.csv hold full precision "
                 f"in SI.")
@@ -274,6 +274,7 @@ def build_view(assessment: Assessment, record: dict) -> dict:
         "created": f"{doc.date.isoformat()}T00:00:00Z",
         "outcome": assessment.outcome,
         "outcome_css": assessment.outcome.replace(" ", "-").lower(),
+        "outcome_reasons": assessment.outcome_reasons(),
         "counts": counts, "finding_counts": finding_counts,
         "aircraft": {"model": spec.aircraft.model, "notes": (spec.aircraft.notes or "").strip()},
         "design": [_value_row(v, units) for v in assessment.design.values()],
@@ -315,9 +316,11 @@ def _load_factor_view(assessment: Assessment) -> tuple[list[dict], str]:
     if all(c.agrees for c in checked):
         statement = (f"The source's stated impact load factors are reproduced, to the precision "
                      f"stated, by ΣF_peak(main units)/(m_drop·g) (certkit G2): {pairs}. They are "
-                     f"the sum of the main-unit peak loads over the weight dropped: neither the "
-                     f"inertia load factor n = n_j·W_e/W + L of 14 CFR 23.725(e) nor a per-unit "
-                     f"ground-reaction factor F_peak/W, which are listed beside them.")
+                     f"the sum of the main-unit peak loads over the weight dropped, whether or "
+                     f"not the peaks coincide in time and without the nose unit's load. They are "
+                     f"neither the inertia load factor n = n_j·W_e/W + L of 14 CFR 23.725(e) "
+                     f"(which needs the drop-mass acceleration) nor a bound on it, nor a per-unit "
+                     f"ground-reaction factor F_peak/W; those are listed beside them.")
     else:
         statement = (f"The source's stated impact load factors are not all reproduced by "
                      f"ΣF_peak(main units)/(m_drop·g) (certkit G2): {pairs}; their definition "
@@ -345,6 +348,7 @@ def results_document(assessment: Assessment, record: dict) -> dict:
                      "report_number": spec.document.report_number,
                      "revision": spec.document.revision, "date": spec.document.date.isoformat()},
         "outcome": assessment.outcome,
+        "outcome_reasons": assessment.outcome_reasons(),
         "counts": assessment.counts(),
         "finding_counts": assessment.finding_counts(),
         "design": [v.as_dict() for v in assessment.design.values()],

@@ -296,6 +296,8 @@ class AuditSettings(_Model):
     bottoming_margin: Number = Field(parse_quantity("5 %", "dimensionless"))
     drop_mass_spread: Number = Field(parse_quantity("10 %", "dimensionless"))
     sample_rate_tolerance: Number = Field(parse_quantity("1 %", "dimensionless"))
+    load_consistency_tolerance: Number = Field(parse_quantity("10 %", "dimensionless"))
+    zero_travel_tolerance: Length = Field(parse_quantity("1 mm", "length"))
 
 
 class DisplayUnits(_Model):

@@ -33,7 +33,8 @@ S_MAX = 0.080       # [m]
 D_MAX = 0.040       # [m]
 F0 = 12000.0        # [N]
 V0 = 2.2            # [m/s]
-A_PEAK = 30.0       # [m/s^2], kinematic, upward
+DROP_MASS = 250.0   # [kg]
+A_PEAK = F0 / DROP_MASS - G   # [m/s^2], kinematic, upward: what the platform load implies
 DURATION = 0.600    # [s]
 
 
@@ -87,7 +88,7 @@ TIMESERIES_SPEC = textwrap.dedent("""\
       maximum_weight: 600 kg
       wing_area: 12 m^2
       wing_lift_ratio: 0.667
-      design_limit_inertia_load_factor: 4.4
+      design_limit_inertia_load_factor: 5.5
     gear_units:
       - id: left-main
         position: main
