@@ -1,11 +1,14 @@
 """The certkit command line: a thin shell over the library.
 
-Exit codes: 0 success; 1 campaign not compliant (only with ``--strict``); 2 bad input.
+Exit codes: 0 success; 1 campaign not compliant (only with ``--strict``); 2 bad input;
+3 internal error (a certkit bug; no traceback unless CERTKIT_DEBUG is set).
 """
 
 from __future__ import annotations
 
 import json
+import os
+import signal
 import sys
 from pathlib import Path
 from typing import Annotated
@@ -25,9 +28,13 @@ out = Console(highlight=False, soft_wrap=True)
 SpecArgument = Annotated[Path, typer.Argument(help="campaign spec (YAML)", show_default=False)]
 
 
-def _fail_input(error: CertkitInputError) -> None:
+def _print_problems(error: CertkitInputError) -> None:
     for problem in error.problems:
         err.print(Text.assemble(("error: ", "bold red"), str(problem)))
+
+
+def _fail_input(error: CertkitInputError) -> None:
+    _print_problems(error)
     raise typer.Exit(2)
 
 
@@ -37,10 +44,34 @@ def _version(value: bool) -> None:
         raise typer.Exit()
 
 
+def _exit_on_signal(number, _frame):
+    # SIGTERM/SIGHUP become an exception, so staged outputs are removed as on Ctrl-C
+    raise SystemExit(128 + number)
+
+
 @app.callback()
 def main(version: Annotated[bool, typer.Option("--version", callback=_version, is_eager=True,
                                                help="print the version and exit")] = False):
     """certkit: drop-test campaign -> compliance report, audit tables and evidence."""
+    for number in (signal.SIGTERM, signal.SIGHUP):
+        signal.signal(number, _exit_on_signal)
+
+
+def run() -> None:
+    """Console entry point: input errors exit 2; an unexpected error is reported as a bug (3)."""
+    try:
+        app()
+    except CertkitInputError as error:  # raised outside a command's own handling
+        _print_problems(error)
+        sys.exit(2)
+    except Exception as error:  # noqa: BLE001 - last resort: no traceback for users
+        if os.environ.get("CERTKIT_DEBUG"):
+            raise
+        err.print(Text.assemble(("internal error: ", "bold red"),
+                                f"{type(error).__name__}: {error}. This is a certkit bug; "
+                                f"please report it with the campaign (set CERTKIT_DEBUG=1 to "
+                                f"see the traceback)."))
+        sys.exit(3)
 
 
 @app.command()
@@ -121,4 +152,4 @@ def sets() -> None:
 
 
 if __name__ == "__main__":  # pragma: no cover
-    app()
+    run()

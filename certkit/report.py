@@ -15,8 +15,6 @@ import io
 import json
 import math
 import os
-import shutil
-import tempfile
 from pathlib import Path
 
 import matplotlib
@@ -25,8 +23,8 @@ from markupsafe import Markup
 
 from . import __version__
 from .compliance import Assessment
-from .errors import CertkitInputError
 from .equations import EQUATIONS, GRAVITY_NOTE
+from .outputs import staged_folder
 from .provenance import provenance
 from .results import Value
 from .units import convert
@@ -517,33 +515,20 @@ def _write_outputs(assessment: Assessment, folder: Path, progress) -> None:
     (folder / "report.pdf").write_bytes(render_pdf(html, attachments, campaign.spec.document.date))
 
 
+#: What render_report writes; an existing folder holding anything else is not replaced.
+REPORT_FILES = {"report.html", "report.pdf", "results.json", "tables"}
+
+
 def render_report(assessment: Assessment, out_dir: str | Path, progress=None) -> Path:
     """Write report.html, report.pdf, results.json and tables/*.csv into ``out_dir``.
 
     Everything is written into a temporary sibling folder and moved into place at
     the end; on any failure (or interruption) nothing is left behind and an
-    existing ``out_dir`` is untouched.
+    existing ``out_dir`` is untouched.  A target that holds the campaign's inputs,
+    the current folder or files certkit did not write is refused (CertkitInputError).
     """
     progress = progress or (lambda message: None)
-    target = Path(out_dir)
-    if target.exists() and not target.is_dir():
-        raise CertkitInputError.single(target, None, "--output", "exists and is not a folder")
-    target.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
-    staging.chmod(0o755)  # mkdtemp makes it private; a report folder is an ordinary folder
-    old = None
-    try:
+    inputs = [item.path for item in assessment.campaign.inputs]
+    with staged_folder(out_dir, inputs, REPORT_FILES) as staging:
         _write_outputs(assessment, staging, progress)
-        if target.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{target.name}.old-", dir=target.parent))
-            old.rmdir()
-            target.rename(old)
-        staging.rename(target)
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        if old is not None and old.exists() and not target.exists():
-            old.rename(target)
-        raise
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
-    return target
+    return Path(out_dir)

@@ -15,6 +15,7 @@ waiver for that check with a reason; a waived problem becomes a data-quality fin
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -103,20 +104,40 @@ class _Checker:
 
 def _read_table(path: Path, display: str):
     """Read CSV or Parquet; returns the frame and the file line of its first data row."""
+    import warnings
+
     import pandas as pd  # imported here: a campaign of reported values needs no pandas
 
+    def fail(message: str, line: int | None = None) -> CertkitInputError:
+        return CertkitInputError.single(display, line, "", message)
+
     suffix = path.suffix.lower()
+    if suffix not in (".csv", ".parquet", ".pq"):
+        raise fail(f"unsupported data format {suffix!r} (expected .csv or .parquet)")
     try:
-        if suffix == ".csv":
-            return pd.read_csv(path), 2
-        if suffix in (".parquet", ".pq"):
-            return pd.read_parquet(path), 0
-    except FileNotFoundError:
-        raise CertkitInputError.single(display, None, "", "data file not found") from None
-    except Exception as exc:  # pandas raises many types for malformed files
-        raise CertkitInputError.single(display, None, "", f"cannot read data file: {exc}") from None
-    raise CertkitInputError.single(display, None, "",
-                                   f"unsupported data format {suffix!r} (expected .csv or .parquet)")
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", pd.errors.ParserWarning)
+            if suffix == ".csv":
+                frame, first_line = pd.read_csv(path, index_col=False), 2
+            else:
+                frame, first_line = pd.read_parquet(path), 0
+    except pd.errors.ParserWarning:
+        raise fail("the data rows have more fields than the header line") from None
+    except pd.errors.EmptyDataError:
+        raise fail("the data file is empty") from None
+    except pd.errors.ParserError as exc:
+        match = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", str(exc))
+        if match:
+            header, line, seen = match.groups()
+            raise fail(f"line {line} has {seen} fields, the header has {header} (remove any "
+                       f"preamble lines above the header)", int(line)) from None
+        raise fail(f"cannot read data file: {exc}") from None
+    except Exception as exc:  # pandas and pyarrow raise many types for malformed files
+        raise fail(f"cannot read data file: {exc}") from None
+    if len(frame.columns) == 1 and ";" in str(frame.columns[0]):
+        raise fail("the file appears to use ';' as separator; certkit reads comma-separated "
+                   "CSV")
+    return frame, first_line
 
 
 def _row(first_line: int, index: int) -> int | None:
@@ -167,6 +188,11 @@ def read_run(path: Path, display: str, spec_file: str, run_index: int, run: Run,
         check.raise_if_errors()
 
     # --- time base
+    if pd.api.types.is_datetime64_any_dtype(frame[data.time.column]):
+        check.spec_error(check.key("time", "column"),
+                         f"column {data.time.column!r} holds timestamps; certkit needs the time "
+                         f"as a number in {data.time.unit}")
+        check.raise_if_errors()
     raw_time = pd.to_numeric(frame[data.time.column], errors="coerce").to_numpy(dtype=float)
     time = raw_time * scale_to_si(data.time.unit, "time")
     bad = np.flatnonzero(~np.isfinite(time))
@@ -263,6 +289,10 @@ def read_run(path: Path, display: str, spec_file: str, run_index: int, run: Run,
     keep = np.logical_and.reduce([np.isfinite(a) for a in arrays])
     if not keep.all():
         dropped = int((~keep).sum())
+        if "gaps" not in check.waivers:  # non-finite values not from the file (overflow)
+            check.data_error(None, check.key("file"), f"{dropped} row(s) are not finite after "
+                                                      f"applying unit, scale and offset")
+            check.raise_if_errors()
         check.findings.append(DataFinding(
             "gaps", f"{display}: {dropped} row(s) with missing values removed before analysis",
             check.waivers["gaps"]))

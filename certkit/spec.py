@@ -11,18 +11,36 @@ from __future__ import annotations
 import datetime as dt
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, PlainSerializer, PlainValidator, WithJsonSchema
+from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, PlainSerializer,
+                      PlainValidator, WithJsonSchema, field_validator)
 from pydantic_core import PydanticCustomError
 
 from .units import QuantityError, SpecQuantity, _example_unit, kind_phrase, parse_quantity, parse_unit
 
 
-def _quantity(kind: str, description: str | None = None):
+def _quantity(kind: str, description: str | None = None, minimum: float | None = 0.0,
+              exclusive: bool = False, maximum: float | None = None):
+    """Annotated type of a quantity of ``kind``; by default it may not be negative.
+
+    ``exclusive`` makes the minimum strict (the quantity must be positive).
+    """
     def validate(value):
         try:
-            return parse_quantity(value, kind)
+            quantity = parse_quantity(value, kind)
         except QuantityError as exc:
             raise PydanticCustomError("quantity", str(exc)) from None
+        low_bad = minimum is not None and (quantity.si <= minimum if exclusive
+                                           else quantity.si < minimum)
+        if low_bad:
+            word = "positive" if exclusive and minimum == 0 else (
+                "zero or more" if minimum == 0 else f"above {minimum:g}" if exclusive
+                else f"at least {minimum:g}")
+            raise PydanticCustomError("quantity", f'must be {word}, got "{quantity.text}"')
+        if maximum is not None and quantity.si > maximum:
+            raise PydanticCustomError(
+                "quantity", f'must be at most {maximum:g}{" (100 %)" if maximum == 1 else ""}, '
+                            f'got "{quantity.text}"')
+        return quantity
 
     if kind == "dimensionless":
         schema = {"anyOf": [{"type": "number"}, {"type": "string"}],
@@ -50,25 +68,43 @@ def _unit(kind: str):
 
 
 Length = _quantity("length")
-Area = _quantity("area")
-Volume = _quantity("volume")
-Mass = _quantity("mass")
+PositiveLength = _quantity("length", exclusive=True)
+Area = _quantity("area", exclusive=True)
+Volume = _quantity("volume", exclusive=True)
+Mass = _quantity("mass", exclusive=True)
 Force = _quantity("force")
-Weight = _quantity("weight")
-Pressure = _quantity("pressure")
+Weight = _quantity("weight", exclusive=True)
+Pressure = _quantity("pressure", exclusive=True)
 Energy = _quantity("energy")
-Frequency = _quantity("frequency")
-Angle = _quantity("angle")
-Density = _quantity("density")
-WingLoading = _quantity("wing_loading", "a wing loading (force per area), e.g. '10.15 lbf/ft^2'")
-Number = _quantity("dimensionless")
+Frequency = _quantity("frequency", exclusive=True)
+Angle = _quantity("angle", minimum=None)
+Density = _quantity("density", exclusive=True)
+WingLoading = _quantity("wing_loading", "a wing loading (force per area), e.g. '10.15 lbf/ft^2'",
+                        exclusive=True)
+PositiveNumber = _quantity("dimensionless", exclusive=True)
+Fraction = _quantity("dimensionless", "a fraction between 0 and 1, e.g. 0.667 or '10 %'",
+                     maximum=1.0)
+
+
+def _date(value):
+    if isinstance(value, dt.date) and not isinstance(value, dt.datetime):
+        return value
+    if isinstance(value, str):
+        try:
+            return dt.date.fromisoformat(value.strip())
+        except ValueError:
+            pass
+    raise PydanticCustomError("date", f'expected a date as YYYY-MM-DD, got "{value}"')
+
+
+Date = Annotated[dt.date, BeforeValidator(_date)]
 
 Identifier = Annotated[str, Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$", max_length=64)]
 Text = Annotated[str, Field(min_length=1)]
 
 
 class _Model(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
 # --------------------------------------------------------------------------- document
@@ -82,22 +118,22 @@ class Signatory(_Model):
     role: Literal["prepared", "checked", "verified", "approved", "witnessed"]
     name: Text
     organisation: str | None = None
-    date: dt.date | None = None
+    date: Date | None = None
 
 
 class Revision(_Model):
     revision: Text
-    date: dt.date
+    date: Date
     description: Text
 
 
 class Document(_Model):
     report_number: Text
     revision: Text
-    date: dt.date = Field(description="Issue date; also fixes every date written into outputs")
+    date: Date = Field(description="Issue date; also fixes every date written into outputs")
     applicant: Text
     facility: Text
-    test_dates: list[dt.date] = Field(min_length=1)
+    test_dates: list[Date] = Field(min_length=1)
     signatories: list[Signatory] = Field(min_length=1)
     revisions: list[Revision] = []
     compliance_checklist_item: str | None = None
@@ -115,9 +151,9 @@ class Aircraft(_Model):
     model: Text
     maximum_weight: Weight
     wing_area: Area
-    design_limit_inertia_load_factor: Number | None = Field(
+    design_limit_inertia_load_factor: PositiveNumber | None = Field(
         None, description="limit inertia load factor used in the 23.473 landing conditions")
-    wing_lift_ratio: Number = Field(description="L: assumed wing lift / weight used in the loads basis")
+    wing_lift_ratio: Fraction = Field(description="L: assumed wing lift / weight used in the loads basis")
     design_landing_weight: Weight | None = None
     notes: str | None = None
 
@@ -126,7 +162,7 @@ class Tyre(_Model):
     size: Text
     pressure: Pressure
     pressure_reference: Literal["gauge", "absolute"]
-    diameter: Length | None = None
+    diameter: PositiveLength | None = None
 
 
 class Strut(_Model):
@@ -137,12 +173,12 @@ class Strut(_Model):
     gas_volume: Volume | None = None
     pneumatic_area: Area | None = None
     hydraulic_area: Area | None = None
-    orifice_diameter: Length | None = None
+    orifice_diameter: PositiveLength | None = None
     orifice_area: Area | None = None
-    rebound_orifice_diameter: Length | None = None
-    discharge_coefficient: Number | None = None
+    rebound_orifice_diameter: PositiveLength | None = None
+    discharge_coefficient: PositiveNumber | None = None
     oil_density: Density | None = None
-    polytropic_exponent: Number | None = None
+    polytropic_exponent: PositiveNumber | None = None
     inclination: Angle | None = None
     static_stroke: Length | None = None
     minimum_stroke: Length | None = None
@@ -159,10 +195,10 @@ class GearUnit(_Model):
         description="how W was obtained: one of the 23.725(b) definitions, or 'assumed'")
     static_weight_note: str | None = None
     shock_absorber: Text
-    design_stroke: Length
+    design_stroke: PositiveLength
     tyre: Tyre
     strut: Strut | None = None
-    wheel_diameter: Length | None = None
+    wheel_diameter: PositiveLength | None = None
 
 
 # --------------------------------------------------------------------------- instrumentation and data
@@ -172,7 +208,7 @@ class InstrumentChannel(_Model):
     transducer: str | None = None
     range: str | None = None
     filter: str | None = None
-    calibration_date: dt.date | None = None
+    calibration_date: Date | None = None
     calibration_reference: str | None = None
 
 
@@ -195,6 +231,13 @@ class Column(_Model):
     offset: float = Field(0.0, description="zero offset, in the column's own unit")
     full_scale: float | None = Field(
         None, description="transducer full-scale reading in the column's unit (clipping check)")
+
+    @field_validator("scale")
+    @classmethod
+    def _scale_not_zero(cls, value: float) -> float:
+        if value == 0:
+            raise PydanticCustomError("scale", "scale must not be zero")
+        return value
 
 
 class LoadColumn(Column):
@@ -244,7 +287,7 @@ class RunData(_Model):
 
 class Lift(_Model):
     method: Literal["none", "reduced_mass", "lift_device"]
-    ratio: Number | None = Field(None, description="L, required unless method is none")
+    ratio: Fraction | None = Field(None, description="L, required unless method is none")
 
 
 class ReportedGear(_Model):
@@ -256,7 +299,7 @@ class ReportedGear(_Model):
 
 
 class ReportedRun(_Model):
-    impact_load_factor: Number | None = Field(
+    impact_load_factor: PositiveNumber | None = Field(
         None, description="a load factor the source states for this drop (definition unknown)")
     gears: dict[str, ReportedGear] = {}
 
@@ -272,8 +315,8 @@ class Run(_Model):
     id: Identifier
     test_type: Literal["build-up", "limit", "reserve", "dynamic", "small-signal"]
     gear_units: list[Identifier] = Field(min_length=1)
-    date: dt.date | None = None
-    drop_height: Length
+    date: Date | None = None
+    drop_height: PositiveLength
     drop_mass: Mass
     lift: Lift
     data: RunData | None = None
@@ -286,17 +329,17 @@ class Run(_Model):
 # --------------------------------------------------------------------------- claims, audit, report
 class CampaignReported(_Model):
     wing_loading: WingLoading | None = None
-    required_drop_height: Length | None = None
+    required_drop_height: PositiveLength | None = None
 
 
 class AuditSettings(_Model):
-    asymmetry_threshold: Number = Field(parse_quantity("10 %", "dimensionless"))
-    reported_tolerance: Number = Field(parse_quantity("2 %", "dimensionless"))
-    energy_tolerance: Number = Field(parse_quantity("1 %", "dimensionless"))
-    bottoming_margin: Number = Field(parse_quantity("5 %", "dimensionless"))
-    drop_mass_spread: Number = Field(parse_quantity("10 %", "dimensionless"))
-    sample_rate_tolerance: Number = Field(parse_quantity("1 %", "dimensionless"))
-    load_consistency_tolerance: Number = Field(parse_quantity("10 %", "dimensionless"))
+    asymmetry_threshold: Fraction = Field(parse_quantity("10 %", "dimensionless"))
+    reported_tolerance: Fraction = Field(parse_quantity("2 %", "dimensionless"))
+    energy_tolerance: Fraction = Field(parse_quantity("1 %", "dimensionless"))
+    bottoming_margin: Fraction = Field(parse_quantity("5 %", "dimensionless"))
+    drop_mass_spread: Fraction = Field(parse_quantity("10 %", "dimensionless"))
+    sample_rate_tolerance: Fraction = Field(parse_quantity("1 %", "dimensionless"))
+    load_consistency_tolerance: Fraction = Field(parse_quantity("10 %", "dimensionless"))
     zero_travel_tolerance: Length = Field(parse_quantity("1 mm", "length"))
 
 

@@ -101,13 +101,20 @@ class SpecQuantity:
 
 
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
+# A unit is names joined by * / or ·, each with an optional small integer power
+# (m/s^2, lbf/ft**2, kg·m^-3, %).  Nothing else reaches pint, so no arithmetic typed by a
+# user (1/0 mm, 2**10000 mm, 11 ft + 8 in) is ever evaluated.
+_UNIT_NAME = r"(?:%|[A-Za-z_°µΩ][A-Za-z_°µΩ0-9]*)(?:\s*(?:\^|\*\*)\s*[+-]?\d{1,2})?"
+_UNIT = rf"{_UNIT_NAME}(?:\s*[*/·]\s*{_UNIT_NAME})*"
+_QUANTITY = re.compile(rf"^\s*({_NUMBER})\s*({_UNIT})?\s*$")
+_ANGULAR = re.compile(r"rpm|rev|rad|deg|turn|cycle", re.IGNORECASE)
 
 
 def _split_magnitude(text: str) -> tuple[str, str]:
-    match = re.match(rf"\s*({_NUMBER})\s*(.*)$", text)
+    match = _QUANTITY.match(text)
     if not match:
         return text, ""
-    return match.group(1), match.group(2).strip()
+    return match.group(1), (match.group(2) or "").strip()
 
 
 class QuantityError(ValueError):
@@ -122,12 +129,36 @@ def _to_weight_newton(quantity: pint.Quantity) -> float:
     raise QuantityError
 
 
+def _read(text: str, expected: str, kind: str) -> pint.Quantity:
+    """Number and unit from text of the strict form '<decimal number> <unit>'."""
+    match = _QUANTITY.match(text)
+    if not match:
+        hint = (" (write a decimal point, not a comma)" if "," in text else
+                f' (write one decimal number and a unit, e.g. "300 {_example_unit(kind)}")'
+                if kind != "dimensionless" else " (write one decimal number, e.g. 4.4 or \"10 %\")")
+        raise QuantityError(f'expected {expected}, got "{text}"{hint}')
+    magnitude = float(match.group(1))
+    if not math.isfinite(magnitude):
+        raise QuantityError(f'expected a finite number, got "{text}"')
+    unit_text = (match.group(2) or "").strip()
+    if not unit_text:
+        return ureg.Quantity(magnitude, "dimensionless")
+    try:
+        unit = ureg.Unit(unit_text)
+    except (pint.errors.PintError, ValueError, TypeError, AttributeError, SyntaxError,
+            AssertionError):
+        raise QuantityError(f'expected {expected}, got "{text}" (unknown unit '
+                            f'"{unit_text}")') from None
+    return ureg.Quantity(magnitude, unit)
+
+
 def parse_quantity(value: object, kind: str) -> SpecQuantity:
     """Parse ``value`` (text such as ``"300 mm"``) as a quantity of ``kind``.
 
     ``kind`` is a key of :data:`KINDS`, ``"weight"`` (force or mass, stored in N
-    using standard gravity) or ``"dimensionless"`` (a bare number, stored as is).
+    using standard gravity) or ``"dimensionless"`` (a bare number or a percentage).
     A bare number where a dimension is required is refused: a unit must be typed.
+    The text must be one decimal number and a unit: expressions are refused.
 
     Raises
     ------
@@ -137,15 +168,15 @@ def parse_quantity(value: object, kind: str) -> SpecQuantity:
     if kind == "dimensionless":
         if isinstance(value, bool) or not isinstance(value, (int, float, str)):
             raise QuantityError(f"expected a number, got {value!r}")
-        try:
-            quantity = ureg.Quantity(value) if isinstance(value, str) else None
-            number = float(quantity.to("dimensionless").magnitude) if quantity is not None \
-                else float(value)
-        except (pint.errors.PintError, ValueError, TypeError, AttributeError):
-            raise QuantityError(f"expected a number, got {value!r}") from None
-        if not math.isfinite(number):
-            raise QuantityError(f"expected a finite number, got {value!r}")
-        return SpecQuantity(number, "1", str(value))
+        if isinstance(value, (int, float)):
+            if not math.isfinite(value):
+                raise QuantityError(f"expected a finite number, got {value!r}")
+            return SpecQuantity(float(value), "1", str(value))
+        quantity = _read(value.strip(), "a number", kind)
+        if not quantity.dimensionless or _ANGULAR.search(value):
+            raise QuantityError(f'expected a bare number (a ratio or a load factor), got '
+                                f'"{value}"; write it without a unit, e.g. 4.4 or "10 %"')
+        return SpecQuantity(float(quantity.to("dimensionless").magnitude), "1", value.strip())
 
     expected = kind_phrase(kind)
     if isinstance(value, bool) or not isinstance(value, (str, int, float)):
@@ -155,32 +186,32 @@ def parse_quantity(value: object, kind: str) -> SpecQuantity:
             f"expected {expected} with its unit, got the bare number {value!r} "
             f"(write the unit, e.g. \"{value} {_example_unit(kind)}\")")
     text = value.strip()
-    try:
-        quantity = ureg.Quantity(text)
-    except (pint.errors.PintError, ValueError, TypeError, AttributeError, SyntaxError) as exc:
-        raise QuantityError(f"expected {expected}, got {value!r} ({exc})") from None
-    if not isinstance(quantity, pint.Quantity) or quantity.unitless and kind != "angle":
-        raise QuantityError(
-            f"expected {expected} with its unit, got {value!r} without a unit "
-            f"(e.g. \"{text} {_example_unit(kind)}\")")
+    quantity = _read(text, expected, kind)
+    if kind != "angle" and (quantity.unitless or quantity.dimensionless):
+        if str(quantity.units) == "dimensionless":
+            raise QuantityError(
+                f'expected {expected} with its unit, got "{text}" without a unit '
+                f'(e.g. "{text} {_example_unit(kind)}")')
+        raise QuantityError(f'expected {expected}, got "{text}" (a pure number or ratio)')
+    if kind == "frequency" and _ANGULAR.search(text):
+        raise QuantityError(f'expected a frequency in Hz, got "{text}" (an angular rate)')
     try:
         if kind == "weight":
             si, unit = _to_weight_newton(quantity), "N"
+        elif kind == "angle":
+            if str(quantity.units) == "dimensionless":
+                raise QuantityError(
+                    f'expected an angle with its unit, got "{text}" (e.g. "{text} deg")')
+            si, unit = float(quantity.to("rad").magnitude), "rad"
         else:
             dimension, unit = KINDS[kind]
-            if kind == "angle":
-                if quantity.unitless:
-                    raise QuantityError(
-                        f"expected an angle with its unit, got {value!r} (e.g. \"{text} deg\")")
-                si = float(quantity.to("rad").magnitude)
-            else:
-                if not quantity.check(dimension):
-                    raise QuantityError
-                si = float(quantity.to(unit).magnitude)
+            if not quantity.check(dimension):
+                raise QuantityError
+            si = float(quantity.to(unit).magnitude)
     except (QuantityError, pint.errors.DimensionalityError):
-        raise QuantityError(f"expected {expected}, got \"{value}\"") from None
+        raise QuantityError(f'expected {expected}, got "{value}"') from None
     if not math.isfinite(si):
-        raise QuantityError(f"expected a finite {kind}, got {value!r}")
+        raise QuantityError(f'expected a finite {kind}, got "{value}"')
     return SpecQuantity(si, unit, text)
 
 
@@ -204,7 +235,8 @@ def parse_unit(text: str, kind: str) -> str:
     else:
         ok = (1 * unit).check(KINDS[kind][0])
     if not ok:
-        raise QuantityError(f"expected a unit of {kind}, got {text!r}")
+        hint = " ('g' is the gram; write g0 for standard gravity)" if text.strip() == "g" else ""
+        raise QuantityError(f"expected a unit of {kind}, got {text!r}{hint}")
     return text
 
 
@@ -215,16 +247,6 @@ def convert(value_si: float, si_unit: str, unit: str) -> float:
     if si_unit == "N" and (1 * ureg.Unit(unit)).check("[mass]"):
         return float(ureg.Quantity(value_si / STANDARD_GRAVITY, "kg").to(unit).magnitude)
     return float(ureg.Quantity(value_si, si_unit).to(unit).magnitude)
-
-
-def to_si(value: float, unit: str, kind: str) -> float:
-    """Convert a magnitude given in ``unit`` to SI for ``kind`` (used for data columns)."""
-    quantity = ureg.Quantity(value, unit)
-    if kind == "weight" or kind == "force" and quantity.check("[mass]"):
-        return _to_weight_newton(quantity)
-    if kind == "acceleration" and str(ureg.Unit(unit)) in ("standard_gravity", "g0"):
-        return value * STANDARD_GRAVITY
-    return float(quantity.to(KINDS[kind][1]).magnitude)
 
 
 def scale_to_si(unit: str, kind: str) -> float:

@@ -45,6 +45,8 @@ def _walk(node, path: tuple, lines: LineMap) -> None:
     lines.setdefault(path, node.start_mark.line + 1)
     if isinstance(node, yaml.MappingNode):
         for key_node, value_node in node.value:
+            if not isinstance(key_node, yaml.ScalarNode):
+                raise _ComplexKey(key_node.start_mark.line + 1)
             child = path + (key_node.value,)
             lines[child] = key_node.start_mark.line + 1
             _walk(value_node, child, lines)
@@ -53,25 +55,44 @@ def _walk(node, path: tuple, lines: LineMap) -> None:
             _walk(item, path + (index,), lines)
 
 
+class _ComplexKey(Exception):
+    def __init__(self, line: int):
+        self.line = line
+
+
 def load_yaml(path: Path, display_name: str) -> tuple[object, LineMap]:
     """Load ``path`` as YAML, returning the data and its key-path -> line map."""
     try:
-        text = path.read_text(encoding="utf-8")
+        content = path.read_bytes()
     except FileNotFoundError:
         raise CertkitInputError.single(display_name, None, "", "file not found") from None
-    except (OSError, UnicodeDecodeError) as exc:
+    except IsADirectoryError:
+        raise CertkitInputError.single(display_name, None, "", "is a folder, not a campaign "
+                                                               "file") from None
+    except OSError as exc:
         raise CertkitInputError.single(display_name, None, "", f"cannot read: {exc}") from None
     try:
+        text = content.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = content[: exc.start].count(b"\n") + 1
+        raise CertkitInputError.single(display_name, line, "", "not UTF-8 text (byte "
+                                       f"0x{content[exc.start]:02x}); save the file as UTF-8") \
+            from None
+    lines: LineMap = {}
+    try:
         node = yaml.compose(text, Loader=_UniqueKeyLoader)
+        if node is not None:
+            _walk(node, (), lines)
         data = yaml.load(text, Loader=_UniqueKeyLoader)  # noqa: S506 - SafeLoader subclass
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line = mark.line + 1 if mark else None
         raise CertkitInputError.single(
             display_name, line, "", f"not valid YAML: {exc.problem or exc}") from None
-    lines: LineMap = {}
-    if node is not None:
-        _walk(node, (), lines)
+    except _ComplexKey as error:
+        raise CertkitInputError.single(display_name, error.line, "",
+                                       "a key must be a plain name, not a list or a "
+                                       "mapping") from None
     return data, lines
 
 

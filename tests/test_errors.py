@@ -152,3 +152,94 @@ def test_validate_reports_every_problem_at_once(timeseries_campaign):
     result = runner.invoke(app, ["validate", str(timeseries_campaign)])
     assert result.exit_code == 2
     assert "runs[0].drop_height" in result.output and "aircraft.wing_area" in result.output
+
+
+EXPRESSION_CASES = [
+    ("drop_height: 300 mm", "drop_height: 1/0 mm", "write one decimal number and a unit"),
+    ("drop_height: 300 mm", "drop_height: 10**10**10 mm", "write one decimal number and a unit"),
+    ("drop_height: 300 mm", "drop_height: '300,5 mm'", "write a decimal point, not a comma"),
+    ("drop_height: 300 mm", "drop_height: 30 %", "expected a length"),
+    ("drop_height: 300 mm", "drop_height: -300 mm", "must be positive"),
+    ("design_limit_inertia_load_factor: 5.5", "design_limit_inertia_load_factor: 5.5 g",
+     "expected a bare number"),
+    ("design_limit_inertia_load_factor: 5.5", "design_limit_inertia_load_factor: -4.4",
+     "must be positive"),
+    ("sampling_rate: 1000 Hz", "sampling_rate: 60000 rpm", "an angular rate"),
+    ("sampling_rate: 1000 Hz", "sampling_rate: 0 Hz", "must be positive"),
+    ("date: 2025-03-01", "date: 0", "expected a date as YYYY-MM-DD"),
+    ("revision: \"1\"", "revision: 1", "write it in quotes"),
+    ("drop_mass_displacement: {column: x_mm, unit: mm}",
+     "drop_mass_displacement: {column: x_mm, unit: mm, scale: .nan}", "finite number"),
+    ("drop_mass_displacement: {column: x_mm, unit: mm}",
+     "drop_mass_displacement: {column: x_mm, unit: mm, scale: 0}", "scale must not be zero"),
+    ("wing_area: 12 m^2", "wing_area: 1e-300 m^2", "not a plausible number"),
+    ("diameter: 380 mm", "diameter: -380 mm", "must be positive"),
+]
+
+
+@pytest.mark.parametrize("old, new, words", EXPRESSION_CASES, ids=[c[1] for c in EXPRESSION_CASES])
+def test_values_that_are_not_plain_quantities_are_refused(timeseries_campaign, tmp_path, old, new,
+                                                          words):
+    edit_spec(timeseries_campaign, old, new)
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "campaign.yaml:", words)
+
+
+def test_audit_threshold_above_100_percent_is_refused(timeseries_campaign, tmp_path):
+    edit_spec(timeseries_campaign, "certkit: 1\n", "certkit: 1\naudit: {bottoming_margin: 200 %}\n")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "campaign.yaml:2 audit.bottoming_margin:",
+                       "must be at most 1")
+
+
+def test_empty_spec_file_says_what_it_needs(tmp_path):
+    spec = tmp_path / "campaign.yaml"
+    spec.write_text("# nothing yet\n", encoding="utf-8")
+    result = run_report(spec, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "the file is empty", "certkit, campaign")
+
+
+def test_complex_yaml_key_is_an_input_error(timeseries_campaign, tmp_path):
+    edit_spec(timeseries_campaign, "aircraft:\n", "aircraft:\n  ? [a, b]\n  : x\n")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "a key must be a plain name")
+
+
+def test_non_utf8_spec_names_the_line(timeseries_campaign, tmp_path):
+    content = timeseries_campaign.read_bytes().replace(b"Test rig", b"Test r\xe9ig")
+    timeseries_campaign.write_bytes(content)
+    line = content[: content.index(b"\xe9")].count(b"\n") + 1
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", f"campaign.yaml:{line}", "not UTF-8")
+
+
+def test_semicolon_csv_gets_one_clear_error(timeseries_campaign, tmp_path):
+    path = data_file(timeseries_campaign)
+    path.write_text(path.read_text(encoding="utf-8").replace(",", ";"), encoding="utf-8")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "';' as separator")
+
+
+def test_row_with_extra_fields_names_its_line(timeseries_campaign, tmp_path):
+    path = data_file(timeseries_campaign)
+    lines = path.read_text(encoding="utf-8").splitlines()
+    lines[9] += ",1.0"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "data/r1.csv:10", "line 10 has 7 fields, the header has 6")
+
+
+def test_data_path_that_is_a_folder(timeseries_campaign, tmp_path):
+    (timeseries_campaign.parent / "data" / "folder.csv").mkdir()
+    edit_spec(timeseries_campaign, "file: data/r1.csv", "file: data/folder.csv")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "is a folder, not a file")
+
+
+def test_symlink_leaving_the_campaign_folder_is_refused(timeseries_campaign, tmp_path):
+    outside = tmp_path / "outside.csv"
+    outside.write_bytes(data_file(timeseries_campaign).read_bytes())
+    (timeseries_campaign.parent / "data" / "link.csv").symlink_to(outside)
+    edit_spec(timeseries_campaign, "file: data/r1.csv", "file: data/link.csv")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "outside the campaign folder")

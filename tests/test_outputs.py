@@ -1,0 +1,87 @@
+"""The output folder: never replaces the campaign, the current folder or foreign files."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+from typer.testing import CliRunner
+
+from certkit.cli import app
+
+runner = CliRunner()
+
+
+def report(spec, out):
+    return runner.invoke(app, ["report", str(spec), "-o", str(out)])
+
+
+def test_output_into_the_campaign_folder_is_refused_and_nothing_is_deleted(seed_copy):
+    before = sorted(p.name for p in seed_copy.parent.iterdir())
+    result = report(seed_copy, seed_copy.parent)
+    assert result.exit_code == 2
+    assert "would contain the input" in result.output
+    assert sorted(p.name for p in seed_copy.parent.iterdir()) == before
+
+
+def test_output_above_the_campaign_folder_is_refused(seed_copy):
+    above = seed_copy.parent.parent
+    (above / "notes.txt").write_text("keep me", encoding="utf-8")
+    result = report(seed_copy, above)
+    assert result.exit_code == 2
+    assert (above / "notes.txt").read_text(encoding="utf-8") == "keep me"
+    assert seed_copy.exists()
+
+
+def test_a_folder_with_foreign_files_is_not_replaced(seed_copy, tmp_path):
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "thesis.docx").write_bytes(b"precious")
+    result = report(seed_copy, out)
+    assert result.exit_code == 2 and "files certkit did not write (thesis.docx)" in result.output
+    assert (out / "thesis.docx").read_bytes() == b"precious"
+
+
+def test_an_earlier_report_folder_is_replaced(seed_copy, tmp_path):
+    out = tmp_path / "out"
+    assert report(seed_copy, out).exit_code == 0
+    first = (out / "results.json").read_bytes()
+    assert report(seed_copy, out).exit_code == 0
+    assert (out / "results.json").read_bytes() == first
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "seed"]
+
+
+@pytest.mark.parametrize("target", [".", ""])
+def test_the_current_folder_is_refused(seed_copy, tmp_path, target, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    result = report(seed_copy, target)
+    assert result.exit_code == 2 and "Traceback" not in result.output
+
+
+def test_output_below_a_file_is_an_input_error(seed_copy, tmp_path):
+    (tmp_path / "afile").write_text("x", encoding="utf-8")
+    result = report(seed_copy, tmp_path / "afile" / "out")
+    assert result.exit_code == 2 and "cannot create the output folder" in result.output
+
+
+def test_symbolic_link_output_is_refused(seed_copy, tmp_path):
+    (tmp_path / "real").mkdir()
+    (tmp_path / "link").symlink_to(tmp_path / "real")
+    result = report(seed_copy, tmp_path / "link")
+    assert result.exit_code == 2 and "symbolic link" in result.output
+
+
+def test_terminated_report_leaves_nothing_behind(seed_copy, tmp_path):
+    process = subprocess.Popen([sys.executable, "-m", "certkit.cli", "report", str(seed_copy),
+                                "-o", str(tmp_path / "deep" / "er" / "out")],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    # wait until the staging folder exists, then terminate mid-render
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and not list((tmp_path).rglob(".out.tmp-*")):
+        time.sleep(0.05)
+    process.send_signal(signal.SIGTERM)
+    process.wait(timeout=60)
+    assert process.returncode == 128 + signal.SIGTERM
+    assert sorted(os.listdir(tmp_path)) == ["seed"]
