@@ -122,3 +122,11 @@ def test_left_right_asymmetry_beyond_10_percent_is_flagged(assessment):
     # D300 tyre: 52.47 vs 41.36 mm -> 23.7 %
     finding = next(f for f in assessment.findings if f.id == "QA/asymmetry-d-t/D300")
     assert finding.values["difference"] == pytest.approx(abs(52.47 - 41.36) / ((52.47 + 41.36) / 2))
+
+
+def test_derived_heights_of_the_part_23_set(assessment):
+    # h_req = 291.357 mm; 23.727(a): 1.44 h = 419.554 mm; 23.726(a)(1): 2.25 h = 655.554 mm
+    values = next(b for b in assessment.basis if b.rules.id == "14CFR23-amdt62").values
+    assert values["h_req"].value * 1000 == pytest.approx(291.357, abs=1e-3)
+    assert values["h_reserve"].value * 1000 == pytest.approx(419.554, abs=1e-3)
+    assert values["h_dynamic"].value * 1000 == pytest.approx(655.554, abs=1e-3)
