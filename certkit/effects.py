@@ -1,0 +1,65 @@
+"""Effects simple drop models omit (physics.md §3), each an optional strut term.
+
+Every effect is off unless added to a :class:`~certkit.drop_model.DropModel`'s
+``effects``; each is a small dataclass with named SI parameters and a
+``force(stroke, rate, gas_force)`` method returning its axial strut force
+(compression positive).  Adding an effect is adding one class here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .drop_model import Parameter, Term
+
+
+@dataclass(frozen=True)
+class SealFriction(Term):
+    """Seal friction, Coulomb with an optional Stribeck peak, regularised (physics.md §3 #1).
+
+    F_f = (F_C + (F_S − F_C)·exp(−(ṡ/v_s)²))·tanh(ṡ/v_ε),  F_C = F_0 + μ·|F_gas|
+
+    The pressure-energised part μ·|F_gas| scales with the gas force; ``breakaway``
+    (F_S − F_C) = 0 gives plain Coulomb friction.  tanh(ṡ/v_ε) regularises sign(ṡ).
+    """
+
+    constant: float              # F_0 [N]
+    pressure_factor: float = 0.0  # μ [1]
+    breakaway: float = 0.0       # F_S − F_C [N]
+    stribeck_velocity: float = 0.01  # v_s [m/s]
+    smoothing_velocity: float = 0.002  # v_ε [m/s]
+    name = "seal friction"
+
+    def parameters(self):
+        return [Parameter("constant", self.constant, "N", "Coulomb friction F_0"),
+                Parameter("pressure_factor", self.pressure_factor, "1",
+                          "share μ of the gas force acting as friction"),
+                Parameter("breakaway", self.breakaway, "N", "Stribeck excess F_S − F_C"),
+                Parameter("stribeck_velocity", self.stribeck_velocity, "m/s", "v_s"),
+                Parameter("smoothing_velocity", self.smoothing_velocity, "m/s", "v_ε")]
+
+    def force(self, stroke, rate, gas_force):
+        coulomb = self.constant + self.pressure_factor * np.abs(gas_force)
+        level = coulomb + self.breakaway * np.exp(-(rate / self.stribeck_velocity) ** 2)
+        return level * np.tanh(rate / self.smoothing_velocity)
+
+
+@dataclass(frozen=True)
+class ReboundOrifice(Term):
+    """Separate rebound orifice (recoil valve): extra damping on extension only (physics.md §3 #3).
+
+    The nominal orifice damps both ways with K_h; on extension (ṡ < 0) this adds
+    (K_reb − K_h)·ṡ|ṡ| so the total rebound damping is K_reb = ρ·A_h³/(2·(C_d·A_reb)²).
+    """
+
+    extra_coefficient: float  # K_reb − K_h [N·s²/m²]
+    name = "rebound orifice"
+
+    def parameters(self):
+        return [Parameter("extra_coefficient", self.extra_coefficient, "N*s^2/m^2",
+                          "rebound damping in excess of the compression orifice")]
+
+    def force(self, stroke, rate, gas_force):
+        return np.where(rate < 0.0, self.extra_coefficient * rate * np.abs(rate), 0.0)

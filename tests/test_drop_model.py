@@ -1,0 +1,94 @@
+"""The corrected two-mass drop model against conservation laws, the gas law and an
+independently written simulator."""
+
+import math
+
+import numpy as np
+import pytest
+
+from certkit.drop_model import P_ATM, DropModel, EndStops, GasSpring, Orifice, Tyre
+from certkit.effects import ReboundOrifice, SealFriction
+from certkit.simulation import simulate_reference
+
+G = 9.80665
+PISTON = math.pi * 0.060 ** 2 / 4
+
+
+def seed_gear(damping=True, friction=True, tyre_damping=0.05, stop_damping=13416.4):
+    """One main gear of the seed amphibian, the parameter set fitted to Tables 2-3 at
+    250/300 mm (60 mm piston, 0.8 MPa gauge pre-charge, V0 = 650 cm3, n = 1.2, C_d 0.6,
+    9.4/6.65 mm orifices, tyre 7.2e5*delta^1.26 N, m1 + m2 = 292.5 kg)."""
+    orifice = Orifice(PISTON, math.pi * 0.0094 ** 2 / 4, 0.6, 860.0) if damping else None
+    effects = []
+    if damping:
+        rebound = 860.0 * PISTON ** 3 / (2 * (0.6 * math.pi * 0.00665 ** 2 / 4) ** 2)
+        effects.append(ReboundOrifice(rebound - orifice.coefficient))
+    if friction:
+        effects.append(SealFriction(constant=80.0, pressure_factor=0.03, smoothing_velocity=0.002))
+    return DropModel(
+        upper_mass=283.5, lower_mass=9.0,
+        gas=GasSpring(PISTON, PISTON * 0.230, 0.8e6 + P_ATM, 1.2), orifice=orifice,
+        stops=EndStops(0.200, 2.0e7, stop_damping),
+        tyre=Tyre(7.2e5 * 0.04 ** 1.26, 0.04, 1.26, tyre_damping), effects=tuple(effects))
+
+
+@pytest.fixture(scope="module")
+def drops():
+    model = seed_gear()
+    return {h: simulate_reference(model, math.sqrt(2 * G * h)) for h in (0.200, 0.250, 0.300)}
+
+
+@pytest.mark.parametrize("height, peak_kgf, stroke_mm, tyre_mm", [
+    (0.200, 1227, 88.9, 38.8), (0.250, 1384, 94.1, 42.7), (0.300, 1530, 98.5, 46.3)])
+def test_agrees_with_an_independently_written_simulator(drops, height, peak_kgf, stroke_mm, tyre_mm):
+    # expected values: a separate scratch implementation of the same corrected equations
+    # (Radau with an analytic Jacobian, rtol 1e-8), written without this module
+    drop = drops[height]
+    assert drop.load.max() / G == pytest.approx(peak_kgf, abs=1.0)
+    assert drop.stroke.max() * 1000 == pytest.approx(stroke_mm, abs=0.1)
+    assert drop.tyre.max() * 1000 == pytest.approx(tyre_mm, abs=0.1)
+
+
+def test_energy_is_conserved_without_damping_or_friction():
+    model = seed_gear(damping=False, friction=False, tyre_damping=0.0, stop_damping=0.0)
+    v0 = math.sqrt(2 * G * 0.3)
+    drop = simulate_reference(model, v0, duration=1.0)
+    scale = 0.5 * model.total_mass * v0 ** 2
+    assert np.max(np.abs(drop.dissipated)) / scale < 1e-12
+    assert np.max(np.abs(drop.mechanical)) / scale < 1e-4
+
+
+def test_dissipated_energy_equals_the_integrated_damping_and_friction_work(drops):
+    for drop in drops.values():
+        # mechanical energy lost = work of the dissipative terms (integrated alongside)
+        assert abs(drop.mechanical[-1] + drop.dissipated[-1]) <= 5e-3 * drop.dissipated[-1]
+        assert drop.dissipated[-1] > 0
+
+
+def test_static_position_matches_the_closed_form_gas_law():
+    from scipy.optimize import fsolve
+
+    model = seed_gear(friction=False)
+
+    def accelerations(z):
+        return model.rates(np.array([z[0], 0.0, z[1], 0.0]))[[1, 3]]
+
+    z1, z2 = fsolve(accelerations, [0.08, 0.01], xtol=1e-14)
+    # p_st = p_atm + m1 g/A_a; s = V0/A_a (1 - (p_a0/p_st)^(1/n))
+    p_static = P_ATM + 283.5 * G / PISTON
+    closed_form = 0.230 * (1 - ((0.8e6 + P_ATM) / p_static) ** (1 / 1.2))
+    assert closed_form * 1000 == pytest.approx(32.879, abs=1e-3)
+    assert model.static_stroke() == pytest.approx(closed_form, rel=1e-12)
+    assert z1 - z2 == pytest.approx(closed_form, abs=1e-9)
+    # tyre: 7.2e5 delta^1.26 = 292.5 g
+    assert z2 == pytest.approx((292.5 * G / 7.2e5) ** (1 / 1.26), abs=1e-9)
+
+
+def test_strut_stays_topped_out_until_the_load_exceeds_its_preload(drops):
+    drop = drops[0.300]
+    preload = PISTON * 0.8e6  # A_a (p_a0 - p_atm) with the gauge pre-charge
+    below = (drop.time >= 0) & (np.cumsum(drop.load >= preload) == 0)
+    assert below.sum() >= 3
+    assert np.all(drop.stroke[below] < 1e-4)  # only the top-out stop's own compression
+    breakout = drop.time[np.flatnonzero(drop.stroke > 0.0005)[0]]
+    assert 0.005 < breakout < 0.015  # 5-15 ms tyre-only phase (physics.md §3)
