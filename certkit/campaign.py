@@ -70,6 +70,8 @@ def _message(error: dict) -> str:
         return f'expected text, got the number {found}; write it in quotes, e.g. "{found}"'
     if kind == "too_short":
         return "at least one entry is required"
+    if kind in ("model_type", "dict_type", "model_attributes_type"):
+        return f"expected a mapping of keys and values (such as {{method: none}}), got {found!r}"
     if kind == "finite_number":
         return f"expected a finite number, got {found!r}"
     if isinstance(found, (str, int, float, bool)) or found is None:

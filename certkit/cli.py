@@ -44,8 +44,14 @@ def _version(value: bool) -> None:
         raise typer.Exit()
 
 
+_STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP, signal.SIGINT)
+
+
 def _exit_on_signal(number, _frame):
-    # SIGTERM/SIGHUP become an exception, so staged outputs are removed as on Ctrl-C
+    # The first stop signal becomes an exception, so staged outputs are removed; further
+    # signals are ignored so they cannot interrupt that clean-up.
+    for other in _STOP_SIGNALS:
+        signal.signal(other, signal.SIG_IGN)
     raise SystemExit(128 + number)
 
 
@@ -53,7 +59,7 @@ def _exit_on_signal(number, _frame):
 def main(version: Annotated[bool, typer.Option("--version", callback=_version, is_eager=True,
                                                help="print the version and exit")] = False):
     """certkit: drop-test campaign -> compliance report, audit tables and evidence."""
-    for number in (signal.SIGTERM, signal.SIGHUP):
+    for number in _STOP_SIGNALS:
         signal.signal(number, _exit_on_signal)
 
 

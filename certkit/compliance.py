@@ -665,7 +665,8 @@ def _energy_method_values(assessment: Assessment) -> None:
                 cos_theta = math.cos(strut.inclination.si if strut and strut.inclination else 0.0)
                 d_t, d_s = gear.get("d_t"), gear.get("d_s")
                 n_g = None
-                if d_t is not None and d_s is not None and d_t + d_s > 0:
+                if (d_t is not None and d_s is not None
+                        and eta_t * d_t + eta_s * d_s * cos_theta > 0):
                     n_g = clauses.energy_method_load_factor(h, d_t, d_s * cos_theta, lift,
                                                             eta_t, eta_s)
                 formula = (f"n_j = (h + (1 − L)·d)/(η_t·d_t + η_s·d_s·cos θ), L = {lift:.4g}, "
@@ -674,7 +675,7 @@ def _energy_method_values(assessment: Assessment) -> None:
                 gear.values[f"n_j_energy[{rules.id}]"] = Value(
                     f"n_j_energy[{rules.id}]", "Energy-method load factor", "n_j,E", n_g, "1",
                     "ratio", f"{rules.id}: energy method", formula, inputs,
-                    None if n_g is not None else "needs d_t and d_s, not both zero")
+                    None if n_g is not None else "needs positive strut and tyre travel")
                 gear.values[f"n_energy[{rules.id}]"] = Value(
                     f"n_energy[{rules.id}]", "Energy-method inertia load factor", "n_E",
                     None if n_g is None else n_g + lift, "1", "ratio",

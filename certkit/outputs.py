@@ -34,7 +34,19 @@ def _remove_tree(path: Path) -> None:
         shutil.rmtree(path, onerror=make_writable_and_retry)
 
 
-def check_target(target: Path, inputs: list[Path], own_names: set[str]) -> None:
+def _foreign_entries(folder: Path, own_paths: set[str]) -> list[str]:
+    """Entries under ``folder`` that are not among the relative paths certkit writes."""
+    foreign = []
+    for path in sorted(folder.rglob("*")):
+        relative = path.relative_to(folder).as_posix()
+        expected_folder = any(own.startswith(relative + "/") for own in own_paths)
+        if path.is_symlink() or (path.is_dir() and not expected_folder) or (
+                not path.is_dir() and relative not in own_paths):
+            foreign.append(relative)
+    return foreign
+
+
+def check_target(target: Path, inputs: list[Path], own_paths: set[str]) -> None:
     """Raise CertkitInputError when replacing ``target`` could lose anything."""
     if str(target) in ("", "."):
         raise _refuse(target, "give a folder name for the outputs, not the current folder")
@@ -51,15 +63,24 @@ def check_target(target: Path, inputs: list[Path], own_names: set[str]) -> None:
     if resolved.exists():
         if not resolved.is_dir():
             raise _refuse(target, "exists and is not a folder")
-        foreign = sorted(p.name for p in resolved.iterdir() if p.name not in own_names)
+        foreign = _foreign_entries(resolved, own_paths)
         if foreign:
             shown = ", ".join(foreign[:5]) + (", ..." if len(foreign) > 5 else "")
             raise _refuse(target, f"exists and holds files certkit did not write ({shown}); "
                                   f"certkit only replaces its own output folders")
 
 
+def _folder_mode(final: Path) -> int:
+    """Keep an existing folder's permissions; a new one gets the umask's."""
+    if final.exists():
+        return stat.S_IMODE(final.stat().st_mode)
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o777 & ~mask
+
+
 @contextlib.contextmanager
-def staged_folder(target: str | Path, inputs: list[Path], own_names: set[str]):
+def staged_folder(target: str | Path, inputs: list[Path], own_paths: set[str]):
     """Yield a temporary folder that replaces ``target`` when the block succeeds.
 
     Parameters
@@ -68,33 +89,33 @@ def staged_folder(target: str | Path, inputs: list[Path], own_names: set[str]):
         The output folder.
     inputs : list of Path
         Files the outputs are computed from; the target may not contain any of them.
-    own_names : set of str
-        Names certkit writes into the folder; an existing target holding anything
-        else is refused rather than replaced.
+    own_paths : set of str
+        Relative paths of the files certkit writes into the folder (``tables/x.csv``);
+        an existing target holding anything else is refused rather than replaced.
     """
     target = Path(target)
-    check_target(target, inputs, own_names)
-    parent = target.resolve().parent
+    check_target(target, inputs, own_paths)
+    final = target.resolve()
+    parent = final.parent
     created: list[Path] = []
     try:
         missing = [p for p in [parent, *parent.parents] if not p.exists()]
         for folder in reversed(missing):
             folder.mkdir()
             created.append(folder)
-        staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=parent))
+        staging = Path(tempfile.mkdtemp(prefix=f".{final.name}.tmp-", dir=parent))
     except OSError as error:
         for folder in reversed(created):
             with contextlib.suppress(OSError):
                 folder.rmdir()
         raise _refuse(target, f"cannot create the output folder here: {error.strerror or error}") \
             from None
-    staging.chmod(0o755)  # mkdtemp makes it private; a report folder is an ordinary folder
-    final = parent / target.name
+    staging.chmod(_folder_mode(final))  # mkdtemp makes it 0700
     old = None
     try:
         yield staging
         if final.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{target.name}.old-", dir=parent))
+            old = Path(tempfile.mkdtemp(prefix=f".{final.name}.old-", dir=parent))
             old.rmdir()
             final.rename(old)
         staging.rename(final)

@@ -116,7 +116,7 @@ def check_implied_drop_weight(assessment: Assessment) -> None:
             continue
         weights = [w for _, w in items]
         low, high = min(weights), max(weights)
-        if (high - low) / (0.5 * (high + low)) > spread:
+        if high + low > 0 and (high - low) / (0.5 * (high + low)) > spread:
             listing = ", ".join(f"{run_id}: {_display(assessment, w, 'force')}"
                                 for run_id, w in items)
             _add(assessment, "implied-drop-weight-spread", "warning", None, gear_id,
@@ -314,12 +314,13 @@ def check_reported_values(assessment: Assessment) -> None:
                                 kind, unit, value, gear.get(key),
                                 f"recomputed from {run.series.file}", tolerance)
                 if item.agrees is False:
+                    relative = (f" by {item.difference / item.recomputed:+.1%}"
+                                if item.recomputed else "")
                     _add(assessment, f"reported-{name.replace('_', '-')}", "warning", run.run.id,
                          gear.gear_id,
                          f"run {run.run.id}, {gear.gear_id}: reported {name.replace('_', ' ')} "
                          f"{value.text} differs from the recomputed "
-                         f"{_display(assessment, item.recomputed, kind)} by "
-                         f"{item.difference / item.recomputed:+.1%}")
+                         f"{_display(assessment, item.recomputed, kind)}{relative}")
 
 
 def check_acceleration_against_load(assessment: Assessment) -> None:

@@ -516,7 +516,9 @@ def _write_outputs(assessment: Assessment, folder: Path, progress) -> None:
 
 
 #: What render_report writes; an existing folder holding anything else is not replaced.
-REPORT_FILES = {"report.html", "report.pdf", "results.json", "tables"}
+TABLES = ("verdicts", "findings", "values", "comparisons")
+REPORT_FILES = {"report.html", "report.pdf", "results.json"} | {f"tables/{name}.csv"
+                                                                for name in TABLES}
 
 
 def render_report(assessment: Assessment, out_dir: str | Path, progress=None) -> Path:

@@ -129,14 +129,23 @@ def _read_table(path: Path, display: str):
         match = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", str(exc))
         if match:
             header, line, seen = match.groups()
-            raise fail(f"line {line} has {seen} fields, the header has {header} (remove any "
-                       f"preamble lines above the header)", int(line)) from None
+            raise fail(f"line {line} has {seen} fields, the header has {header}: check that "
+                       f"row for stray or decimal commas, and the file for preamble lines "
+                       f"above the header", int(line)) from None
         raise fail(f"cannot read data file: {exc}") from None
     except Exception as exc:  # pandas and pyarrow raise many types for malformed files
         raise fail(f"cannot read data file: {exc}") from None
     if len(frame.columns) == 1 and ";" in str(frame.columns[0]):
         raise fail("the file appears to use ';' as separator; certkit reads comma-separated "
                    "CSV")
+    if suffix == ".csv":
+        import csv
+
+        with path.open(newline="", encoding="utf-8-sig", errors="replace") as handle:
+            header = next(csv.reader(handle), [])
+        repeated = sorted({name for name in header if header.count(name) > 1})
+        if repeated:
+            raise fail(f"column name(s) repeated in the header: {', '.join(repeated)}", 1)
     return frame, first_line
 
 
@@ -184,7 +193,8 @@ def read_run(path: Path, display: str, spec_file: str, run_index: int, run: Run,
                              f"(columns: {', '.join(map(str, frame.columns))})")
     check.raise_if_errors()
     if len(frame) < 3:
-        check.data_error(None, check.key("file"), f"only {len(frame)} data rows")
+        check.spec_error(check.key("file"), f"{display} has {len(frame)} data row(s); at "
+                                            f"least 3 are needed")
         check.raise_if_errors()
 
     # --- time base
@@ -196,6 +206,12 @@ def read_run(path: Path, display: str, spec_file: str, run_index: int, run: Run,
     raw_time = pd.to_numeric(frame[data.time.column], errors="coerce").to_numpy(dtype=float)
     time = raw_time * scale_to_si(data.time.unit, "time")
     bad = np.flatnonzero(~np.isfinite(time))
+    if bad.size and isinstance(frame[data.time.column].iloc[int(bad[0])], str):
+        sample = frame[data.time.column].iloc[int(bad[0])]
+        check.data_error(_row(first_line, int(bad[0])), check.key("time", "column"),
+                         f"column {data.time.column!r} holds text such as {sample!r}; "
+                         f"certkit needs the time as a number in {data.time.unit}")
+        check.raise_if_errors()
     if bad.size:
         check.data_error(_row(first_line, int(bad[0])), check.key("time", "column"),
                          f"time is missing or not a number ({bad.size} rows)")
@@ -245,7 +261,9 @@ def read_run(path: Path, display: str, spec_file: str, run_index: int, run: Run,
                 check.waivable("clipping", _row(first_line, first), check.key(*location, "column"),
                                f"column {column.column!r} is flat at its maximum {top:g} "
                                f"{column.unit} for {run_length} samples (clipped or saturated?)")
-        values = column.sign * column.scale * (raw - column.offset) * scale_to_si(column.unit, kind)
+        with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below
+            values = column.sign * column.scale * (raw - column.offset) * scale_to_si(
+                column.unit, kind)
         return values
 
     gears: dict[str, GearSeries] = {}

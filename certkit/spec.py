@@ -9,6 +9,7 @@ naming a gear unit that does not exist, ...) are checked in
 from __future__ import annotations
 
 import datetime as dt
+import math
 from typing import Annotated, Literal
 
 from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, PlainSerializer,
@@ -32,14 +33,15 @@ def _quantity(kind: str, description: str | None = None, minimum: float | None =
         low_bad = minimum is not None and (quantity.si <= minimum if exclusive
                                            else quantity.si < minimum)
         if low_bad:
+            shown = f"{math.degrees(minimum):g} deg" if kind == "angle" else f"{minimum:g}"
             word = "positive" if exclusive and minimum == 0 else (
-                "zero or more" if minimum == 0 else f"above {minimum:g}" if exclusive
-                else f"at least {minimum:g}")
+                "zero or more" if minimum == 0 else f"above {shown}" if exclusive
+                else f"at least {shown}")
             raise PydanticCustomError("quantity", f'must be {word}, got "{quantity.text}"')
         if maximum is not None and quantity.si > maximum:
-            raise PydanticCustomError(
-                "quantity", f'must be at most {maximum:g}{" (100 %)" if maximum == 1 else ""}, '
-                            f'got "{quantity.text}"')
+            limit = (f"{math.degrees(maximum):g} deg" if kind == "angle"
+                     else f"{maximum:g}{' (100 %)' if maximum == 1 else ''}")
+            raise PydanticCustomError("quantity", f'must be at most {limit}, got "{quantity.text}"')
         return quantity
 
     if kind == "dimensionless":
@@ -77,7 +79,8 @@ Weight = _quantity("weight", exclusive=True)
 Pressure = _quantity("pressure", exclusive=True)
 Energy = _quantity("energy")
 Frequency = _quantity("frequency", exclusive=True)
-Angle = _quantity("angle", minimum=None)
+Inclination = _quantity("angle", "strut axis from vertical, e.g. '3 deg' (at most 45 deg)",
+                        minimum=-math.pi / 4, maximum=math.pi / 4)
 Density = _quantity("density", exclusive=True)
 WingLoading = _quantity("wing_loading", "a wing loading (force per area), e.g. '10.15 lbf/ft^2'",
                         exclusive=True)
@@ -179,7 +182,7 @@ class Strut(_Model):
     discharge_coefficient: PositiveNumber | None = None
     oil_density: Density | None = None
     polytropic_exponent: PositiveNumber | None = None
-    inclination: Angle | None = None
+    inclination: Inclination | None = None
     static_stroke: Length | None = None
     minimum_stroke: Length | None = None
     unsprung_mass: Mass | None = None

@@ -224,6 +224,9 @@ def _example_unit(kind: str) -> str:
 
 def parse_unit(text: str, kind: str) -> str:
     """Check that ``text`` names a unit of ``kind`` and return it unchanged."""
+    if not isinstance(text, str) or not re.fullmatch(rf"\s*{_UNIT}\s*", text):
+        raise QuantityError(f"expected a unit of {kind} (names joined by * or /, such as "
+                            f"mm or lbf/ft^2), got {text!r}")
     try:
         unit = ureg.Unit(text)
     except (pint.errors.PintError, ValueError, TypeError, AttributeError, SyntaxError):

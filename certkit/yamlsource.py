@@ -17,13 +17,32 @@ LineMap = dict[tuple, int]
 
 
 class _UniqueKeyLoader(yaml.SafeLoader):
-    """SafeLoader that refuses duplicate keys (a silently overwritten key is a typo)."""
+    """SafeLoader that refuses duplicate keys (a silently overwritten key is a typo), keys
+    that are not text, sets (unordered) and aliases (&a/*a can expand without bound)."""
+
+    def compose_node(self, parent, index):
+        if self.check_event(yaml.events.AliasEvent):
+            event = self.peek_event()
+            raise yaml.composer.ComposerError(
+                None, None, "YAML anchors and aliases (&name, *name) are not supported in a "
+                            "campaign; write the values out", event.start_mark)
+        return super().compose_node(parent, index)
+
+
+def _refuse_set(loader, node):
+    raise yaml.constructor.ConstructorError(
+        None, None, "!!set is not supported (its order is undefined); write a list",
+        node.start_mark)
 
 
 def _construct_mapping(loader, node, deep=False):
     seen: dict = {}
     for key_node, _ in node.value:
         key = loader.construct_object(key_node, deep=deep)
+        if not isinstance(key, str):
+            raise yaml.constructor.ConstructorError(
+                None, None, f"key {key_node.value or '~'!r} is not a name; keys must be text",
+                key_node.start_mark)
         if key in seen:
             raise yaml.constructor.ConstructorError(
                 None, None, f"duplicate key {key!r} (first at line {seen[key] + 1})",
@@ -34,6 +53,7 @@ def _construct_mapping(loader, node, deep=False):
 
 _UniqueKeyLoader.add_constructor(
     yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
+_UniqueKeyLoader.add_constructor("tag:yaml.org,2002:set", _refuse_set)
 # Dates stay text: the spec model parses them, so a malformed date gets our message.
 _UniqueKeyLoader.yaml_implicit_resolvers = {
     first: [(tag, regexp) for tag, regexp in resolvers if tag != "tag:yaml.org,2002:timestamp"]
@@ -89,6 +109,9 @@ def load_yaml(path: Path, display_name: str) -> tuple[object, LineMap]:
         line = mark.line + 1 if mark else None
         raise CertkitInputError.single(
             display_name, line, "", f"not valid YAML: {exc.problem or exc}") from None
+    except RecursionError:
+        raise CertkitInputError.single(display_name, None, "",
+                                       "the YAML is nested too deeply") from None
     except _ComplexKey as error:
         raise CertkitInputError.single(display_name, error.line, "",
                                        "a key must be a plain name, not a list or a "

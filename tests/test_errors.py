@@ -243,3 +243,80 @@ def test_symlink_leaving_the_campaign_folder_is_refused(timeseries_campaign, tmp
     edit_spec(timeseries_campaign, "file: data/r1.csv", "file: data/link.csv")
     result = run_report(timeseries_campaign, tmp_path / "out")
     assert_input_error(result, tmp_path / "out", "outside the campaign folder")
+
+
+YAML_CASES = [
+    ("aircraft:\n", "aircraft:\n  x: &a [*a]\n", "anchors and aliases"),
+    ("gear_units: [left-main]", "gear_units: !!set {left-main}", "!!set is not supported"),
+    ("aircraft:\n", "aircraft:\n  3: 2\n", "keys must be text"),
+    ("vertical_load: {column: Fz_kN, unit: kN}", "vertical_load: {column: Fz_kN, unit: 1/0 kN}",
+     "expected a unit of weight"),
+    ("time: {column: t_s, unit: s}", "time: {column: t_s, unit: '10**10**10 s'}",
+     "expected a unit of time"),
+    ("lift: {method: reduced_mass, ratio: 0.667}", "lift: none", "expected a mapping"),
+]
+
+
+@pytest.mark.parametrize("old, new, words", YAML_CASES, ids=[c[2] for c in YAML_CASES])
+def test_unsupported_yaml_and_unit_forms(timeseries_campaign, tmp_path, old, new, words):
+    edit_spec(timeseries_campaign, old, new)
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "campaign.yaml", words)
+
+
+def test_deeply_nested_yaml_is_an_input_error(timeseries_campaign, tmp_path):
+    edit_spec(timeseries_campaign, "aircraft:\n", "aircraft:\n  x: " + "[" * 5000 + "\n")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "campaign.yaml")
+
+
+def test_inclination_beyond_45_degrees_is_refused(timeseries_campaign, tmp_path):
+    edit_spec(timeseries_campaign, "    design_stroke: 120 mm\n",
+              "    design_stroke: 120 mm\n    strut: {inclination: 180 deg}\n")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "gear_units[0].strut.inclination",
+                       "must be at most 45 deg")
+
+
+def test_text_timestamps_in_a_csv_time_column(timeseries_campaign, tmp_path):
+    path = data_file(timeseries_campaign)
+    lines = path.read_text(encoding="utf-8").splitlines()
+    lines[1] = "2024-01-01T00:00:00," + lines[1].split(",", 1)[1]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "data/r1.csv:2", "holds text such as")
+
+
+def test_repeated_column_names_are_refused(timeseries_campaign, tmp_path):
+    path = data_file(timeseries_campaign)
+    text = path.read_text(encoding="utf-8").replace("acc_ms2", "Fz_kN", 1)
+    path.write_text(text, encoding="utf-8")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "data/r1.csv:1", "repeated in the header: Fz_kN")
+
+
+def test_too_few_rows_points_at_the_spec(timeseries_campaign, tmp_path):
+    path = data_file(timeseries_campaign)
+    path.write_text("\n".join(path.read_text(encoding="utf-8").splitlines()[:3]) + "\n",
+                    encoding="utf-8")
+    line = line_of(timeseries_campaign, "file: data/r1.csv")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", f"campaign.yaml:{line} runs[0].data.file",
+                       "has 2 data row(s); at least 3 are needed")
+
+
+def test_zero_reported_energies_do_not_crash_the_audit(seed_copy, tmp_path):
+    text = seed_copy.read_text(encoding="utf-8")
+    text = text.replace("strut_energy: 596.72 J, tyre_energy: 172.67 J",
+                        "strut_energy: 0 J, tyre_energy: 0 J")
+    text = text.replace("strut_energy: 1060.74 J, tyre_energy: 250.06 J",
+                        "strut_energy: 0 J, tyre_energy: 0 J")
+    text = text.replace("strut_energy: 1305.97 J, tyre_energy: 356.36 J",
+                        "strut_energy: 0 J, tyre_energy: 0 J")
+    seed_copy.write_text(text, encoding="utf-8")
+    result = run_report(seed_copy, tmp_path / "out")
+    assert result.exit_code == 0, result.output
+    from certkit import assess, load_campaign
+    findings = assess(load_campaign(seed_copy)).findings
+    assert any(f.check == "efficiency-not-positive-strut" and f.gear == "left-main"
+               for f in findings)

@@ -85,3 +85,33 @@ def test_terminated_report_leaves_nothing_behind(seed_copy, tmp_path):
     process.wait(timeout=60)
     assert process.returncode == 128 + signal.SIGTERM
     assert sorted(os.listdir(tmp_path)) == ["seed"]
+
+
+def test_user_files_inside_a_report_like_folder_are_not_deleted(seed_copy, tmp_path):
+    out = tmp_path / "u"
+    (out / "tables").mkdir(parents=True)
+    (out / "tables" / "my_analysis.xlsx").write_bytes(b"keep")
+    result = report(seed_copy, out)
+    assert result.exit_code == 2 and "tables/my_analysis.xlsx" in result.output
+    assert (out / "tables" / "my_analysis.xlsx").read_bytes() == b"keep"
+
+
+def test_dot_dot_target_is_checked_as_the_folder_it_names(seed_copy, tmp_path, monkeypatch):
+    monkeypatch.chdir(seed_copy.parent)
+    (tmp_path / "v" / "tables").mkdir(parents=True)
+    result = report(seed_copy, tmp_path / "v" / "tables" / "..")
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "v" / "report.pdf").exists()
+
+
+def test_new_output_folder_follows_the_umask_and_existing_keeps_its_mode(seed_copy, tmp_path):
+    previous = os.umask(0o077)
+    try:
+        assert report(seed_copy, tmp_path / "private").exit_code == 0
+    finally:
+        os.umask(previous)
+    assert (tmp_path / "private").stat().st_mode & 0o777 == 0o700
+    (tmp_path / "shared").mkdir(mode=0o750)
+    (tmp_path / "shared").chmod(0o750)
+    assert report(seed_copy, tmp_path / "shared").exit_code == 0
+    assert (tmp_path / "shared").stat().st_mode & 0o777 == 0o750
