@@ -13,6 +13,7 @@ import numpy as np
 
 from .clauses import drop_test_load_factor
 from .energy import absorbed_energy
+from .units import STANDARD_GRAVITY
 
 #: Touchdown: load first exceeds this share of the unit's static weight (physics.md §4.1:
 #: 1-2 % of static load) or six robust standard deviations of the pre-contact noise.
@@ -69,15 +70,31 @@ class GearMeasures:
     tyre_at_touchdown: float | None = None
 
 
+def strut_force(time: np.ndarray, load: np.ndarray, tyre: np.ndarray | None,
+                unsprung_mass: float, inclination: float) -> np.ndarray:
+    """Axial strut force from the platform load: F_s·cos θ = F_V − m2·(g − δ̈).
+
+    The lower-mass equation of the drop model (physics.md §2.2) with the axle
+    acceleration δ̈ taken from a cubic spline of the tyre deflection (rigid platform).
+    With m2 = 0 (not declared) or no tyre channel, F_s = F_V/cos θ.
+    """
+    from scipy.interpolate import CubicSpline
+
+    cos_theta = math.cos(inclination)
+    if not unsprung_mass or tyre is None:
+        return load / cos_theta
+    axle_acceleration = CubicSpline(time, tyre).derivative(2)(time)
+    return (load - unsprung_mass * (STANDARD_GRAVITY - axle_acceleration)) / cos_theta
+
+
 def measure_gear(time: np.ndarray, load: np.ndarray, stroke: np.ndarray | None,
                  tyre: np.ndarray | None, static_weight: float,
-                 inclination: float = 0.0) -> GearMeasures:
+                 inclination: float = 0.0, unsprung_mass: float = 0.0) -> GearMeasures:
     """Read the drop quantities off one gear unit's load, stroke and tyre histories.
 
-    Energies are the vertical work of the platform load over each element's vertical
-    travel during its loading stroke: E_s = ∫ F_V d(s·cosθ), E_t = ∫ F_V dδ (the
-    strut force is taken equal to the platform load, i.e. the unsprung mass's inertia
-    and weight are neglected).  d = max over time of (δ + s·cosθ), 23.725(b).
+    Energies over each element's loading stroke: E_t = ∫ F_V dδ and E_s = ∫ F_s ds with
+    the strut force from :func:`strut_force` (the unsprung mass's weight and inertia
+    removed when its mass is known).  d = max over time of (δ + s·cosθ), 23.725(b).
     """
     start = touchdown_index(load, static_weight)
     i0 = 0 if start is None else max(start - 1, 0)
@@ -89,7 +106,9 @@ def measure_gear(time: np.ndarray, load: np.ndarray, stroke: np.ndarray | None,
     if stroke is not None:
         s = stroke[i0:]
         max_stroke = float(np.max(s))
-        strut_energy = absorbed_energy(t, f, s * cos_theta)
+        axial = strut_force(t, f, None if tyre is None else tyre[i0:], unsprung_mass,
+                            inclination)
+        strut_energy = absorbed_energy(t, axial, s)
         after = s[int(np.argmax(s)):]
         min_after = float(np.min(after))
         settling = _settling_time(t, s, max_stroke)

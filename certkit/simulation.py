@@ -38,10 +38,17 @@ class SimulatedDrop:
     displacement: np.ndarray   # drop mass (m1), positive downward, 0 at release
     dissipated: np.ndarray     # work of orifice, friction, stop and tyre damping
     mechanical: np.ndarray     # kinetic + stored − gravity work − lift work, from contact
+    strut_work: np.ndarray     # ∫ F_s·ṡ dt from contact: work done on the strut
+    tyre_work: np.ndarray      # ∫ F_V·δ̇ dt from contact: work done on the tyre
+
+    def absorbed_on_loading(self) -> tuple[float, float]:
+        """Truth of E_s and E_t: work done on strut and tyre up to each one's maximum travel."""
+        return (float(self.strut_work[np.argmax(self.stroke)]),
+                float(self.tyre_work[np.argmax(self.tyre)]))
 
 
-# State: z1, v1, z2, v2, then the dissipated work ∫(F_s − F_gas − F_stop,spring)·ṡ + tyre damping.
-_STATE = 5
+# State: z1, v1, z2, v2, then three works integrated alongside: dissipated
+# (∫(F_s − F_gas − F_stop,spring)·ṡ + tyre damping·δ̇), on the strut (∫F_s·ṡ), on the tyre (∫F_V·δ̇).
 
 
 def _energy_parts(model: DropModel, state) -> tuple:
@@ -75,7 +82,9 @@ def _rhs(model: DropModel):
         non_conservative = sum(parts.values()) - parts["gas"] - spring
         tyre_damping = model.tyre.force(z2, v2) - np.where(z2 > 0, model.tyre.static_force(z2), 0.0)
         power = non_conservative * rate + tyre_damping * v2
-        return np.concatenate([motion, [power]])
+        strut_power = sum(parts.values()) * rate
+        tyre_power = model.tyre.force(z2, v2) * v2
+        return np.concatenate([motion, [power, strut_power, tyre_power]])
 
     return rhs
 
@@ -96,7 +105,7 @@ def simulate_reference(model: DropModel, contact_velocity: float, duration: floa
     run : str
         Name used in error messages.
     """
-    y0 = np.concatenate([model.initial_state(contact_velocity), [0.0]])
+    y0 = np.concatenate([model.initial_state(contact_velocity), [0.0, 0.0, 0.0]])
     samples = int(round(duration * sample_rate)) + 1
     t_eval = np.linspace(0.0, duration, samples)
     solution = solve_ivp(_rhs(model), (0.0, duration), y0, method="LSODA", t_eval=t_eval,
@@ -129,4 +138,6 @@ def simulate_reference(model: DropModel, contact_velocity: float, duration: floa
                                      fall_height + y[0]]),
         dissipated=np.concatenate([zeros, y[4]]),
         mechanical=np.concatenate([zeros, mechanical]),
+        strut_work=np.concatenate([zeros, y[5]]),
+        tyre_work=np.concatenate([zeros, y[6]]),
     )
