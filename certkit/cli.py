@@ -142,6 +142,26 @@ def report(spec: SpecArgument,
 
 
 @app.command()
+def simulate(spec: SpecArgument,
+             output: Annotated[Path, typer.Option("-o", "--output", help="output folder")],
+             seed: Annotated[int, typer.Option(help="seed of the sensor noise")] = 0,
+             noise: Annotated[bool, typer.Option(
+                 "--noise/--no-noise", help="add sensor noise, quantisation and offsets")] = True,
+             ) -> None:
+    """Simulate every run with the gear's drop model; write data files and a campaign file."""
+    from .campaign import load_campaign
+    from .synthetic import NO_SENSOR_EFFECTS, SensorModel, simulate_campaign
+
+    try:
+        campaign = load_campaign(spec)
+        written = simulate_campaign(campaign, output, seed=seed,
+                                    sensors=SensorModel() if noise else NO_SENSOR_EFFECTS)
+    except CertkitInputError as error:
+        _fail_input(error)
+    out.print(f"wrote {written} and {len(campaign.spec.runs)} data file(s) (synthetic)")
+
+
+@app.command()
 def schema() -> None:
     """Print the JSON Schema of the campaign spec (for editors and CI)."""
     from .spec import json_schema

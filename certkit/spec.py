@@ -161,11 +161,28 @@ class Aircraft(_Model):
     notes: str | None = None
 
 
+class TyreCurve(_Model):
+    """Static load-deflection law f(δ) = reference_load·(δ/reference_deflection)^exponent."""
+
+    reference_load: Force
+    reference_deflection: PositiveLength
+    exponent: PositiveNumber
+
+
 class Tyre(_Model):
     size: Text
     pressure: Pressure
     pressure_reference: Literal["gauge", "absolute"]
     diameter: PositiveLength | None = None
+    load_deflection: TyreCurve | None = Field(None, description="static curve (physics model)")
+    damping: _quantity("slowness", "C_T of F = f(δ)·(1 + C_T·δ̇), e.g. '0.05 s/m'") | None = None  # type: ignore[valid-type]
+
+
+class SealFrictionSpec(_Model):
+    """Seal friction F = (constant + pressure_factor·|F_gas|)·sign(ṡ)."""
+
+    constant: Force
+    pressure_factor: Fraction = Field(parse_quantity("0", "dimensionless"))
 
 
 class Strut(_Model):
@@ -186,6 +203,7 @@ class Strut(_Model):
     static_stroke: Length | None = None
     minimum_stroke: Length | None = None
     unsprung_mass: Mass | None = None
+    seal_friction: SealFrictionSpec | None = None
     notes: str | None = None
 
 
@@ -358,6 +376,15 @@ class DisplayUnits(_Model):
     time: _unit("time") = "ms"  # type: ignore[valid-type]
 
 
+Effect = Literal["seal-friction", "rebound-orifice"]
+
+
+class ModelSettings(_Model):
+    """The physics model used to simulate and calibrate: which optional effects are on."""
+
+    effects: list[Effect] = Field([], description="optional effects switched on (default none)")
+
+
 class ReportSettings(_Model):
     units: DisplayUnits = DisplayUnits()
 
@@ -376,6 +403,7 @@ class CampaignSpec(_Model):
     reported: CampaignReported | None = None
     assumptions: list[str] = []
     audit: AuditSettings = AuditSettings()
+    model: ModelSettings = ModelSettings()
     report: ReportSettings = ReportSettings()
 
 

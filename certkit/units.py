@@ -45,6 +45,7 @@ KINDS: dict[str, tuple[str, str]] = {
     "angle": ("[]", "rad"),
     "wing_loading": ("[pressure]", "Pa"),
     "density": ("[mass]/[length]**3", "kg/m**3"),
+    "slowness": ("[time]/[length]", "s/m"),
 }
 
 _ARTICLE = {"area": "an area", "acceleration": "an acceleration", "angle": "an angle",
@@ -219,7 +220,7 @@ def _example_unit(kind: str) -> str:
     return {"length": "mm", "area": "m^2", "volume": "L", "mass": "kg", "force": "N",
             "pressure": "MPa", "energy": "J", "time": "s", "frequency": "Hz",
             "velocity": "m/s", "acceleration": "m/s^2", "angle": "deg", "weight": "kg",
-            "wing_loading": "lbf/ft^2", "density": "kg/m^3"}.get(kind, "")
+            "wing_loading": "lbf/ft^2", "density": "kg/m^3", "slowness": "s/m"}.get(kind, "")
 
 
 def parse_unit(text: str, kind: str) -> str:

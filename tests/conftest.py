@@ -137,3 +137,68 @@ def seed_copy(tmp_path: Path) -> Path:
     folder = tmp_path / "seed"
     shutil.copytree(SEED.parent, folder)
     return folder / "campaign.yaml"
+
+
+PHYSICS_SPEC = textwrap.dedent("""\
+    certkit: 1
+    campaign: {id: PHYS-TEST, title: Simulated single-gear campaign}
+    document:
+      report_number: PHYS-0001
+      revision: "1"
+      date: 2025-04-01
+      applicant: Test applicant
+      facility: Simulation
+      test_dates: [2025-04-01]
+      signatories: [{role: prepared, name: A. Tester}]
+    certification_basis:
+      - requirement_set: 14CFR23-amdt62
+    aircraft:
+      model: Seed amphibian (one main gear)
+      maximum_weight: 650 kg
+      wing_area: 140.85 ft^2
+      wing_lift_ratio: 0.667
+    gear_units:
+      - id: left-main
+        position: main
+        static_weight: 292.5 kgf
+        static_weight_basis: assumed
+        shock_absorber: oleo-pneumatic
+        design_stroke: 200 mm
+        tyre:
+          size: 240 mm wheel
+          pressure: 25 psi
+          pressure_reference: gauge
+          load_deflection: {reference_load: 12471.77 N, reference_deflection: 40 mm, exponent: 1.26}
+          damping: 0.05 s/m
+        strut:
+          gas_precharge_pressure: 0.8 MPa
+          pressure_reference: gauge
+          pneumatic_area: 2827.433388 mm^2
+          hydraulic_area: 2827.433388 mm^2
+          gas_volume: 650.3096792 cm^3
+          polytropic_exponent: 1.2
+          orifice_diameter: 9.4 mm
+          rebound_orifice_diameter: 6.65 mm
+          discharge_coefficient: 0.6
+          oil_density: 860 kg/m^3
+          unsprung_mass: 9 kg
+          seal_friction: {constant: 80 N, pressure_factor: 0.03}
+    model:
+      effects: [rebound-orifice, seal-friction]
+    instrumentation:
+      sampling_rate: 1000 Hz
+    runs:
+      - {id: D200, test_type: build-up, gear_units: [left-main], drop_height: 200 mm, drop_mass: 292.5 kg, lift: {method: none}}
+      - {id: D250, test_type: build-up, gear_units: [left-main], drop_height: 250 mm, drop_mass: 292.5 kg, lift: {method: none}}
+      - {id: D300, test_type: limit, gear_units: [left-main], drop_height: 300 mm, drop_mass: 292.5 kg, lift: {method: none}}
+    """)
+
+
+@pytest.fixture
+def physics_campaign(tmp_path: Path) -> Path:
+    """A campaign whose gear has every parameter the drop model needs; returns the spec path."""
+    folder = tmp_path / "physics"
+    folder.mkdir()
+    spec = folder / "campaign.yaml"
+    spec.write_text(PHYSICS_SPEC, encoding="utf-8")
+    return spec

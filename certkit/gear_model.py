@@ -1,0 +1,128 @@
+"""The drop model of a campaign's gear unit, built from its spec (servicing, geometry, tyre).
+
+Every physical parameter comes from the campaign spec with its unit; a parameter the
+model needs and the spec lacks is an input error naming the key to add.  The end
+stops' stiffness and damping are numerical constants of the model, not gear data.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .drop_model import P_ATM, DropModel, EndStops, GasSpring, Orifice, Tyre
+from .effects import ReboundOrifice, SealFriction
+from .errors import CertkitInputError, Problem
+from .spec import CampaignSpec, Run
+from .units import STANDARD_GRAVITY
+
+#: Stop stiffness and damping: stiff enough that the stop compression under the largest
+#: strut load is a fraction of a millimetre, damped so the stop does not ring.
+STOP_STIFFNESS = 2.0e7      # N/m
+STOP_DAMPING = 1.3e4        # N·s/m
+
+
+def _circle(diameter: float) -> float:
+    return math.pi * diameter ** 2 / 4
+
+
+def gear_mass(spec: CampaignSpec, run: Run, gear_id: str) -> float:
+    """Mass the gear unit carries in the drop [kg] (certkit W1: the unit's share of the
+    drop mass for a complete-airplane drop, the whole drop mass for a single-unit rig)."""
+    if len(run.gear_units) == 1:
+        return run.drop_mass.si
+    unit = next(g for g in spec.gear_units if g.id == gear_id)
+    return run.drop_mass.si * unit.static_weight.si / spec.aircraft.maximum_weight.si
+
+
+def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = "campaign",
+                   lines=None, effects: list[str] | None = None) -> DropModel:
+    """The :class:`~certkit.drop_model.DropModel` of ``gear_id`` in ``run``.
+
+    Parameters
+    ----------
+    effects : list of str, optional
+        Optional effects to switch on; default: the campaign's ``model.effects``.
+
+    Raises
+    ------
+    CertkitInputError
+        Listing every parameter the model needs that the spec does not give.
+    """
+    from .yamlsource import line_of
+
+    index = next(i for i, g in enumerate(spec.gear_units) if g.id == gear_id)
+    unit = spec.gear_units[index]
+    strut, tyre = unit.strut, unit.tyre
+    missing: list[Problem] = []
+
+    def need(owner, name: str, where: tuple):
+        value = getattr(owner, name, None) if owner is not None else None
+        if value is None:
+            location = ("gear_units", index) + where + (name,)
+            line = line_of(lines, location) if lines else None
+            missing.append(Problem(spec_file, line, "gear_units[{}].{}".format(
+                index, ".".join(map(str, where + (name,)))), "needed to simulate this gear unit"))
+        return value
+
+    pneumatic = need(strut, "pneumatic_area", ("strut",))
+    volume = need(strut, "gas_volume", ("strut",))
+    precharge = need(strut, "gas_precharge_pressure", ("strut",))
+    reference = need(strut, "pressure_reference", ("strut",))
+    exponent = need(strut, "polytropic_exponent", ("strut",))
+    hydraulic = need(strut, "hydraulic_area", ("strut",))
+    discharge = need(strut, "discharge_coefficient", ("strut",))
+    density = need(strut, "oil_density", ("strut",))
+    unsprung = need(strut, "unsprung_mass", ("strut",))
+    curve = need(tyre, "load_deflection", ("tyre",))
+    orifice_area = None
+    if strut is not None:
+        if strut.orifice_area is not None:
+            orifice_area = strut.orifice_area.si
+        elif strut.orifice_diameter is not None:
+            orifice_area = _circle(strut.orifice_diameter.si)
+        else:
+            need(strut, "orifice_diameter", ("strut",))
+    chosen = spec.model.effects if effects is None else effects
+    if "rebound-orifice" in chosen:
+        need(strut, "rebound_orifice_diameter", ("strut",))
+    if "seal-friction" in chosen:
+        need(strut, "seal_friction", ("strut",))
+    if missing:
+        raise CertkitInputError(missing)
+
+    total = gear_mass(spec, run, gear_id)
+    if unsprung.si >= total:
+        raise CertkitInputError.single(spec_file, None, f"gear_units[{index}].strut.unsprung_mass",
+                                       f"{unsprung.text} is not less than the {total:.6g} kg the "
+                                       f"unit carries in run {run.id}")
+    swept = pneumatic.si * unit.design_stroke.si
+    if volume.si <= swept:
+        raise CertkitInputError.single(
+            spec_file, line_of(lines, ("gear_units", index, "strut", "gas_volume")) if lines
+            else None, f"gear_units[{index}].strut.gas_volume",
+            f"{volume.text} is not more than the volume the piston sweeps over the design "
+            f"stroke (A_a·s_max = {swept * 1e6:.6g} cm^3): the gas would be compressed to nothing")
+    absolute = precharge.si + (P_ATM if reference == "gauge" else 0.0)
+    gas = GasSpring(pneumatic.si, volume.si, absolute, exponent.si)
+    if gas.equilibrium_stroke((total - unsprung.si) * STANDARD_GRAVITY) >= unit.design_stroke.si:
+        raise CertkitInputError.single(
+            spec_file, None, f"gear_units[{index}].strut",
+            f"the gas spring cannot hold the static load within the design stroke "
+            f"{unit.design_stroke.text} (pre-charge too low or gas volume too small)")
+    orifice = Orifice(hydraulic.si, orifice_area, discharge.si, density.si)
+    terms = []
+    if "rebound-orifice" in chosen:
+        rebound = Orifice(hydraulic.si, _circle(strut.rebound_orifice_diameter.si), discharge.si,
+                          density.si)
+        terms.append(ReboundOrifice(rebound.coefficient - orifice.coefficient))
+    if "seal-friction" in chosen:
+        terms.append(SealFriction(strut.seal_friction.constant.si,
+                                  strut.seal_friction.pressure_factor.si))
+    lift = run.lift.ratio.si if run.lift.method == "lift_device" else 0.0
+    inclination = strut.inclination.si if strut.inclination is not None else 0.0
+    return DropModel(
+        upper_mass=total - unsprung.si, lower_mass=unsprung.si, gas=gas, orifice=orifice,
+        stops=EndStops(unit.design_stroke.si, STOP_STIFFNESS, STOP_DAMPING),
+        tyre=Tyre(curve.reference_load.si, curve.reference_deflection.si, curve.exponent.si,
+                  tyre.damping.si if tyre.damping is not None else 0.0),
+        lift_ratio=lift, inclination=inclination, effects=tuple(terms))

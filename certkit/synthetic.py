@@ -1,0 +1,136 @@
+"""Synthetic campaigns: simulated runs written in the campaign's own data format.
+
+``simulate_campaign`` simulates every run of a campaign with the drop model of each gear
+unit, adds realistic sensor effects (Gaussian noise, quantisation, zero offsets), and
+writes the data files and a campaign file pointing at them.  The offsets are recorded in
+each column's ``offset`` so that zeroing the channels is explicit in the spec.  Seeds are
+fixed: the same inputs give the same bytes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from .campaign import Campaign
+from .clauses import ideal_impact_velocity
+from .gear_model import drop_model_for, gear_mass
+from .outputs import staged_folder
+from .simulation import simulate_reference
+
+
+@dataclass(frozen=True)
+class SensorModel:
+    """Sensor effects added to simulated channels (SI: N, m, m/s²)."""
+
+    load_noise: float = 20.0
+    load_step: float = 1.0
+    load_offset: float = 10.0          # offsets drawn uniformly in ±this
+    travel_noise: float = 5.0e-5
+    travel_step: float = 1.0e-5
+    travel_offset: float = 2.0e-4
+    acceleration_noise: float = 0.05
+    acceleration_step: float = 0.01
+    displacement_noise: float = 5.0e-5
+    displacement_step: float = 1.0e-5
+
+
+NO_SENSOR_EFFECTS = SensorModel(0, 0, 0, 0, 0, 0, 0, 0, 0, 0)
+
+
+def _measured(values: np.ndarray, noise: float, step: float, offset: float, rng) -> tuple:
+    """Add an offset, noise and quantisation; returns (readings, the offset applied)."""
+    bias = float(rng.uniform(-offset, offset)) if offset else 0.0
+    if step:
+        bias = round(bias / step) * step
+    readings = values + bias + (rng.normal(0.0, noise, values.shape) if noise else 0.0)
+    if step:
+        readings = np.round(readings / step) * step
+    return readings, bias
+
+
+def _decimals(step: float) -> int:
+    return max(0, -int(math.floor(math.log10(step)))) if step else 9
+
+
+def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
+                      sensors: SensorModel = SensorModel(), duration: float = 2.0,
+                      lead: float = 0.1, effects: list[str] | None = None) -> Path:
+    """Simulate every run of ``campaign`` and write a synthetic campaign into ``out_dir``.
+
+    Writes ``out_dir/campaign.yaml`` (the original spec with each run's ``data`` pointing at
+    the simulated file) and ``out_dir/data/<run>.csv``.  Returns the new spec's path.
+    """
+    spec = campaign.spec
+    rate = spec.instrumentation.sampling_rate.si if spec.instrumentation else 1000.0
+    raw = yaml.safe_load(campaign.spec_path.read_text(encoding="utf-8"))
+    files = {"campaign.yaml"} | {f"data/{run.id}.csv" for run in spec.runs}
+    inputs = [item.path for item in campaign.inputs]
+    with staged_folder(out_dir, inputs, files) as staging:
+        (staging / "data").mkdir()
+        for index, run in enumerate(spec.runs):
+            rng = np.random.default_rng([seed, index])
+            velocity = ideal_impact_velocity(run.drop_height.si)
+            drops = {gear_id: simulate_reference(
+                drop_model_for(spec, run, gear_id, str(campaign.spec_path.name), campaign.lines,
+                               effects), velocity, duration, rate, lead, run=run.id)
+                for gear_id in run.gear_units}
+            first = next(iter(drops.values()))
+            columns = {"t_s": (first.time, 1.0, 6)}
+            mapping = {}
+            for gear_id, drop in drops.items():
+                load, load_bias = _measured(drop.load, sensors.load_noise, sensors.load_step,
+                                            sensors.load_offset, rng)
+                stroke, stroke_bias = _measured(drop.stroke, sensors.travel_noise,
+                                                sensors.travel_step, sensors.travel_offset, rng)
+                tyre, tyre_bias = _measured(drop.tyre, sensors.travel_noise, sensors.travel_step,
+                                            sensors.travel_offset, rng)
+                columns[f"{gear_id}_load_N"] = (load, 1.0, _decimals(sensors.load_step))
+                columns[f"{gear_id}_stroke_mm"] = (stroke, 1e3, _decimals(sensors.travel_step * 1e3))
+                columns[f"{gear_id}_tyre_mm"] = (tyre, 1e3, _decimals(sensors.travel_step * 1e3))
+                mapping[gear_id] = {
+                    "vertical_load": {"column": f"{gear_id}_load_N", "unit": "N",
+                                      "offset": round(load_bias, 9)},
+                    "strut_stroke": {"column": f"{gear_id}_stroke_mm", "unit": "mm",
+                                     "offset": round(stroke_bias * 1e3, 9)},
+                    "tyre_deflection": {"column": f"{gear_id}_tyre_mm", "unit": "mm",
+                                        "offset": round(tyre_bias * 1e3, 9)}}
+            # the drop mass: each unit's upper mass moves as the airframe; mass-weighted mean
+            masses = {g: gear_mass(spec, run, g) for g in drops}
+            total = sum(masses.values())
+            acceleration = sum(masses[g] * d.acceleration for g, d in drops.items()) / total
+            displacement = sum(masses[g] * d.displacement for g, d in drops.items()) / total
+            acceleration, _ = _measured(acceleration, sensors.acceleration_noise,
+                                        sensors.acceleration_step, 0.0, rng)
+            displacement, _ = _measured(displacement, sensors.displacement_noise,
+                                        sensors.displacement_step, 0.0, rng)
+            columns["acc_ms2"] = (acceleration, 1.0, _decimals(sensors.acceleration_step))
+            columns["x_mm"] = (displacement, 1e3, _decimals(sensors.displacement_step * 1e3))
+            _write_csv(staging / "data" / f"{run.id}.csv", columns)
+            raw["runs"][index]["data"] = {
+                "file": f"data/{run.id}.csv", "time": {"column": "t_s", "unit": "s"},
+                "sampling_rate": f"{rate:g} Hz", "gears": mapping,
+                "drop_mass_acceleration": {"column": "acc_ms2", "unit": "m/s^2",
+                                           "reference": "kinematic"},
+                "drop_mass_displacement": {"column": "x_mm", "unit": "mm"}}
+        note = (f"Synthetic time histories simulated by certkit (drop model of each gear unit, "
+                f"effects: {', '.join(effects if effects is not None else spec.model.effects) or 'none'}; "
+                f"seed {seed}); sensor noise, quantisation and zero offsets added.")
+        raw.setdefault("assumptions", []).append(note)
+        text = yaml.safe_dump(raw, sort_keys=False, allow_unicode=True, width=100)
+        (staging / "campaign.yaml").write_text("# " + note + "\n" + text, encoding="utf-8")
+    return Path(out_dir) / "campaign.yaml"
+
+
+def _write_csv(path: Path, columns: dict) -> None:
+    names = list(columns)
+    scaled = [values * factor for values, factor, _ in columns.values()]
+    formats = [f"{{:.{decimals}f}}" for _, _, decimals in columns.values()]
+    with path.open("w", encoding="utf-8", newline="\n") as handle:
+        handle.write(",".join(names) + "\n")
+        for row in zip(*scaled):
+            handle.write(",".join(fmt.format(value) for fmt, value in zip(formats, row)) + "\n")

@@ -1,0 +1,92 @@
+"""Synthetic campaigns: simulated runs in the campaign's own format, read back by the
+same code that reads measured runs."""
+
+import hashlib
+import math
+
+import pytest
+from typer.testing import CliRunner
+
+from certkit import assess, load_campaign
+from certkit.cli import app
+from certkit.gear_model import drop_model_for
+from certkit.simulation import simulate_reference
+from certkit.synthetic import NO_SENSOR_EFFECTS, simulate_campaign
+
+G = 9.80665
+runner = CliRunner()
+
+
+def truth(spec_path, run_index):
+    campaign = load_campaign(spec_path)
+    run = campaign.spec.runs[run_index]
+    model = drop_model_for(campaign.spec, run, "left-main")
+    return simulate_reference(model, math.sqrt(2 * G * run.drop_height.si))
+
+
+def test_model_from_the_spec_is_the_seed_gear(physics_campaign):
+    drop = truth(physics_campaign, 2)
+    # the independently written simulator gave 1530 kgf, 98.5 mm, 46.3 mm at 300 mm
+    assert drop.load.max() / G == pytest.approx(1530, abs=1.5)
+    assert drop.stroke.max() * 1000 == pytest.approx(98.5, abs=0.15)
+    assert drop.tyre.max() * 1000 == pytest.approx(46.3, abs=0.1)
+
+
+@pytest.mark.parametrize("noisy", [False, True])
+def test_synthetic_runs_give_back_the_simulators_energies(physics_campaign, tmp_path, noisy):
+    out = tmp_path / "synthetic"
+    kwargs = {} if noisy else {"sensors": NO_SENSOR_EFFECTS}
+    spec = simulate_campaign(load_campaign(physics_campaign), out, seed=1, **kwargs)
+    assessment = assess(load_campaign(spec))
+    for index, run in enumerate(assessment.runs):
+        gear = run.gears[0]
+        strut, tyre = truth(physics_campaign, index).absorbed_on_loading()
+        assert gear.get("E_s") == pytest.approx(strut, rel=0.02)
+        assert gear.get("E_t") == pytest.approx(tyre, rel=0.02)
+    assert assessment.runs[0].series is not None
+    assert any("Synthetic time histories" in a for a in assessment.campaign.spec.assumptions)
+
+
+def test_same_seed_same_bytes_other_seed_other_noise(physics_campaign, tmp_path):
+    campaign = load_campaign(physics_campaign)
+
+    def digest(folder):
+        return hashlib.sha256((folder / "data" / "D300.csv").read_bytes()).hexdigest()
+
+    simulate_campaign(campaign, tmp_path / "a", seed=3)
+    simulate_campaign(campaign, tmp_path / "b", seed=3)
+    simulate_campaign(campaign, tmp_path / "c", seed=4)
+    assert digest(tmp_path / "a") == digest(tmp_path / "b") != digest(tmp_path / "c")
+    assert (tmp_path / "a" / "campaign.yaml").read_bytes() == (
+        tmp_path / "b" / "campaign.yaml").read_bytes()
+
+
+def test_simulate_command_names_a_missing_parameter(physics_campaign, tmp_path):
+    text = physics_campaign.read_text(encoding="utf-8").replace(
+        "      gas_volume: 650.3096792 cm^3\n", "")
+    physics_campaign.write_text(text, encoding="utf-8")
+    result = runner.invoke(app, ["simulate", str(physics_campaign), "-o", str(tmp_path / "o")])
+    assert result.exit_code == 2
+    assert "gear_units[0].strut.gas_volume: needed to simulate" in result.output
+    assert not (tmp_path / "o").exists()
+
+
+def test_gas_volume_below_the_swept_volume_is_an_input_error(physics_campaign, tmp_path):
+    # A_a * s_max = 2827.43 mm^2 * 200 mm = 565.49 cm^3
+    text = physics_campaign.read_text(encoding="utf-8").replace(
+        "gas_volume: 650.3096792 cm^3", "gas_volume: 500 cm^3")
+    physics_campaign.write_text(text, encoding="utf-8")
+    result = runner.invoke(app, ["simulate", str(physics_campaign), "-o", str(tmp_path / "o")])
+    assert result.exit_code == 2 and "565.487 cm^3" in result.output
+
+
+def test_a_gas_spring_that_cannot_carry_the_weight_is_an_input_error(physics_campaign, tmp_path):
+    # 0.01 MPa gauge = 0.1113 MPa absolute; p_static = p_atm + 283.5 kg * g / A_a = 1.0846 MPa;
+    # volume ratio (1.0846/0.1113)^(1/1.2) = 6.68, so s = 230 mm * (1 - 1/6.68) = 195.6 mm,
+    # beyond a 150 mm design stroke
+    text = physics_campaign.read_text(encoding="utf-8").replace(
+        "gas_precharge_pressure: 0.8 MPa", "gas_precharge_pressure: 0.01 MPa").replace(
+        "design_stroke: 200 mm", "design_stroke: 150 mm")
+    physics_campaign.write_text(text, encoding="utf-8")
+    result = runner.invoke(app, ["simulate", str(physics_campaign), "-o", str(tmp_path / "o")])
+    assert result.exit_code == 2 and "cannot hold the static load" in result.output
