@@ -13,7 +13,7 @@ from .results import Comparison, Finding
 from .units import STANDARD_GRAVITY, convert, ureg
 
 if TYPE_CHECKING:
-    from .compliance import Assessment, GearResult, RunResult
+    from .compliance import Assessment
 
 #: Alternative units tried when a reported value disagrees: a match in another unit
 #: of the same kind is reported as a probable unit slip (requirements.md §4).
