@@ -254,9 +254,9 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
             "m", "length", "14 CFR 23.725(b); certkit M2", "d = max(δ + s·cos θ)", source_file,
             None if measures.max_total_travel is not None else "needs stroke and tyre channels")
         put("E_s", "Energy absorbed by the strut", "E_s", measures.strut_energy, "J", "energy",
-            "certkit E1", "E_s = ∫ F_s ds, F_s·cos θ = F_V − m2·(g − δ̈), loading stroke",
+            "certkit E1", "E_s = ∫ F_s ds, F_s/cos θ = F_V − m2·(g − δ̈), loading stroke",
             source_file | {"m2": f"{unsprung:g} kg (gear_units[{gear_id}].strut.unsprung_mass)"},
-            None if unsprung else "unsprung mass not declared: F_s = F_V/cos θ")
+            None if unsprung else "unsprung mass not declared: F_s = F_V·cos θ")
         put("E_t", "Energy absorbed by the tyre", "E_t", measures.tyre_energy, "J", "energy",
             "certkit E1", "E_t = ∫ F_V dδ, loading stroke", source_file)
     elif reported is not None:
@@ -311,14 +311,14 @@ def _derived_gear_values(result: GearResult, run: Run, unit: GearUnit, cos_theta
     put("F/W", "Ground-reaction factor", "F_peak/W",
         None if f_peak is None else f_peak / weight, "1", "ratio", "certkit G1",
         "F_peak/W", {"F_peak": "F_peak", "W": "W"})
-    for element, energy, travel, factor in (("s", "E_s", "d_s", 1.0 / cos_theta),
+    for element, energy, travel, factor in (("s", "E_s", "d_s", cos_theta),
                                             ("t", "E_t", "d_t", 1.0)):
         e, d = get(energy), get(travel)
         eta = None
         if None not in (e, d, f_peak):
             eta = e / (f_peak * d * factor) if f_peak > 0 and d > 0 else None
         name = "strut" if element == "s" else "tyre"
-        rectangle = "F_peak/cos θ·d_s" if element == "s" else "F_peak·d_t"
+        rectangle = "F_peak·cos θ·d_s" if element == "s" else "F_peak·d_t"
         put(f"eta_{element}", f"Efficiency of the {name}", f"η_{element}", eta, "1", "ratio",
             "certkit E2", f"η_{element} = {energy}/({rectangle})",
             {energy: energy, "F_peak": "F_peak", travel: travel},

@@ -6,8 +6,14 @@ s = (z1 − z2)/cos θ positive in compression; tyre deflection δ = z2 on a rig
 
 Equations of motion (seed eqs. 6-7, corrected as physics.md §2.5 items 2-3)::
 
-    m1·z1'' = m1·g − L − F_s·cos θ
-    m2·z2'' = m2·g + F_s·cos θ − F_V
+    m1·z1'' = m1·g − L − F_s/cos θ
+    m2·z2'' = m2·g + F_s/cos θ − F_V
+
+For an inclined strut the vertical force the strut passes between the masses is F_s/cos θ
+(the axial force plus the vertical share of the bearing reaction): by virtual work it is
+the force whose power over the vertical relative velocity ṡ·cos θ equals F_s·ṡ, so the
+gas spring's stored energy and the strut's work stay consistent.  physics.md §2.2 writes
+the small-θ form F_s·cos θ; the two agree to second order in θ.
 
 The strut force F_s is the sum of the strut terms and F_V the tyre term's force.  Each
 force law is a separate term object with named parameters (SI); the model is their
@@ -81,7 +87,10 @@ class GasSpring(Term):
         return self.area * (self.pressure(stroke) - P_ATM)
 
     def energy(self, stroke):
-        """Work stored from s = 0 to ``stroke`` (∫F_a ds), for energy accounting (n ≠ 1)."""
+        """Work stored from s = 0 to ``stroke`` (∫F_a ds), for energy accounting.
+
+        Valid while the gas volume stays above its 2 % floor (the builder demands that
+        over the whole design stroke)."""
         ratio = self.volume / (self.volume - self.area * stroke)
         if self.exponent == 1.0:
             stored = self.precharge * self.volume * np.log(ratio)
@@ -253,13 +262,12 @@ class DropModel:
         stroke, rate = (z1 - z2) / cos_theta, (v1 - v2) / cos_theta
         strut = self.strut_force(stroke, rate)
         ground = self.tyre.force(z2, v2)
-        contact = z2 > 0.0
-        lift = np.where(contact | (z1 > 0.0), self.lift, 0.0)
-        a1 = STANDARD_GRAVITY - (lift + strut * cos_theta) / self.upper_mass
-        a2 = STANDARD_GRAVITY + (strut * cos_theta - ground) / self.lower_mass
+        # the simulation starts at first contact, when a lift device engages
+        a1 = STANDARD_GRAVITY - (self.lift + strut / cos_theta) / self.upper_mass
+        a2 = STANDARD_GRAVITY + (strut / cos_theta - ground) / self.lower_mass
         return np.array([v1, a1, v2, a2])
 
     def static_stroke(self) -> float:
         """Equilibrium stroke under the upper mass's weight less lift (friction-free)."""
-        load = (self.upper_mass * STANDARD_GRAVITY - self.lift) / math.cos(self.inclination)
+        load = (self.upper_mass * STANDARD_GRAVITY - self.lift) * math.cos(self.inclination)
         return self.gas.equilibrium_stroke(load)

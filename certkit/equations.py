@@ -12,11 +12,11 @@ EQUATIONS: dict[str, str] = {
     "M3": "touchdown: first sample where F_V exceeds its pre-contact median by the larger of "
           "2 % of the unit's static weight and 6 robust standard deviations of the pre-contact noise",
     "E1": "E = ∫ F d(travel) from touchdown to maximum travel; tyre: F_V over δ; strut: the "
-          "axial force F_s over s, F_s·cos θ = F_V − m2·(g − δ̈) (lower-mass equilibrium, m2 "
-          "the declared unsprung mass or 0, δ̈ from a cubic spline of δ); cubic splines in "
-          "time, Gauss-Legendre per sample interval",
+          "axial force F_s over s, F_s/cos θ = F_V − m2·(g − δ̈) (lower-mass equation, m2 the "
+          "declared unsprung mass or 0, δ̈ a Savitzky-Golay second derivative of δ, cubic, 21 "
+          "samples); cubic splines in time, Gauss-Legendre per sample interval",
     "E2": "η = E/(F·δ_max) with F the peak force through the element (tyre: F_peak; strut: "
-          "F_peak/cos θ)",
+          "F_peak·cos θ)",
     "E3": "E_avail = W_drop·(h + d) − L_dev·W_drop·d: potential energy of the drop through h + d, "
           "less the work of a lift force L_dev·W_drop applied by a lift device (L_dev = 0 when "
           "lift is not simulated or is represented by a reduced drop mass, which applies no force)",

@@ -16,7 +16,8 @@ from .spec import CampaignSpec, Run
 from .units import STANDARD_GRAVITY
 
 #: Stop stiffness and damping: stiff enough that the stop compression under the largest
-#: strut load is a fraction of a millimetre, damped so the stop does not ring.
+#: strut load is a fraction of a millimetre; the damping is about half critical against a
+#: ~9 kg unsprung mass at top-out (lightly damped against the upper mass at bottoming).
 STOP_STIFFNESS = 2.0e7      # N/m
 STOP_DAMPING = 1.3e4        # N·s/m
 
@@ -96,15 +97,17 @@ def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = 
                                        f"{unsprung.text} is not less than the {total:.6g} kg the "
                                        f"unit carries in run {run.id}")
     swept = pneumatic.si * unit.design_stroke.si
-    if volume.si <= swept:
+    if 0.98 * volume.si <= swept:  # the gas law's 2 % volume floor must lie beyond the stroke
         raise CertkitInputError.single(
             spec_file, line_of(lines, ("gear_units", index, "strut", "gas_volume")) if lines
             else None, f"gear_units[{index}].strut.gas_volume",
-            f"{volume.text} is not more than the volume the piston sweeps over the design "
-            f"stroke (A_a·s_max = {swept * 1e6:.6g} cm^3): the gas would be compressed to nothing")
+            f"{volume.text} leaves less than 2 % of itself at the design stroke (the piston "
+            f"sweeps A_a·s_max = {swept * 1e6:.6g} cm^3): the gas would be compressed to nothing")
+    inclination = strut.inclination.si if strut.inclination is not None else 0.0
     absolute = precharge.si + (P_ATM if reference == "gauge" else 0.0)
     gas = GasSpring(pneumatic.si, volume.si, absolute, exponent.si)
-    if gas.equilibrium_stroke((total - unsprung.si) * STANDARD_GRAVITY) >= unit.design_stroke.si:
+    static_load = (unit.static_weight.si - unsprung.si * STANDARD_GRAVITY) * math.cos(inclination)
+    if gas.equilibrium_stroke(static_load) >= unit.design_stroke.si:
         raise CertkitInputError.single(
             spec_file, None, f"gear_units[{index}].strut",
             f"the gas spring cannot hold the static load within the design stroke "
@@ -119,7 +122,6 @@ def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = 
         terms.append(SealFriction(strut.seal_friction.constant.si,
                                   strut.seal_friction.pressure_factor.si))
     lift = run.lift.ratio.si if run.lift.method == "lift_device" else 0.0
-    inclination = strut.inclination.si if strut.inclination is not None else 0.0
     return DropModel(
         upper_mass=total - unsprung.si, lower_mass=unsprung.si, gas=gas, orifice=orifice,
         stops=EndStops(unit.design_stroke.si, STOP_STIFFNESS, STOP_DAMPING),

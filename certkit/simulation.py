@@ -62,7 +62,7 @@ def _energy_parts(model: DropModel, state) -> tuple:
                                     0.5 * stops.stiffness * (stroke - stops.travel) ** 2, 0.0))
     stored = model.gas.energy(stroke) + model.tyre.energy(z2) + stop_spring
     gravity = STANDARD_GRAVITY * (model.upper_mass * z1 + model.lower_mass * z2)
-    lift = model.lift * np.maximum(z1, 0.0)
+    lift = model.lift * z1  # the lift acts from contact on (the simulation's start)
     return kinetic + stored - gravity + lift
 
 

@@ -18,7 +18,7 @@ import yaml
 
 from .campaign import Campaign
 from .clauses import ideal_impact_velocity
-from .gear_model import drop_model_for, gear_mass
+from .gear_model import drop_model_for
 from .outputs import staged_folder
 from .simulation import simulate_reference
 
@@ -75,10 +75,11 @@ def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
         for index, run in enumerate(spec.runs):
             rng = np.random.default_rng([seed, index])
             velocity = ideal_impact_velocity(run.drop_height.si)
-            drops = {gear_id: simulate_reference(
-                drop_model_for(spec, run, gear_id, str(campaign.spec_path.name), campaign.lines,
-                               effects), velocity, duration, rate, lead, run=run.id)
-                for gear_id in run.gear_units}
+            models = {gear_id: drop_model_for(spec, run, gear_id, str(campaign.spec_path.name),
+                                              campaign.lines, effects)
+                      for gear_id in run.gear_units}
+            drops = {gear_id: simulate_reference(model, velocity, duration, rate, lead, run=run.id)
+                     for gear_id, model in models.items()}
             first = next(iter(drops.values()))
             columns = {"t_s": (first.time, 1.0, 6)}
             mapping = {}
@@ -99,8 +100,8 @@ def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
                                      "offset": round(stroke_bias * 1e3, 9)},
                     "tyre_deflection": {"column": f"{gear_id}_tyre_mm", "unit": "mm",
                                         "offset": round(tyre_bias * 1e3, 9)}}
-            # the drop mass: each unit's upper mass moves as the airframe; mass-weighted mean
-            masses = {g: gear_mass(spec, run, g) for g in drops}
+            # the drop mass: each unit's upper mass moves as the airframe; weighted by upper mass
+            masses = {g: models[g].upper_mass for g in drops}
             total = sum(masses.values())
             acceleration = sum(masses[g] * d.acceleration for g, d in drops.items()) / total
             displacement = sum(masses[g] * d.displacement for g, d in drops.items()) / total
