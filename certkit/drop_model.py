@@ -154,9 +154,10 @@ class EndStops(Term):
                 Parameter("damping", self.damping, "N*s/m", "stop damping")]
 
     def force(self, stroke, rate):
-        top = np.minimum(0.0, self.stiffness * stroke + self.damping * rate)
-        bottom = np.maximum(0.0, self.stiffness * (stroke - self.travel) + self.damping * rate)
-        return np.where(stroke < 0.0, top, np.where(stroke > self.travel, bottom, 0.0))
+        # penetration: negative past top-out, positive past the bottoming stop, else zero
+        penetration = np.minimum(stroke, 0.0) + np.maximum(stroke - self.travel, 0.0)
+        force = self.stiffness * penetration + self.damping * rate * (penetration != 0.0)
+        return np.where(penetration < 0.0, np.minimum(force, 0.0), np.maximum(force, 0.0))
 
 
 # --------------------------------------------------------------------------- tyre
@@ -248,17 +249,22 @@ class DropModel:
     def strut_force(self, stroke, rate):
         return sum(self.strut_parts(stroke, rate).values())
 
-    def initial_state(self, contact_velocity: float) -> np.ndarray:
-        """[z1, v1, z2, v2] at first contact: strut topped out, its stop carrying the preload."""
+    def initial_state(self, contact_velocity) -> np.ndarray:
+        """[z1, v1, z2, v2] at first contact: strut topped out, its stop carrying the preload.
+
+        ``contact_velocity`` and the model's parameters may be arrays (a batch)."""
         preload = self.gas.force(0.0)
         stroke0 = -preload / self.stops.stiffness  # stop compressed just enough to hold it
-        z1 = stroke0 * math.cos(self.inclination)
-        return np.array([z1, contact_velocity, 0.0, contact_velocity])
+        z1 = stroke0 * np.cos(self.inclination)
+        velocity = np.asarray(contact_velocity, dtype=float)
+        shape = np.broadcast(z1, velocity).shape
+        return np.array([np.broadcast_to(z1, shape), np.broadcast_to(velocity, shape),
+                         np.zeros(shape), np.broadcast_to(velocity, shape)], dtype=float)
 
     def rates(self, state):
         """Time derivative of [z1, v1, z2, v2] (arrays may carry a trailing batch axis)."""
         z1, v1, z2, v2 = state[0], state[1], state[2], state[3]
-        cos_theta = math.cos(self.inclination)
+        cos_theta = np.cos(self.inclination)
         stroke, rate = (z1 - z2) / cos_theta, (v1 - v2) / cos_theta
         strut = self.strut_force(stroke, rate)
         ground = self.tyre.force(z2, v2)

@@ -41,8 +41,9 @@ class SealFriction(Term):
                 Parameter("smoothing_velocity", self.smoothing_velocity, "m/s", "v_ε")]
 
     def force(self, stroke, rate, gas_force):
-        coulomb = self.constant + self.pressure_factor * np.abs(gas_force)
-        level = coulomb + self.breakaway * np.exp(-(rate / self.stribeck_velocity) ** 2)
+        level = self.constant + self.pressure_factor * np.abs(gas_force)
+        if np.any(self.breakaway):  # skip the Stribeck term's exp when it is off
+            level = level + self.breakaway * np.exp(-(rate / self.stribeck_velocity) ** 2)
         return level * np.tanh(rate / self.smoothing_velocity)
 
 
@@ -62,4 +63,5 @@ class ReboundOrifice(Term):
                           "rebound damping in excess of the compression orifice")]
 
     def force(self, stroke, rate, gas_force):
-        return np.where(rate < 0.0, self.extra_coefficient * rate * np.abs(rate), 0.0)
+        extension = np.minimum(rate, 0.0)
+        return -self.extra_coefficient * extension * extension

@@ -1,4 +1,5 @@
-"""Simulating drops: the reference path (scipy ``solve_ivp`` LSODA, tight tolerances, one drop).
+"""Simulating drops: a reference path (scipy ``solve_ivp`` LSODA, tight tolerances, one drop)
+and a fast batched path (fixed-step RK4 over many drops at once, numpy).
 
 The output has the channels of a measured run (platform load, strut stroke, tyre
 deflection, drop-mass acceleration and displacement) at the logger's sample rate, so
@@ -141,3 +142,57 @@ def simulate_reference(model: DropModel, contact_velocity: float, duration: floa
         strut_work=np.concatenate([zeros, y[5]]),
         tyre_work=np.concatenate([zeros, y[6]]),
     )
+
+
+@dataclass
+class BatchDrops:
+    """Channels of a batch of drops: arrays of shape (drops, samples); ``time`` is shared."""
+
+    time: np.ndarray
+    load: np.ndarray
+    stroke: np.ndarray
+    tyre: np.ndarray
+    acceleration: np.ndarray
+    displacement: np.ndarray
+
+
+#: RK4 step of the batched path.  The stiffest rate in the model is the regularised seal
+#: friction against the unsprung mass (about 3e4 1/s for a 2 mm/s smoothing width), which
+#: RK4 integrates stably and accurately at 0.2 ms (test_fast_path_agrees_with_the_reference).
+BATCH_STEP = 2.0e-4
+
+
+def simulate_batch(model: DropModel, contact_velocity, duration: float = 2.0,
+                   sample_rate: float = 1000.0, step: float = BATCH_STEP) -> BatchDrops:
+    """Simulate many drops at once with classical RK4 at a fixed step.
+
+    The model's parameters and ``contact_velocity`` may be arrays of one common length
+    (one entry per drop): every force term is element-wise, so the batch runs through the
+    same code as the reference path.  Output starts at contact (no free-fall lead).
+    """
+    state = model.initial_state(contact_velocity)
+    per_sample = int(round(1.0 / (sample_rate * step)))
+    if not np.isclose(per_sample * step * sample_rate, 1.0):
+        raise ValueError("the step must divide the sample interval")
+    samples = int(round(duration * sample_rate)) + 1
+    history = np.empty((samples,) + state.shape)
+    history[0] = state
+    for index in range(1, samples):
+        for _ in range(per_sample):
+            k1 = model.rates(state)
+            k2 = model.rates(state + 0.5 * step * k1)
+            k3 = model.rates(state + 0.5 * step * k2)
+            k4 = model.rates(state + step * k3)
+            state = state + step / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        history[index] = state
+    z1, v1, z2, v2 = (history[:, i].T for i in range(4))
+    cos_theta = np.cos(model.inclination)
+    acceleration = np.array([model.rates(history[i])[1] for i in range(samples)]).T
+    return BatchDrops(
+        time=np.arange(samples) / sample_rate,
+        load=model.tyre.force(z2, v2), stroke=(z1 - z2) / np.atleast_1d(cos_theta)[..., None]
+        if np.ndim(cos_theta) else (z1 - z2) / cos_theta,
+        tyre=np.maximum(z2, 0.0), acceleration=-acceleration,
+        displacement=z1 + (np.asarray(contact_velocity, dtype=float) ** 2
+                           / (2 * STANDARD_GRAVITY))[..., None] if np.ndim(contact_velocity)
+        else z1 + contact_velocity ** 2 / (2 * STANDARD_GRAVITY))

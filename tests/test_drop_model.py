@@ -110,3 +110,21 @@ def test_foundation_energy_integrals_match_the_simulators_truth(drops):
         # the issue asks for 2 %; without the unsprung-mass correction the error is 3.2 %
         assert measured.tyre_energy == pytest.approx(tyre_truth, rel=0.005)
         assert measured.strut_energy == pytest.approx(strut_truth, rel=0.005)
+
+
+@pytest.mark.parametrize("effects", ["none", "seal friction", "rebound orifice", "both"])
+def test_fast_path_agrees_with_the_reference(effects):
+    from dataclasses import replace
+
+    from certkit.simulation import simulate_batch
+
+    full = seed_gear()
+    chosen = {"none": (), "seal friction": full.effects[1:], "rebound orifice": full.effects[:1],
+              "both": full.effects}[effects]
+    model = replace(full, effects=tuple(chosen))
+    velocities = np.sqrt(2 * G * np.array([0.2, 0.3]))
+    batch = simulate_batch(model, velocities, duration=0.4)
+    for index, velocity in enumerate(velocities):
+        reference = simulate_reference(model, float(velocity), duration=0.4, lead=0.0)
+        assert batch.load[index].max() == pytest.approx(reference.load.max(), rel=1e-3)
+        assert batch.stroke[index].max() == pytest.approx(reference.stroke.max(), rel=1e-3)
