@@ -12,7 +12,6 @@ Target (issue 3): >= 500 drops/s and >= 50x.
 from __future__ import annotations
 
 import argparse
-import math
 import statistics
 import sys
 import time

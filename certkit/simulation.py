@@ -170,7 +170,8 @@ def simulate_batch(model: DropModel, contact_velocity, duration: float = 2.0,
     (one entry per drop): every force term is element-wise, so the batch runs through the
     same code as the reference path.  Output starts at contact (no free-fall lead).
     """
-    state = model.initial_state(contact_velocity)
+    velocity = np.atleast_1d(np.asarray(contact_velocity, dtype=float))
+    state = model.initial_state(velocity)
     per_sample = int(round(1.0 / (sample_rate * step)))
     if not np.isclose(per_sample * step * sample_rate, 1.0):
         raise ValueError("the step must divide the sample interval")
@@ -185,14 +186,12 @@ def simulate_batch(model: DropModel, contact_velocity, duration: float = 2.0,
             k4 = model.rates(state + step * k3)
             state = state + step / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
         history[index] = state
-    z1, v1, z2, v2 = (history[:, i].T for i in range(4))
-    cos_theta = np.cos(model.inclination)
+    z1, z2, v2 = history[:, 0].T, history[:, 2].T, history[:, 3].T  # (drops, samples)
     acceleration = np.array([model.rates(history[i])[1] for i in range(samples)]).T
+    column = (-1, 1)  # per-drop values as a column, to broadcast over samples
     return BatchDrops(
         time=np.arange(samples) / sample_rate,
-        load=model.tyre.force(z2, v2), stroke=(z1 - z2) / np.atleast_1d(cos_theta)[..., None]
-        if np.ndim(cos_theta) else (z1 - z2) / cos_theta,
+        load=model.tyre.force(z2, v2),
+        stroke=(z1 - z2) / np.reshape(np.cos(model.inclination), column),
         tyre=np.maximum(z2, 0.0), acceleration=-acceleration,
-        displacement=z1 + (np.asarray(contact_velocity, dtype=float) ** 2
-                           / (2 * STANDARD_GRAVITY))[..., None] if np.ndim(contact_velocity)
-        else z1 + contact_velocity ** 2 / (2 * STANDARD_GRAVITY))
+        displacement=z1 + np.reshape(velocity ** 2 / (2 * STANDARD_GRAVITY), column))
