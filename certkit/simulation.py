@@ -191,7 +191,7 @@ def simulate_batch(model: DropModel, contact_velocity, duration: float = 2.0,
     column = (-1, 1)  # per-drop values as a column, to broadcast over samples
     return BatchDrops(
         time=np.arange(samples) / sample_rate,
-        load=model.tyre.force(z2, v2),
+        load=model.tyre.force(z2.T, v2.T).T,  # samples first, so per-drop parameters broadcast
         stroke=(z1 - z2) / np.reshape(np.cos(model.inclination), column),
         tyre=np.maximum(z2, 0.0), acceleration=-acceleration,
         displacement=z1 + np.reshape(velocity ** 2 / (2 * STANDARD_GRAVITY), column))

@@ -128,3 +128,21 @@ def test_fast_path_agrees_with_the_reference(effects):
         reference = simulate_reference(model, float(velocity), duration=0.4, lead=0.0)
         assert batch.load[index].max() == pytest.approx(reference.load.max(), rel=1e-3)
         assert batch.stroke[index].max() == pytest.approx(reference.stroke.max(), rel=1e-3)
+
+
+def test_batch_of_parameter_sets_matches_single_runs():
+    from dataclasses import replace
+
+    from certkit.simulation import simulate_batch
+
+    base = seed_gear(friction=False)
+    volumes = np.array([0.95, 1.0, 1.05]) * base.gas.volume
+    batch = simulate_batch(replace(base, gas=replace(base.gas, volume=volumes)),
+                           math.sqrt(2 * G * 0.25), duration=0.3)
+    for index, volume in enumerate(volumes):
+        single = simulate_batch(replace(base, gas=replace(base.gas, volume=float(volume))),
+                                math.sqrt(2 * G * 0.25), duration=0.3)
+        assert np.allclose(batch.load[index], single.load[0], rtol=1e-12, atol=1e-9)
+        assert np.allclose(batch.stroke[index], single.stroke[0], rtol=1e-12, atol=1e-12)
+    # a larger gas volume is a softer spring: more stroke
+    assert batch.stroke[0].max() < batch.stroke[1].max() < batch.stroke[2].max()
