@@ -80,7 +80,7 @@ def check_energy_bounds(assessment: Assessment) -> None:
 
 
 def check_available_energy(assessment: Assessment) -> None:
-    """E_s + E_t ≤ energy available W_drop·(h + d) − L·W_drop·d (within the stated tolerance)."""
+    """E_s + E_t ≤ energy available W_drop·(h + d) − L_dev·W_drop·d, certkit E3 (within the stated tolerance)."""
     tolerance = assessment.campaign.spec.audit.energy_tolerance.si
     for run, gear in _gear_items(assessment):
         e_s, e_t, available = gear.get("E_s"), gear.get("E_t"), gear.get("E_avail")
@@ -90,7 +90,7 @@ def check_available_energy(assessment: Assessment) -> None:
         if absorbed > available * (1 + tolerance):
             _add(assessment, "energy-exceeds-available", "error", run.run.id, gear.gear_id,
                  f"run {run.run.id}, {gear.gear_id}: absorbed energy E_s + E_t = "
-                 f"{_fmt(absorbed, 'J')} exceeds the energy available W_drop·(h + d) − L·W_drop·d"
+                 f"{_fmt(absorbed, 'J')} exceeds the energy available W_drop·(h + d) − L_dev·W_drop·d"
                  f" = {_fmt(available, 'J')} by {absorbed / available - 1:.1%} "
                  f"(tolerance {tolerance:.0%})", absorbed=absorbed, available=available)
 
