@@ -184,8 +184,12 @@ class Tyre(Term):
         ratio = np.maximum(deflection, 0.0) / self.reference_deflection
         return self.reference_load * ratio ** self.exponent
 
+    def unclipped(self, deflection, rate):
+        """f(δ)·(1 + C_T·δ̇) before clipping (zero while the tyre is off the platform)."""
+        return self.static_force(deflection) * (1.0 + self.damping * rate)
+
     def force(self, deflection, rate):
-        return np.maximum(0.0, self.static_force(deflection) * (1.0 + self.damping * rate))
+        return np.maximum(0.0, self.unclipped(deflection, rate))
 
     def energy(self, deflection):
         """Work stored in the static curve from 0 to ``deflection`` (∫f dδ)."""
@@ -212,6 +216,8 @@ class DropModel:
         The nominal force laws (``orifice=None`` for an undamped spring strut).
     effects : tuple
         Optional strut terms (:mod:`certkit.effects`), each with ``force(stroke, rate, gas)``.
+    tyre_effects : tuple
+        Optional tyre terms, each with ``force(deflection, rate, static_force)``.
     """
 
     upper_mass: float
@@ -223,6 +229,7 @@ class DropModel:
     lift_ratio: float = 0.0
     inclination: float = 0.0
     effects: tuple = field(default_factory=tuple)
+    tyre_effects: tuple = field(default_factory=tuple)
 
     @property
     def total_mass(self) -> float:
@@ -234,7 +241,17 @@ class DropModel:
 
     def terms(self) -> list[Term]:
         nominal = [self.gas, self.orifice, self.stops, self.tyre]
-        return [term for term in nominal if term is not None] + list(self.effects)
+        return ([term for term in nominal if term is not None] + list(self.effects)
+                + list(self.tyre_effects))
+
+    def ground_force(self, deflection, rate):
+        """Platform load F_V: the tyre law plus tyre effects, clipped at zero (no pull)."""
+        force = self.tyre.unclipped(deflection, rate)
+        if self.tyre_effects:
+            static = self.tyre.static_force(deflection)
+            for effect in self.tyre_effects:
+                force = force + effect.force(deflection, rate, static)
+        return np.maximum(0.0, force)
 
     def strut_parts(self, stroke, rate) -> dict[str, np.ndarray]:
         """Each strut term's axial force (compression positive) at (s, ṡ)."""
@@ -267,7 +284,7 @@ class DropModel:
         cos_theta = np.cos(self.inclination)
         stroke, rate = (z1 - z2) / cos_theta, (v1 - v2) / cos_theta
         strut = self.strut_force(stroke, rate)
-        ground = self.tyre.force(z2, v2)
+        ground = self.ground_force(z2, v2)
         # the simulation starts at first contact, when a lift device engages
         a1 = STANDARD_GRAVITY - (self.lift + strut / cos_theta) / self.upper_mass
         a2 = STANDARD_GRAVITY + (strut / cos_theta - ground) / self.lower_mass

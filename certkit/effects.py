@@ -65,3 +65,53 @@ class ReboundOrifice(Term):
     def force(self, stroke, rate, gas_force):
         extension = np.minimum(rate, 0.0)
         return -self.extra_coefficient * extension * extension
+
+
+@dataclass(frozen=True)
+class MeteringPin(Term):
+    """Metering pin: orifice area varying with stroke, A_n(s) from a table (physics.md §3 #4).
+
+    Added to the nominal orifice (area A_0) as the difference of the two square laws:
+    F = ρ·A_h³/(2·C_d²)·(1/A_n(s)² − 1/A_0²)·ṡ|ṡ|, A_n(s) linearly interpolated.
+    """
+
+    strokes: tuple          # s_i [m], increasing
+    areas: tuple            # A_n(s_i) [m^2]
+    hydraulic_area: float   # A_h [m^2]
+    nominal_area: float     # A_0, the nominal orifice's area [m^2]
+    discharge: float        # C_d
+    density: float = 860.0  # ρ [kg/m^3]
+    name = "metering pin"
+
+    def parameters(self):
+        return [Parameter("strokes", self.strokes, "m", "stroke points of the area table"),
+                Parameter("areas", self.areas, "m^2", "net orifice area at those strokes"),
+                Parameter("hydraulic_area", self.hydraulic_area, "m^2", "A_h"),
+                Parameter("nominal_area", self.nominal_area, "m^2", "A_0 of the nominal orifice"),
+                Parameter("discharge", self.discharge, "1", "C_d"),
+                Parameter("density", self.density, "kg/m^3", "ρ")]
+
+    def force(self, stroke, rate, gas_force):
+        area = np.interp(stroke, self.strokes, self.areas)
+        factor = self.density * self.hydraulic_area ** 3 / (2 * self.discharge ** 2)
+        return factor * (1.0 / area ** 2 - 1.0 / self.nominal_area ** 2) * rate * np.abs(rate)
+
+
+@dataclass(frozen=True)
+class TyreHysteresis(Term):
+    """Tyre hysteresis: loading above unloading by a share of the static curve (physics.md §3 #9).
+
+    F = h·f(δ)·tanh(δ̇/v_ε): the loop between loading and unloading is 2·h·f(δ) wide, so a
+    share of about h of the tyre's work is lost per cycle.
+    """
+
+    share: float                      # h [1]
+    smoothing_velocity: float = 0.01  # v_ε [m/s]
+    name = "tyre hysteresis"
+
+    def parameters(self):
+        return [Parameter("share", self.share, "1", "half-width h of the loop, share of f(δ)"),
+                Parameter("smoothing_velocity", self.smoothing_velocity, "m/s", "v_ε")]
+
+    def force(self, deflection, rate, static_force):
+        return self.share * static_force * np.tanh(rate / self.smoothing_velocity)

@@ -81,10 +81,11 @@ def _rhs(model: DropModel):
                                    0.0))
         # everything in the strut but the gas spring and the stops' springs dissipates
         non_conservative = sum(parts.values()) - parts["gas"] - spring
-        tyre_damping = model.tyre.force(z2, v2) - np.where(z2 > 0, model.tyre.static_force(z2), 0.0)
+        ground = model.ground_force(z2, v2)
+        tyre_damping = ground - np.where(z2 > 0, model.tyre.static_force(z2), 0.0)
         power = non_conservative * rate + tyre_damping * v2
         strut_power = sum(parts.values()) * rate
-        tyre_power = model.tyre.force(z2, v2) * v2
+        tyre_power = ground * v2
         return np.concatenate([motion, [power, strut_power, tyre_power]])
 
     return rhs
@@ -118,7 +119,7 @@ def simulate_reference(model: DropModel, contact_velocity: float, duration: floa
     y = solution.y
     cos_theta = math.cos(model.inclination)
     stroke = (y[0] - y[2]) / cos_theta
-    load = model.tyre.force(y[2], y[3])
+    load = model.ground_force(y[2], y[3])
     motion = model.rates(y[:4])
     mechanical = _energy_parts(model, y[:4])
     mechanical = mechanical - mechanical[0]
@@ -191,7 +192,7 @@ def simulate_batch(model: DropModel, contact_velocity, duration: float = 2.0,
     column = (-1, 1)  # per-drop values as a column, to broadcast over samples
     return BatchDrops(
         time=np.arange(samples) / sample_rate,
-        load=model.tyre.force(z2.T, v2.T).T,  # samples first, so per-drop parameters broadcast
+        load=model.ground_force(z2.T, v2.T).T,  # samples first, so per-drop parameters broadcast
         stroke=(z1 - z2) / np.reshape(np.cos(model.inclination), column),
         tyre=np.maximum(z2, 0.0), acceleration=-acceleration,
         displacement=z1 + np.reshape(velocity ** 2 / (2 * STANDARD_GRAVITY), column))

@@ -112,16 +112,29 @@ def test_foundation_energy_integrals_match_the_simulators_truth(drops):
         assert measured.strut_energy == pytest.approx(strut_truth, rel=0.005)
 
 
-@pytest.mark.parametrize("effects", ["none", "seal friction", "rebound orifice", "both"])
+def metering_pin():
+    from certkit.effects import MeteringPin
+
+    nominal = math.pi * 0.0094 ** 2 / 4
+    # the pin closes the orifice to 60 % of its area over the stroke
+    return MeteringPin((0.0, 0.05, 0.10, 0.20), (nominal, 0.8 * nominal, 0.6 * nominal,
+                                                 0.6 * nominal), PISTON, nominal, 0.6, 860.0)
+
+
+@pytest.mark.parametrize("effects", ["none", "seal friction", "rebound orifice",
+                                     "metering pin", "tyre hysteresis", "both"])
 def test_fast_path_agrees_with_the_reference(effects):
     from dataclasses import replace
 
+    from certkit.effects import TyreHysteresis
     from certkit.simulation import simulate_batch
 
     full = seed_gear()
     chosen = {"none": (), "seal friction": full.effects[1:], "rebound orifice": full.effects[:1],
+              "metering pin": (metering_pin(),), "tyre hysteresis": (),
               "both": full.effects}[effects]
-    model = replace(full, effects=tuple(chosen))
+    tyre_effects = (TyreHysteresis(0.05),) if effects == "tyre hysteresis" else ()
+    model = replace(full, effects=tuple(chosen), tyre_effects=tyre_effects)
     velocities = np.sqrt(2 * G * np.array([0.2, 0.3]))
     batch = simulate_batch(model, velocities, duration=0.4)
     for index, velocity in enumerate(velocities):
@@ -146,3 +159,28 @@ def test_batch_of_parameter_sets_matches_single_runs():
         assert np.allclose(batch.stroke[index], single.stroke[0], rtol=1e-12, atol=1e-12)
     # a larger gas volume is a softer spring: more stroke
     assert batch.stroke[0].max() < batch.stroke[1].max() < batch.stroke[2].max()
+
+
+def test_metering_pin_raises_the_load_late_in_the_stroke():
+    from dataclasses import replace
+
+    base = seed_gear()
+    pinned = replace(base, effects=base.effects + (metering_pin(),))
+    v0 = math.sqrt(2 * G * 0.3)
+    plain, with_pin = simulate_reference(base, v0, 0.4), simulate_reference(pinned, v0, 0.4)
+    # a smaller orifice late in the stroke: more damping, less stroke, higher load
+    assert with_pin.stroke.max() < plain.stroke.max()
+    assert with_pin.load.max() > plain.load.max()
+    assert abs(with_pin.mechanical[-1] + with_pin.dissipated[-1]) <= 1e-6 * with_pin.dissipated[-1]
+
+
+def test_tyre_hysteresis_dissipates_and_is_accounted():
+    from dataclasses import replace
+
+    from certkit.effects import TyreHysteresis
+
+    base = seed_gear(damping=False, friction=False, tyre_damping=0.0, stop_damping=0.0)
+    lossy = replace(base, tyre_effects=(TyreHysteresis(0.05),))
+    drop = simulate_reference(lossy, math.sqrt(2 * G * 0.3), duration=1.0)
+    assert drop.dissipated[-1] > 0  # the only dissipation in this model is the tyre loop
+    assert abs(drop.mechanical[-1] + drop.dissipated[-1]) <= 1e-6 * drop.dissipated[-1]
