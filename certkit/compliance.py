@@ -170,18 +170,16 @@ def _basis_values(rules: RequirementSet, design: dict[str, Value]) -> dict[str, 
                        f"h_req = h bounded to [{params.get('drop_height_minimum')}, "
                        f"{params.get('drop_height_maximum')}]", {"h": "h_formula"}, note),
     }
-    if "reserve_height_factor" in params:
-        factor = rules.number("reserve_height_factor")
-        values["h_reserve"] = Value(
-            "h_reserve", "Required reserve energy drop height", "h_reserve",
-            factor * height.required, "m", "length", "14 CFR 23.727(a)",
-            f"h_reserve = {factor}·h_req", {"h_req": "h_req"})
-    if "dynamic_height_factor" in params:
-        factor = rules.number("dynamic_height_factor")
-        values["h_dynamic"] = Value(
-            "h_dynamic", "Ground load dynamic test drop height (23.726 option 1)", "h_dyn",
-            factor * height.required, "m", "length", "14 CFR 23.726(a)(1)",
-            f"h_dyn = {factor}·h_req", {"h_req": "h_req"})
+    for parameter, key, label, symbol, clause in (
+            ("reserve_height_factor", "h_reserve", "Required reserve energy drop height",
+             "h_reserve", "14 CFR 23.727(a)"),
+            ("dynamic_height_factor", "h_dynamic",
+             "Ground load dynamic test drop height (23.726 option 1)", "h_dyn",
+             "14 CFR 23.726(a)(1)")):
+        if parameter in params:
+            factor = rules.number(parameter)
+            values[key] = Value(key, label, symbol, factor * height.required, "m", "length",
+                                clause, f"{symbol} = {factor}·h_req", {"h_req": "h_req"})
     return values
 
 

@@ -107,6 +107,11 @@ class GasSpring(Term):
         return self.volume / self.area * (1.0 - (self.precharge / pressure) ** (1.0 / self.exponent))
 
 
+def orifice_coefficient(hydraulic_area, orifice_area, discharge, density):
+    """K_h = ρ·A_h³/(2·(C_d·A_n)²) [N·s²/m²] of the square-law orifice (seed eq. 2, corrected)."""
+    return density * hydraulic_area ** 3 / (2 * (discharge * orifice_area) ** 2)
+
+
 @dataclass(frozen=True)
 class Orifice(Term):
     """Orifice (hydraulic) damping proportional to ṡ|ṡ| (seed eq. 2, corrected).
@@ -130,7 +135,8 @@ class Orifice(Term):
     @property
     def coefficient(self) -> float:
         """K_h = ρ·A_h³/(2·(C_d·A_n)²) [N·s²/m²]."""
-        return self.density * self.hydraulic_area ** 3 / (2 * (self.discharge * self.orifice_area) ** 2)
+        return orifice_coefficient(self.hydraulic_area, self.orifice_area, self.discharge,
+                                   self.density)
 
     def force(self, stroke, rate):
         return self.coefficient * rate * np.abs(rate)

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .drop_model import Parameter, Term
+from .drop_model import Parameter, Term, orifice_coefficient
 
 
 @dataclass(frozen=True)
@@ -93,8 +93,10 @@ class MeteringPin(Term):
 
     def force(self, stroke, rate, gas_force):
         area = np.interp(stroke, self.strokes, self.areas)
-        factor = self.density * self.hydraulic_area ** 3 / (2 * self.discharge ** 2)
-        return factor * (1.0 / area ** 2 - 1.0 / self.nominal_area ** 2) * rate * np.abs(rate)
+        pinned = orifice_coefficient(self.hydraulic_area, area, self.discharge, self.density)
+        nominal = orifice_coefficient(self.hydraulic_area, self.nominal_area, self.discharge,
+                                      self.density)
+        return (pinned - nominal) * rate * np.abs(rate)
 
 
 @dataclass(frozen=True)
