@@ -11,13 +11,13 @@ from __future__ import annotations
 import contextlib
 import csv
 import datetime as dt
+import importlib.util
 import io
 import json
 import math
 import os
 from pathlib import Path
 
-import matplotlib
 from jinja2 import Environment, FileSystemLoader, StrictUndefined, select_autoescape
 from markupsafe import Markup
 
@@ -44,8 +44,11 @@ def templates_dir() -> Path:
 
 
 def fonts_dir() -> Path:
-    """DejaVu fonts shipped with matplotlib (a core dependency): embedded in every PDF."""
-    return Path(matplotlib.get_data_path()) / "fonts" / "ttf"
+    """DejaVu fonts shipped with matplotlib (a core dependency): embedded in every PDF.
+
+    Located without importing matplotlib (a report without figures does not need it)."""
+    spec = importlib.util.find_spec("matplotlib")
+    return Path(spec.submodule_search_locations[0]) / "mpl-data" / "fonts" / "ttf"
 
 
 # --------------------------------------------------------------------------- formatting
