@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 
 from .drop_model import P_ATM, DropModel, EndStops, GasSpring, Orifice, Tyre
-from .effects import ReboundOrifice, SealFriction
+from .effects import MeteringPin, ReboundOrifice, SealFriction, TyreHysteresis
 from .errors import CertkitInputError, Problem
 from .spec import CampaignSpec, Run
 from .units import STANDARD_GRAVITY
@@ -88,6 +88,10 @@ def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = 
         need(strut, "rebound_orifice_diameter", ("strut",))
     if "seal-friction" in chosen:
         need(strut, "seal_friction", ("strut",))
+    if "metering-pin" in chosen:
+        need(strut, "metering_pin", ("strut",))
+    if "tyre-hysteresis" in chosen:
+        need(tyre, "hysteresis", ("tyre",))
     if missing:
         raise CertkitInputError(missing)
 
@@ -121,10 +125,20 @@ def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = 
     if "seal-friction" in chosen:
         terms.append(SealFriction(strut.seal_friction.constant.si,
                                   strut.seal_friction.pressure_factor.si))
+    if "metering-pin" in chosen:
+        pin = strut.metering_pin
+        strokes = tuple(q.si for q in pin.strokes)
+        if len(pin.strokes) != len(pin.areas) or any(b <= a for a, b in zip(strokes, strokes[1:])):
+            raise CertkitInputError.single(
+                spec_file, None, f"gear_units[{index}].strut.metering_pin",
+                "expected as many areas as strokes, with the strokes increasing")
+        terms.append(MeteringPin(strokes, tuple(q.si for q in pin.areas), hydraulic.si,
+                                 orifice_area, discharge.si, density.si))
+    tyre_terms = (TyreHysteresis(tyre.hysteresis.si),) if "tyre-hysteresis" in chosen else ()
     lift = run.lift.ratio.si if run.lift.method == "lift_device" else 0.0
     return DropModel(
         upper_mass=total - unsprung.si, lower_mass=unsprung.si, gas=gas, orifice=orifice,
         stops=EndStops(unit.design_stroke.si, STOP_STIFFNESS, STOP_DAMPING),
         tyre=Tyre(curve.reference_load.si, curve.reference_deflection.si, curve.exponent.si,
                   tyre.damping.si if tyre.damping is not None else 0.0),
-        lift_ratio=lift, inclination=inclination, effects=tuple(terms))
+        lift_ratio=lift, inclination=inclination, effects=tuple(terms), tyre_effects=tyre_terms)

@@ -175,7 +175,16 @@ class Tyre(_Model):
     pressure_reference: Literal["gauge", "absolute"]
     diameter: PositiveLength | None = None
     load_deflection: TyreCurve | None = Field(None, description="static curve (physics model)")
+    hysteresis: Fraction | None = Field(
+        None, description="half-width of the loading/unloading loop as a share of f(δ)")
     damping: _quantity("slowness", "C_T of F = f(δ)·(1 + C_T·δ̇), e.g. '0.05 s/m'") | None = None  # type: ignore[valid-type]
+
+
+class MeteringPinSpec(_Model):
+    """Net orifice area against stroke (linear between points)."""
+
+    strokes: list[Length] = Field(min_length=2)
+    areas: list[Area] = Field(min_length=2)
 
 
 class SealFrictionSpec(_Model):
@@ -204,6 +213,7 @@ class Strut(_Model):
     minimum_stroke: Length | None = None
     unsprung_mass: Mass | None = None
     seal_friction: SealFrictionSpec | None = None
+    metering_pin: MeteringPinSpec | None = None
     notes: str | None = None
 
 
@@ -376,13 +386,23 @@ class DisplayUnits(_Model):
     time: _unit("time") = "ms"  # type: ignore[valid-type]
 
 
-Effect = Literal["seal-friction", "rebound-orifice"]
+Effect = Literal["seal-friction", "rebound-orifice", "metering-pin", "tyre-hysteresis",
+                 "sensor-dynamics"]
+
+
+class SensorSpec(_Model):
+    """Low-pass and delay of the recorded channels (effect 'sensor-dynamics')."""
+
+    cutoff: Frequency
+    order: int = Field(2, ge=1, le=8)
+    delay: _quantity("time") = Field(parse_quantity("0 s", "time"))  # type: ignore[valid-type]
 
 
 class ModelSettings(_Model):
     """The physics model used to simulate and calibrate: which optional effects are on."""
 
     effects: list[Effect] = Field([], description="optional effects switched on (default none)")
+    sensor: SensorSpec | None = None
 
 
 class ReportSettings(_Model):

@@ -18,6 +18,8 @@ import yaml
 
 from .campaign import Campaign
 from .clauses import ideal_impact_velocity
+from .effects import SensorDynamics
+from .errors import CertkitInputError
 from .gear_model import drop_model_for
 from .outputs import staged_folder
 from .simulation import simulate_reference
@@ -81,15 +83,17 @@ def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
             drops = {gear_id: simulate_reference(model, velocity, duration, rate, lead, run=run.id)
                      for gear_id, model in models.items()}
             first = next(iter(drops.values()))
-            columns = {"t_s": (first.time, 1.0, 6)}
+            time = first.time
+            recorded = _recorder(campaign, effects, time)
+            columns = {"t_s": (time, 1.0, 6)}
             mapping = {}
             for gear_id, drop in drops.items():
-                load, load_bias = _measured(drop.load, sensors.load_noise, sensors.load_step,
-                                            sensors.load_offset, rng)
-                stroke, stroke_bias = _measured(drop.stroke, sensors.travel_noise,
+                load, load_bias = _measured(recorded(drop.load), sensors.load_noise,
+                                            sensors.load_step, sensors.load_offset, rng)
+                stroke, stroke_bias = _measured(recorded(drop.stroke), sensors.travel_noise,
                                                 sensors.travel_step, sensors.travel_offset, rng)
-                tyre, tyre_bias = _measured(drop.tyre, sensors.travel_noise, sensors.travel_step,
-                                            sensors.travel_offset, rng)
+                tyre, tyre_bias = _measured(recorded(drop.tyre), sensors.travel_noise,
+                                            sensors.travel_step, sensors.travel_offset, rng)
                 columns[f"{gear_id}_load_N"] = (load, 1.0, _decimals(sensors.load_step))
                 columns[f"{gear_id}_stroke_mm"] = (stroke, 1e3, _decimals(sensors.travel_step * 1e3))
                 columns[f"{gear_id}_tyre_mm"] = (tyre, 1e3, _decimals(sensors.travel_step * 1e3))
@@ -105,9 +109,9 @@ def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
             total = sum(masses.values())
             acceleration = sum(masses[g] * d.acceleration for g, d in drops.items()) / total
             displacement = sum(masses[g] * d.displacement for g, d in drops.items()) / total
-            acceleration, _ = _measured(acceleration, sensors.acceleration_noise,
+            acceleration, _ = _measured(recorded(acceleration), sensors.acceleration_noise,
                                         sensors.acceleration_step, 0.0, rng)
-            displacement, _ = _measured(displacement, sensors.displacement_noise,
+            displacement, _ = _measured(recorded(displacement), sensors.displacement_noise,
                                         sensors.displacement_step, 0.0, rng)
             columns["acc_ms2"] = (acceleration, 1.0, _decimals(sensors.acceleration_step))
             columns["x_mm"] = (displacement, 1e3, _decimals(sensors.displacement_step * 1e3))
@@ -125,6 +129,21 @@ def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
         text = yaml.safe_dump(raw, sort_keys=False, allow_unicode=True, width=100)
         (staging / "campaign.yaml").write_text("# " + note + "\n" + text, encoding="utf-8")
     return Path(out_dir) / "campaign.yaml"
+
+
+def _recorder(campaign: Campaign, effects, time):
+    """The logger's view of a channel: sensor dynamics when that effect is on, else as is."""
+    spec = campaign.spec
+    chosen = spec.model.effects if effects is None else effects
+    if "sensor-dynamics" not in chosen:
+        return lambda signal: signal
+    if spec.model.sensor is None:
+        raise CertkitInputError.single(campaign.spec_path.name, campaign.line("model"),
+                                       "model.sensor", "needed for the effect 'sensor-dynamics' "
+                                       "(cutoff, order, delay)")
+    sensor = SensorDynamics(spec.model.sensor.cutoff.si, spec.model.sensor.order,
+                            spec.model.sensor.delay.si)
+    return lambda signal: sensor.apply(time, signal)
 
 
 def _write_csv(path: Path, columns: dict) -> None:

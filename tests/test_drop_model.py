@@ -184,3 +184,21 @@ def test_tyre_hysteresis_dissipates_and_is_accounted():
     drop = simulate_reference(lossy, math.sqrt(2 * G * 0.3), duration=1.0)
     assert drop.dissipated[-1] > 0  # the only dissipation in this model is the tyre loop
     assert abs(drop.mechanical[-1] + drop.dissipated[-1]) <= 1e-6 * drop.dissipated[-1]
+
+
+def test_sensor_dynamics_delays_and_attenuates_a_contact_spike():
+    from scipy.signal import butter, group_delay
+
+    from certkit.effects import SensorDynamics
+
+    time = np.arange(0.0, 0.5, 0.001)
+    spike = np.where((time > 0.1) & (time < 0.14), np.sin(math.pi * (time - 0.1) / 0.04), 0.0)
+    sensor = SensorDynamics(cutoff=100.0, order=2, delay=0.002)
+    recorded = sensor.apply(time, spike)
+    # independent figure: the filter's group delay at low frequency plus the pure delay
+    b, a = butter(2, 100.0, fs=1000.0)
+    _, delay_samples = group_delay((b, a), w=[1.0], fs=1000.0)
+    shift = time[np.argmax(recorded)] - time[np.argmax(spike)]
+    assert shift == pytest.approx(delay_samples[0] / 1000.0 + 0.002, abs=0.0015)
+    assert 0.8 < recorded.max() < 1.0  # attenuated, not amplified
+    assert np.allclose(SensorDynamics(100.0).apply(time, np.ones_like(time)), 1.0)  # DC passes

@@ -90,3 +90,35 @@ def test_a_gas_spring_that_cannot_carry_the_weight_is_an_input_error(physics_cam
     physics_campaign.write_text(text, encoding="utf-8")
     result = runner.invoke(app, ["simulate", str(physics_campaign), "-o", str(tmp_path / "o")])
     assert result.exit_code == 2 and "cannot hold the static load" in result.output
+
+
+def test_every_effect_can_be_switched_on_from_the_spec(physics_campaign, tmp_path):
+    text = physics_campaign.read_text(encoding="utf-8")
+    text = text.replace("      damping: 0.05 s/m\n", "      damping: 0.05 s/m\n      hysteresis: 5 %\n")
+    text = text.replace("      seal_friction: {constant: 80 N, pressure_factor: 0.03}\n",
+                        "      seal_friction: {constant: 80 N, pressure_factor: 0.03}\n"
+                        "      metering_pin: {strokes: [0 mm, 100 mm, 200 mm], "
+                        "areas: [69.4 mm^2, 55 mm^2, 50 mm^2]}\n")
+    text = text.replace("  effects: [rebound-orifice, seal-friction]",
+                        "  effects: [rebound-orifice, seal-friction, metering-pin, tyre-hysteresis,"
+                        " sensor-dynamics]\n  sensor: {cutoff: 100 Hz, order: 2, delay: 2 ms}")
+    physics_campaign.write_text(text, encoding="utf-8")
+    campaign = load_campaign(physics_campaign)
+    model = drop_model_for(campaign.spec, campaign.spec.runs[2], "left-main")
+    assert [t.name for t in model.terms()][-4:] == ["rebound orifice", "seal friction",
+                                                    "metering pin", "tyre hysteresis"]
+    spec = simulate_campaign(campaign, tmp_path / "all", sensors=NO_SENSOR_EFFECTS)
+    assessment = assess(load_campaign(spec))
+    reference = simulate_reference(model, math.sqrt(2 * G * 0.3))
+    # the recorded peak is the low-passed one: lower than the simulated peak, not higher
+    assert assessment.runs[2].gears[0].get("F_peak") < reference.load.max()
+
+
+def test_sensor_dynamics_needs_its_parameters(physics_campaign, tmp_path):
+    text = physics_campaign.read_text(encoding="utf-8").replace(
+        "  effects: [rebound-orifice, seal-friction]",
+        "  effects: [rebound-orifice, seal-friction, sensor-dynamics]")
+    physics_campaign.write_text(text, encoding="utf-8")
+    result = runner.invoke(app, ["simulate", str(physics_campaign), "-o", str(tmp_path / "o")])
+    assert result.exit_code == 2 and "model.sensor" in result.output
+    assert not (tmp_path / "o").exists()
