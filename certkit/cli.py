@@ -150,6 +150,7 @@ def simulate(spec: SpecArgument,
              ) -> None:
     """Simulate every run with the gear's drop model; write data files and a campaign file."""
     from .campaign import load_campaign
+    from .simulation import SimulationError
     from .synthetic import NO_SENSOR_EFFECTS, SensorModel, simulate_campaign
 
     try:
@@ -158,6 +159,10 @@ def simulate(spec: SpecArgument,
                                     sensors=SensorModel() if noise else NO_SENSOR_EFFECTS)
     except CertkitInputError as error:
         _fail_input(error)
+    except SimulationError as error:
+        err.print(Text.assemble(("error: ", "bold red"), f"{spec}: {error} (check the gear "
+                                                         f"parameters; nothing was written)"))
+        raise typer.Exit(2) from None
     out.print(f"wrote {written} and {len(campaign.spec.runs)} data file(s) (synthetic)")
 
 

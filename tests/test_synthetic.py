@@ -4,6 +4,8 @@ same code that reads measured runs."""
 import hashlib
 import math
 
+import numpy as np
+
 import pytest
 from typer.testing import CliRunner
 
@@ -122,3 +124,17 @@ def test_sensor_dynamics_needs_its_parameters(physics_campaign, tmp_path):
     result = runner.invoke(app, ["simulate", str(physics_campaign), "-o", str(tmp_path / "o")])
     assert result.exit_code == 2 and "model.sensor" in result.output
     assert not (tmp_path / "o").exists()
+
+
+def test_a_failed_integration_names_the_run_and_time_and_writes_nothing(physics_campaign, tmp_path,
+                                                                       monkeypatch):
+    import certkit.simulation as simulation
+
+    class Failed:
+        success, t, message = False, np.array([0.0, 0.0123]), "step size too small"
+
+    monkeypatch.setattr(simulation, "solve_ivp", lambda *args, **kwargs: Failed())
+    result = runner.invoke(app, ["simulate", str(physics_campaign), "-o", str(tmp_path / "o")])
+    assert result.exit_code == 2
+    assert "run D200: the integrator failed at t = 0.0123 s after contact" in result.output
+    assert not (tmp_path / "o").exists() and sorted(p.name for p in tmp_path.iterdir()) == ["physics"]
