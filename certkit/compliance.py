@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from . import clauses, requirement_sets
 from .campaign import Campaign
 from .quality import audit
+from .drop_conditions import drop_weight_share, lift_force_ratio, lift_ratio
 from .measures import GearMeasures, contact_velocity, drop_mass_load_factor, measure_gear
 from .requirement_sets import Criterion, RequirementSet
 from .results import FAIL, NOT_SHOWN, PASS, Comparison, Finding, Value, Verdict
@@ -184,22 +185,10 @@ def _basis_values(rules: RequirementSet, design: dict[str, Value]) -> dict[str, 
 
 
 # --------------------------------------------------------------------------- per run, per gear
-def _lift_ratio(run: Run) -> float:
-    """L the drop represents (0 when lift is not simulated)."""
-    return 0.0 if run.lift.method == "none" else run.lift.ratio.si
-
-
-def _lift_force_ratio(run: Run) -> float:
-    """L of a lift force acting during the drop: only a lift device applies one; a reduced
-    drop mass represents lift by having less weight, with no force acting."""
-    return run.lift.ratio.si if run.lift.method == "lift_device" else 0.0
-
-
 def _drop_weight_share(run: Run, unit: GearUnit, campaign: Campaign) -> tuple[float, str]:
-    drop_weight = run.drop_mass.si * g
+    share = drop_weight_share(campaign.spec, run, unit.id)
     if len(run.gear_units) == 1:
-        return drop_weight, "W_drop = m_drop·g (certkit W1)"
-    share = unit.static_weight.si * drop_weight / campaign.spec.aircraft.maximum_weight.si
+        return share, "W_drop = m_drop·g (certkit W1)"
     return share, "W_drop = W_unit·m_drop·g/W_max (certkit W1)"
 
 
@@ -300,7 +289,7 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
 def _derived_gear_values(result: GearResult, run: Run, unit: GearUnit, cos_theta: float) -> None:
     values = result.values
     get = result.get
-    h, lift, lift_force = run.drop_height.si, _lift_ratio(run), _lift_force_ratio(run)
+    h, lift, lift_force = run.drop_height.si, lift_ratio(run), lift_force_ratio(run)
 
     def put(key, label, symbol, value, unit_, kind, source, formula, inputs, note=None):
         values[key] = Value(key, label, symbol, value, unit_, kind, source, formula, inputs, note)
@@ -381,7 +370,7 @@ def _run_result(campaign: Campaign, run: Run, index: int) -> RunResult:
     values["m_drop"] = Value("m_drop", "Drop mass", "m_drop", run.drop_mass.si, "kg", "mass",
                              "spec", inputs={"m": _spec_input(f"runs[{index}].drop_mass",
                                                               run.drop_mass.text)})
-    values["L"] = Value("L", "Wing-lift ratio simulated in the drop", "L", _lift_ratio(run), "1",
+    values["L"] = Value("L", "Wing-lift ratio simulated in the drop", "L", lift_ratio(run), "1",
                         "ratio", "spec", inputs={"lift": f"runs[{index}].lift.method = "
                                                          f"{run.lift.method}"})
     values["v0_ideal"] = Value("v0_ideal", "Contact velocity of a free drop", "v_0",
@@ -423,9 +412,9 @@ def _run_result(campaign: Campaign, run: Run, index: int) -> RunResult:
                 formula = "n = n_j·W_drop/W (lift applied by a device is already in n_j)"
                 lift_text = "in n_j"
             else:
-                n = clauses.inertia_load_factor(n_j, gear.get("W_drop"), weight, _lift_ratio(run))
+                n = clauses.inertia_load_factor(n_j, gear.get("W_drop"), weight, lift_ratio(run))
                 formula = "n = n_j·W_e/W + L (W_e: the weight actually dropped)"
-                lift_text = f"{_lift_ratio(run):g}"
+                lift_text = f"{lift_ratio(run):g}"
             gear.values["n"] = Value(
                 "n", "Limit inertia load factor from the drop", "n", n, "1", "ratio",
                 "14 CFR 23.725(e)", formula,

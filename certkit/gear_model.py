@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 
+from .drop_conditions import drop_weight_share, lift_force_ratio
 from .drop_model import P_ATM, DropModel, EndStops, GasSpring, Orifice, Tyre
 from .effects import MeteringPin, ReboundOrifice, SealFriction, TyreHysteresis
 from .errors import CertkitInputError, Problem
@@ -27,12 +28,8 @@ def _circle(diameter: float) -> float:
 
 
 def gear_mass(spec: CampaignSpec, run: Run, gear_id: str) -> float:
-    """Mass the gear unit carries in the drop [kg] (certkit W1: the unit's share of the
-    drop mass for a complete-airplane drop, the whole drop mass for a single-unit rig)."""
-    if len(run.gear_units) == 1:
-        return run.drop_mass.si
-    unit = next(g for g in spec.gear_units if g.id == gear_id)
-    return run.drop_mass.si * unit.static_weight.si / spec.aircraft.maximum_weight.si
+    """Mass the gear unit carries in the drop [kg] (certkit W1, drop_conditions)."""
+    return drop_weight_share(spec, run, gear_id) / STANDARD_GRAVITY
 
 
 def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = "campaign",
@@ -135,10 +132,10 @@ def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = 
         terms.append(MeteringPin(strokes, tuple(q.si for q in pin.areas), hydraulic.si,
                                  orifice_area, discharge.si, density.si))
     tyre_terms = (TyreHysteresis(tyre.hysteresis.si),) if "tyre-hysteresis" in chosen else ()
-    lift = run.lift.ratio.si if run.lift.method == "lift_device" else 0.0
     return DropModel(
         upper_mass=total - unsprung.si, lower_mass=unsprung.si, gas=gas, orifice=orifice,
         stops=EndStops(unit.design_stroke.si, STOP_STIFFNESS, STOP_DAMPING),
         tyre=Tyre(curve.reference_load.si, curve.reference_deflection.si, curve.exponent.si,
                   tyre.damping.si if tyre.damping is not None else 0.0),
-        lift_ratio=lift, inclination=inclination, effects=tuple(terms), tyre_effects=tyre_terms)
+        lift_ratio=lift_force_ratio(run), inclination=inclination, effects=tuple(terms),
+        tyre_effects=tyre_terms)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from .drop_conditions import lift_force_ratio
 from .results import Comparison, Finding
 from .units import STANDARD_GRAVITY, convert, ureg
 
@@ -341,7 +342,7 @@ def check_acceleration_against_load(assessment: Assessment) -> None:
             continue
         total = sum(run.series.gears[g].load for g in run.run.gear_units if g in run.series.gears)
         drop_weight = run.run.drop_mass.si * STANDARD_GRAVITY
-        lift = run.run.lift.ratio.si if run.run.lift.method == "lift_device" else 0.0
+        lift = lift_force_ratio(run.run)
         from_load = float(total.max()) / drop_weight + lift
         if abs(n_j / from_load - 1) > tolerance:
             _add(assessment, "acceleration-vs-load", "warning", run.run.id, None,

@@ -120,15 +120,21 @@ TIMESERIES_SPEC = textwrap.dedent("""\
     """)
 
 
+def write_campaign(folder: Path, text: str) -> Path:
+    """Write a spec into its own folder; returns the spec path."""
+    folder.mkdir(parents=True, exist_ok=True)
+    spec = folder / "campaign.yaml"
+    spec.write_text(text, encoding="utf-8")
+    return spec
+
+
 @pytest.fixture
 def timeseries_campaign(tmp_path: Path) -> Path:
     """A campaign folder with one analytic run; returns the spec path."""
     folder = tmp_path / "campaign"
     (folder / "data").mkdir(parents=True)
     write_csv(folder / "data" / "r1.csv", analytic_signals())
-    spec = folder / "campaign.yaml"
-    spec.write_text(TIMESERIES_SPEC, encoding="utf-8")
-    return spec
+    return write_campaign(folder, TIMESERIES_SPEC)
 
 
 @pytest.fixture
@@ -139,6 +145,9 @@ def seed_copy(tmp_path: Path) -> Path:
     return folder / "campaign.yaml"
 
 
+# The seed gear of tests/test_drop_model.py typed as a spec: 60 mm piston, so
+# A_a = A_h = pi*60^2/4 = 2827.433388 mm^2; V0 = A_a*230 mm = 650.3096792 cm^3; tyre
+# f = 7.2e5*delta^1.26 N written as 7.2e5*0.04^1.26 = 12471.77 N at 40 mm.
 PHYSICS_SPEC = textwrap.dedent("""\
     certkit: 1
     campaign: {id: PHYS-TEST, title: Simulated single-gear campaign}
@@ -197,8 +206,4 @@ PHYSICS_SPEC = textwrap.dedent("""\
 @pytest.fixture
 def physics_campaign(tmp_path: Path) -> Path:
     """A campaign whose gear has every parameter the drop model needs; returns the spec path."""
-    folder = tmp_path / "physics"
-    folder.mkdir()
-    spec = folder / "campaign.yaml"
-    spec.write_text(PHYSICS_SPEC, encoding="utf-8")
-    return spec
+    return write_campaign(tmp_path / "physics", PHYSICS_SPEC)

@@ -99,6 +99,7 @@ def test_every_effect_can_be_switched_on_from_the_spec(physics_campaign, tmp_pat
     text = text.replace("      damping: 0.05 s/m\n", "      damping: 0.05 s/m\n      hysteresis: 5 %\n")
     text = text.replace("      seal_friction: {constant: 80 N, pressure_factor: 0.03}\n",
                         "      seal_friction: {constant: 80 N, pressure_factor: 0.03}\n"
+                        # 69.4 mm^2 = pi*9.4^2/4, the nominal orifice; closing to 50 mm^2
                         "      metering_pin: {strokes: [0 mm, 100 mm, 200 mm], "
                         "areas: [69.4 mm^2, 55 mm^2, 50 mm^2]}\n")
     text = text.replace("  effects: [rebound-orifice, seal-friction]",
