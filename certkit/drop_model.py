@@ -15,12 +15,10 @@ the force whose power over the vertical relative velocity ṡ·cos θ equals F_s
 gas spring's stored energy and the strut's work stay consistent.  physics.md §2.2 writes
 the small-θ form F_s·cos θ; the two agree to second order in θ.
 
-The strut force F_s is the sum of the strut terms and F_V the tyre term's force.  Each
-force law is a separate term object with named parameters (SI); the model is their
-composition, and optional effects (:mod:`certkit.effects`) are more terms.  Every term
-is written with numpy element-wise operations, so one implementation serves the
-reference path (scipy ``solve_ivp``, one drop) and the batched path (many parameter
-sets at once, a trailing batch axis on every array).
+Each force law is a separate term object with named parameters (SI) and units; the
+model is their composition, and the optional effects (:mod:`certkit.effects`) are more
+terms.  A term writes its parameters into the slots of the compiled equations of motion
+(:mod:`certkit.dynamics`, where the force laws are evaluated) with ``pack``.
 """
 
 from __future__ import annotations
@@ -30,9 +28,12 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from . import dynamics as dyn
+from .dynamics import P_ATM
 from .units import STANDARD_GRAVITY
 
-P_ATM = 101325.0  # Pa, standard atmosphere (ISO 2533)
+__all__ = ["P_ATM", "Parameter", "Term", "GasSpring", "Orifice", "EndStops", "Tyre",
+           "DropModel", "orifice_coefficient"]
 
 
 @dataclass(frozen=True)
@@ -46,16 +47,23 @@ class Parameter:
 
 
 class Term:
-    """A force law with named parameters.  Subclasses set ``name`` and define ``force``."""
+    """A force law with named parameters.  Subclasses are frozen dataclasses that set
+    ``name``, describe their parameters and write them into the kernel's slots."""
 
     name = "term"
+    #: (field, SI unit, description) of each parameter
+    fields: tuple = ()
 
     def parameters(self) -> list[Parameter]:
-        return []
+        return [Parameter(name, getattr(self, name), unit, text)
+                for name, unit, text in self.fields]
 
     def with_parameters(self, **values) -> Term:
         """A copy with some parameters replaced (SI values), for calibration."""
-        return replace(self, **values)  # terms are dataclasses
+        return replace(self, **values)
+
+    def pack(self, p: np.ndarray) -> None:  # pragma: no cover - every term overrides it
+        raise NotImplementedError
 
 
 # --------------------------------------------------------------------------- strut terms
@@ -72,32 +80,15 @@ class GasSpring(Term):
     precharge: float      # p_a0, absolute pressure at full extension [Pa]
     exponent: float = 1.2  # n
     name = "gas spring"
+    fields = (("area", "m^2", "pneumatic area A_a"),
+              ("volume", "m^3", "gas volume V0 at full extension"),
+              ("precharge", "Pa", "absolute pre-charge p_a0"),
+              ("exponent", "1", "polytropic exponent n"))
 
-    def parameters(self):
-        return [Parameter("area", self.area, "m^2", "pneumatic area A_a"),
-                Parameter("volume", self.volume, "m^3", "gas volume V0 at full extension"),
-                Parameter("precharge", self.precharge, "Pa", "absolute pre-charge p_a0"),
-                Parameter("exponent", self.exponent, "1", "polytropic exponent n")]
-
-    def pressure(self, stroke):
-        volume = np.maximum(self.volume - self.area * stroke, 0.02 * self.volume)
-        return self.precharge * (self.volume / volume) ** self.exponent
-
-    def force(self, stroke):
-        return self.area * (self.pressure(stroke) - P_ATM)
-
-    def energy(self, stroke):
-        """Work stored from s = 0 to ``stroke`` (∫F_a ds), for energy accounting.
-
-        Valid while the gas volume stays above its 2 % floor (the builder demands that
-        over the whole design stroke)."""
-        ratio = self.volume / (self.volume - self.area * stroke)
-        if self.exponent == 1.0:
-            stored = self.precharge * self.volume * np.log(ratio)
-        else:
-            stored = self.precharge * self.volume * (ratio ** (self.exponent - 1) - 1) / (
-                self.exponent - 1)
-        return stored - P_ATM * self.area * stroke
+    @property
+    def preload(self) -> float:
+        """Force at full extension, A_a·(p_a0 − p_atm) [N]."""
+        return self.area * (self.precharge - P_ATM)
 
     def equilibrium_stroke(self, load: float) -> float:
         """Stroke at which the gas force carries ``load`` [N] (closed form of the gas law)."""
@@ -105,6 +96,10 @@ class GasSpring(Term):
         if pressure <= self.precharge:
             return 0.0  # the preload holds the load: the strut stays topped out
         return self.volume / self.area * (1.0 - (self.precharge / pressure) ** (1.0 / self.exponent))
+
+    def pack(self, p):
+        p[dyn.GAS_AREA], p[dyn.GAS_VOLUME] = self.area, self.volume
+        p[dyn.GAS_PRECHARGE], p[dyn.GAS_EXPONENT] = self.precharge, self.exponent
 
 
 def orifice_coefficient(hydraulic_area, orifice_area, discharge, density):
@@ -117,7 +112,7 @@ class Orifice(Term):
     """Orifice (hydraulic) damping proportional to ṡ|ṡ| (seed eq. 2, corrected).
 
     F_h = ρ·A_h³·ṡ|ṡ|/(2·(C_d·A_n)²), physics.md §2.3 and §2.5 item 1 (the seed's s²
-    is a position spring that dissipates nothing).
+    is a position spring that dissipates nothing).  Only the product C_d·A_n enters.
     """
 
     hydraulic_area: float   # A_h [m^2]
@@ -125,12 +120,10 @@ class Orifice(Term):
     discharge: float        # C_d
     density: float = 860.0  # ρ [kg/m^3]
     name = "orifice damping"
-
-    def parameters(self):
-        return [Parameter("hydraulic_area", self.hydraulic_area, "m^2", "hydraulic area A_h"),
-                Parameter("orifice_area", self.orifice_area, "m^2", "net orifice area A_n"),
-                Parameter("discharge", self.discharge, "1", "discharge coefficient C_d"),
-                Parameter("density", self.density, "kg/m^3", "oil density ρ")]
+    fields = (("hydraulic_area", "m^2", "hydraulic area A_h"),
+              ("orifice_area", "m^2", "net orifice area A_n"),
+              ("discharge", "1", "discharge coefficient C_d"),
+              ("density", "kg/m^3", "oil density ρ"))
 
     @property
     def coefficient(self) -> float:
@@ -138,8 +131,8 @@ class Orifice(Term):
         return orifice_coefficient(self.hydraulic_area, self.orifice_area, self.discharge,
                                    self.density)
 
-    def force(self, stroke, rate):
-        return self.coefficient * rate * np.abs(rate)
+    def pack(self, p):
+        p[dyn.ORIFICE_K] = self.coefficient
 
 
 @dataclass(frozen=True)
@@ -153,17 +146,13 @@ class EndStops(Term):
     stiffness: float = 2.0e7    # [N/m]
     damping: float = 2.0e4      # [N·s/m]
     name = "end stops"
+    fields = (("travel", "m", "stroke to the bottoming stop"),
+              ("stiffness", "N/m", "stop stiffness"),
+              ("damping", "N*s/m", "stop damping"))
 
-    def parameters(self):
-        return [Parameter("travel", self.travel, "m", "stroke to the bottoming stop"),
-                Parameter("stiffness", self.stiffness, "N/m", "stop stiffness"),
-                Parameter("damping", self.damping, "N*s/m", "stop damping")]
-
-    def force(self, stroke, rate):
-        # penetration: negative past top-out, positive past the bottoming stop, else zero
-        penetration = np.minimum(stroke, 0.0) + np.maximum(stroke - self.travel, 0.0)
-        force = self.stiffness * penetration + self.damping * rate * (penetration != 0.0)
-        return np.where(penetration < 0.0, np.minimum(force, 0.0), np.maximum(force, 0.0))
+    def pack(self, p):
+        p[dyn.STOP_TRAVEL], p[dyn.STOP_STIFFNESS] = self.travel, self.stiffness
+        p[dyn.STOP_DAMPING] = self.damping
 
 
 # --------------------------------------------------------------------------- tyre
@@ -179,29 +168,19 @@ class Tyre(Term):
     exponent: float = 1.25       # b
     damping: float = 0.0         # C_T [s/m]
     name = "tyre"
-
-    def parameters(self):
-        return [Parameter("reference_load", self.reference_load, "N", "load F_ref at δ_ref"),
-                Parameter("reference_deflection", self.reference_deflection, "m", "δ_ref"),
-                Parameter("exponent", self.exponent, "1", "exponent b of the static curve"),
-                Parameter("damping", self.damping, "s/m", "multiplicative damping C_T")]
+    fields = (("reference_load", "N", "load F_ref at δ_ref"),
+              ("reference_deflection", "m", "deflection δ_ref"),
+              ("exponent", "1", "exponent b of the static curve"),
+              ("damping", "s/m", "multiplicative damping C_T"))
 
     def static_force(self, deflection):
+        """f(δ) [N], the static load-deflection curve."""
         ratio = np.maximum(deflection, 0.0) / self.reference_deflection
         return self.reference_load * ratio ** self.exponent
 
-    def unclipped(self, deflection, rate):
-        """f(δ)·(1 + C_T·δ̇) before clipping (zero while the tyre is off the platform)."""
-        return self.static_force(deflection) * (1.0 + self.damping * rate)
-
-    def force(self, deflection, rate):
-        return np.maximum(0.0, self.unclipped(deflection, rate))
-
-    def energy(self, deflection):
-        """Work stored in the static curve from 0 to ``deflection`` (∫f dδ)."""
-        deflection = np.maximum(deflection, 0.0)
-        return (self.reference_load * self.reference_deflection / (self.exponent + 1)
-                * (deflection / self.reference_deflection) ** (self.exponent + 1))
+    def pack(self, p):
+        p[dyn.TYRE_LOAD], p[dyn.TYRE_DEFLECTION] = self.reference_load, self.reference_deflection
+        p[dyn.TYRE_EXPONENT], p[dyn.TYRE_DAMPING] = self.exponent, self.damping
 
 
 # --------------------------------------------------------------------------- the model
@@ -221,9 +200,7 @@ class DropModel:
     gas, orifice, stops, tyre : terms
         The nominal force laws (``orifice=None`` for an undamped spring strut).
     effects : tuple
-        Optional strut terms (:mod:`certkit.effects`), each with ``force(stroke, rate, gas)``.
-    tyre_effects : tuple
-        Optional tyre terms, each with ``force(deflection, rate, static_force)``.
+        Optional effects (:mod:`certkit.effects`), off unless listed here.
     """
 
     upper_mass: float
@@ -235,7 +212,6 @@ class DropModel:
     lift_ratio: float = 0.0
     inclination: float = 0.0
     effects: tuple = field(default_factory=tuple)
-    tyre_effects: tuple = field(default_factory=tuple)
 
     @property
     def total_mass(self) -> float:
@@ -247,56 +223,42 @@ class DropModel:
 
     def terms(self) -> list[Term]:
         nominal = [self.gas, self.orifice, self.stops, self.tyre]
-        return ([term for term in nominal if term is not None] + list(self.effects)
-                + list(self.tyre_effects))
+        return [term for term in nominal if term is not None] + list(self.effects)
 
-    def ground_force(self, deflection, rate):
-        """Platform load F_V: the tyre law plus tyre effects, clipped at zero (no pull)."""
-        force = self.tyre.unclipped(deflection, rate)
-        if self.tyre_effects:
-            static = self.tyre.static_force(deflection)
-            for effect in self.tyre_effects:
-                force = force + effect.force(deflection, rate, static)
-        return np.maximum(0.0, force)
+    def effect(self, name: str):
+        """The optional effect called ``name``, or None when it is off."""
+        return next((e for e in self.effects if e.name == name), None)
 
-    def strut_parts(self, stroke, rate) -> dict[str, np.ndarray]:
-        """Each strut term's axial force (compression positive) at (s, ṡ)."""
-        gas = self.gas.force(stroke)
-        parts = {"gas": gas, "stops": self.stops.force(stroke, rate)}
-        if self.orifice is not None:
-            parts["orifice"] = self.orifice.force(stroke, rate)
-        for effect in self.effects:
-            parts[effect.name] = effect.force(stroke, rate, gas)
-        return parts
+    def pack(self) -> np.ndarray:
+        """The parameter vector of the compiled equations of motion (:mod:`certkit.dynamics`)."""
+        p = np.zeros(dyn.SLOTS)
+        p[dyn.M1], p[dyn.M2] = self.upper_mass, self.lower_mass
+        p[dyn.LIFT], p[dyn.COS] = self.lift, math.cos(self.inclination)
+        for term in self.terms():
+            term.pack(p)
+        return p
 
-    def strut_force(self, stroke, rate):
-        return sum(self.strut_parts(stroke, rate).values())
+    def initial_state(self, contact_velocity: float) -> np.ndarray:
+        """State at first contact: strut topped out with its stop carrying the preload."""
+        y = np.zeros(dyn.STATES)
+        stroke0 = -self.gas.preload / self.stops.stiffness  # stop compressed just enough
+        y[dyn.Z1] = stroke0 * math.cos(self.inclination)
+        y[dyn.V1] = y[dyn.V2] = y[dyn.VW] = contact_velocity
+        y[dyn.THETA] = 1.0
+        return y
 
-    def initial_state(self, contact_velocity) -> np.ndarray:
-        """[z1, v1, z2, v2] at first contact: strut topped out, its stop carrying the preload.
-
-        ``contact_velocity`` and the model's parameters may be arrays (a batch)."""
-        preload = self.gas.force(0.0)
-        stroke0 = -preload / self.stops.stiffness  # stop compressed just enough to hold it
-        z1 = stroke0 * np.cos(self.inclination)
-        velocity = np.asarray(contact_velocity, dtype=float)
-        shape = np.broadcast(z1, velocity).shape
-        return np.array([np.broadcast_to(z1, shape), np.broadcast_to(velocity, shape),
-                         np.zeros(shape), np.broadcast_to(velocity, shape)], dtype=float)
-
-    def rates(self, state):
-        """Time derivative of [z1, v1, z2, v2] (arrays may carry a trailing batch axis)."""
-        z1, v1, z2, v2 = state[0], state[1], state[2], state[3]
-        cos_theta = np.cos(self.inclination)
-        stroke, rate = (z1 - z2) / cos_theta, (v1 - v2) / cos_theta
-        strut = self.strut_force(stroke, rate)
-        ground = self.ground_force(z2, v2)
-        # the simulation starts at first contact, when a lift device engages
-        a1 = STANDARD_GRAVITY - (self.lift + strut / cos_theta) / self.upper_mass
-        a2 = STANDARD_GRAVITY + (strut / cos_theta - ground) / self.lower_mass
-        return np.array([v1, a1, v2, a2])
+    def rates(self, state: np.ndarray) -> np.ndarray:
+        """Time derivative of a full state vector (slots of :mod:`certkit.dynamics`)."""
+        dy = np.empty(dyn.STATES)
+        dyn.rates(self.pack(), np.asarray(state, dtype=float), dy)
+        return dy
 
     def static_stroke(self) -> float:
         """Equilibrium stroke under the upper mass's weight less lift (friction-free)."""
         load = (self.upper_mass * STANDARD_GRAVITY - self.lift) * math.cos(self.inclination)
         return self.gas.equilibrium_stroke(load)
+
+    def described(self) -> list[tuple[str, Parameter]]:
+        """Every term's parameters, for reports: (term name, parameter)."""
+        return [(term.name, parameter) for term in self.terms()
+                for parameter in term.parameters()]

@@ -1,9 +1,10 @@
-"""Effects simple drop models omit (physics.md §3), each an optional strut term.
+"""Effects simple drop models omit (physics.md §3), each an optional term of the drop model.
 
 Every effect is off unless added to a :class:`~certkit.drop_model.DropModel`'s
-``effects``; each is a small dataclass with named SI parameters and a
-``force(stroke, rate, gas_force)`` method returning its axial strut force
-(compression positive).  Adding an effect is adding one class here.
+``effects``.  Each is a small frozen dataclass with named SI parameters that writes them
+into the slots of the compiled equations of motion (:mod:`certkit.dynamics`), where its
+force law lives.  :class:`SensorDynamics` is different: it acts on recorded signals, not
+on the mechanics.  ``EFFECTS`` maps the spec's effect names to the classes.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import dynamics as dyn
 from .drop_model import Parameter, Term, orifice_coefficient
 
 
@@ -31,20 +33,16 @@ class SealFriction(Term):
     stribeck_velocity: float = 0.01  # v_s [m/s]
     smoothing_velocity: float = 0.002  # v_ε [m/s]
     name = "seal friction"
+    fields = (("constant", "N", "Coulomb friction F_0"),
+              ("pressure_factor", "1", "share μ of the gas force acting as friction"),
+              ("breakaway", "N", "Stribeck excess F_S − F_C"),
+              ("stribeck_velocity", "m/s", "Stribeck velocity v_s"),
+              ("smoothing_velocity", "m/s", "regularisation width v_ε"))
 
-    def parameters(self):
-        return [Parameter("constant", self.constant, "N", "Coulomb friction F_0"),
-                Parameter("pressure_factor", self.pressure_factor, "1",
-                          "share μ of the gas force acting as friction"),
-                Parameter("breakaway", self.breakaway, "N", "Stribeck excess F_S − F_C"),
-                Parameter("stribeck_velocity", self.stribeck_velocity, "m/s", "v_s"),
-                Parameter("smoothing_velocity", self.smoothing_velocity, "m/s", "v_ε")]
-
-    def force(self, stroke, rate, gas_force):
-        level = self.constant + self.pressure_factor * np.abs(gas_force)
-        if np.any(self.breakaway):  # skip the Stribeck term's exp when it is off
-            level = level + self.breakaway * np.exp(-(rate / self.stribeck_velocity) ** 2)
-        return level * np.tanh(rate / self.smoothing_velocity)
+    def pack(self, p):
+        p[dyn.FRICTION], p[dyn.FRICTION_PRESSURE] = self.constant, self.pressure_factor
+        p[dyn.FRICTION_BREAKAWAY], p[dyn.FRICTION_STRIBECK] = self.breakaway, self.stribeck_velocity
+        p[dyn.FRICTION_SMOOTHING] = self.smoothing_velocity
 
 
 @dataclass(frozen=True)
@@ -57,46 +55,52 @@ class ReboundOrifice(Term):
 
     extra_coefficient: float  # K_reb − K_h [N·s²/m²]
     name = "rebound orifice"
+    fields = (("extra_coefficient", "N*s^2/m^2",
+               "rebound damping in excess of the compression orifice"),)
 
-    def parameters(self):
-        return [Parameter("extra_coefficient", self.extra_coefficient, "N*s^2/m^2",
-                          "rebound damping in excess of the compression orifice")]
-
-    def force(self, stroke, rate, gas_force):
-        extension = np.minimum(rate, 0.0)
-        return -self.extra_coefficient * extension * extension
+    def pack(self, p):
+        p[dyn.REBOUND_EXTRA] = self.extra_coefficient
 
 
 @dataclass(frozen=True)
 class MeteringPin(Term):
     """Metering pin: orifice area varying with stroke, A_n(s) from a table (physics.md §3 #4).
 
-    Added to the nominal orifice (area A_0) as the difference of the two square laws:
-    F = ρ·A_h³/(2·C_d²)·(1/A_n(s)² − 1/A_0²)·ṡ|ṡ|, A_n(s) linearly interpolated.
+    Replaces the nominal orifice's constant area: F_h = ρ·A_h³/(2·C_d²·A_n(s)²)·ṡ|ṡ|,
+    A_n(s) linearly interpolated in the table (held constant beyond its ends).
     """
 
     strokes: tuple          # s_i [m], increasing
     areas: tuple            # A_n(s_i) [m^2]
     hydraulic_area: float   # A_h [m^2]
-    nominal_area: float     # A_0, the nominal orifice's area [m^2]
+    nominal_area: float     # A_0, the nominal orifice's area [m^2] (for reference)
     discharge: float        # C_d
     density: float = 860.0  # ρ [kg/m^3]
     name = "metering pin"
+    fields = (("strokes", "m", "stroke points of the area table"),
+              ("areas", "m^2", "net orifice area at those strokes"),
+              ("hydraulic_area", "m^2", "hydraulic area A_h"),
+              ("nominal_area", "m^2", "area A_0 of the nominal orifice"),
+              ("discharge", "1", "discharge coefficient C_d"),
+              ("density", "kg/m^3", "oil density ρ"))
 
-    def parameters(self):
-        return [Parameter("strokes", self.strokes, "m", "stroke points of the area table"),
-                Parameter("areas", self.areas, "m^2", "net orifice area at those strokes"),
-                Parameter("hydraulic_area", self.hydraulic_area, "m^2", "A_h"),
-                Parameter("nominal_area", self.nominal_area, "m^2", "A_0 of the nominal orifice"),
-                Parameter("discharge", self.discharge, "1", "C_d"),
-                Parameter("density", self.density, "kg/m^3", "ρ")]
+    def __post_init__(self):
+        if not 2 <= len(self.strokes) == len(self.areas) <= dyn.PIN_POINTS:
+            raise ValueError(f"a metering-pin table needs 2 to {dyn.PIN_POINTS} points, as many "
+                             "areas as strokes")
+        if any(b <= a for a, b in zip(self.strokes, self.strokes[1:])):
+            raise ValueError("the metering-pin strokes must increase")
+        if min(self.areas) <= 0:
+            raise ValueError("the metering-pin areas must be positive")
 
-    def force(self, stroke, rate, gas_force):
-        area = np.interp(stroke, self.strokes, self.areas)
-        pinned = orifice_coefficient(self.hydraulic_area, area, self.discharge, self.density)
-        nominal = orifice_coefficient(self.hydraulic_area, self.nominal_area, self.discharge,
-                                      self.density)
-        return (pinned - nominal) * rate * np.abs(rate)
+    def pack(self, p):
+        count = len(self.strokes)
+        p[dyn.PIN], p[dyn.PIN_COUNT] = 1.0, count
+        # K(s) = ρ·A_h³/(2·C_d²)/A_n(s)², the nominal orifice law with the table's area
+        p[dyn.PIN_COEFFICIENT] = orifice_coefficient(self.hydraulic_area, 1.0, self.discharge,
+                                                     self.density)
+        p[dyn.PIN_STROKES:dyn.PIN_STROKES + count] = self.strokes
+        p[dyn.PIN_AREAS:dyn.PIN_AREAS + count] = self.areas
 
 
 @dataclass(frozen=True)
@@ -110,13 +114,114 @@ class TyreHysteresis(Term):
     share: float                      # h [1]
     smoothing_velocity: float = 0.01  # v_ε [m/s]
     name = "tyre hysteresis"
+    fields = (("share", "1", "half-width h of the loop, share of f(δ)"),
+              ("smoothing_velocity", "m/s", "regularisation width v_ε"))
 
-    def parameters(self):
-        return [Parameter("share", self.share, "1", "half-width h of the loop, share of f(δ)"),
-                Parameter("smoothing_velocity", self.smoothing_velocity, "m/s", "v_ε")]
+    def pack(self, p):
+        p[dyn.HYSTERESIS], p[dyn.HYSTERESIS_VELOCITY] = self.share, self.smoothing_velocity
 
-    def force(self, deflection, rate, static_force):
-        return self.share * static_force * np.tanh(rate / self.smoothing_velocity)
+
+@dataclass(frozen=True)
+class GasHeatTransfer(Term):
+    """Heat exchange between the gas and the strut walls (physics.md §3 #6).
+
+    Replaces the polytropic law by the gas energy equation m·c_v·Ṫ = −p·V̇ − hA·(T − T_w)
+    with an ideal gas (p·V ∝ T), the walls at the pre-charge temperature.  With θ = T/T0:
+    θ' = (γ − 1)·p·A_a·ṡ/(p_a0·V0) + (1 − θ)/τ,  τ = m·c_v/(hA).  Fast compression is
+    near-adiabatic (n → γ), slow settling near-isothermal (n → 1); the gas cools back
+    after the stroke, so the static stroke drifts over seconds.
+    """
+
+    time_constant: float   # τ [s]
+    gamma: float = 1.4     # c_p/c_v of nitrogen
+    name = "heat transfer"
+    fields = (("time_constant", "s", "thermal time constant τ = m·c_v/(hA)"),
+              ("gamma", "1", "ratio of specific heats γ"))
+
+    def __post_init__(self):
+        if not (self.time_constant > 0 and self.gamma > 1):
+            raise ValueError("heat transfer needs τ > 0 and γ > 1")
+
+    def pack(self, p):
+        p[dyn.THERMAL], p[dyn.GAS_GAMMA] = 1.0, self.gamma
+        p[dyn.GAS_COOLING] = 1.0 / self.time_constant
+
+
+@dataclass(frozen=True)
+class LegFlexibility(Term):
+    """Structural flexibility of the gear leg: the axle as an extra degree of freedom
+    (physics.md §3 #8).
+
+    The axle and wheel (mass m_w, taken out of the unsprung mass m2) hang on the strut's
+    sliding tube through a spring k_l and damper c_l: the leg's bending and the axle's
+    compliance, as they act in the vertical direction.  It rings at about
+    √((k_l + k_t)/m_w)/2π on load and tyre deflection, not on stroke.
+    """
+
+    axle_mass: float      # m_w [kg]
+    stiffness: float      # k_l [N/m]
+    damping: float = 0.0  # c_l [N·s/m]
+    name = "leg flexibility"
+    fields = (("axle_mass", "kg", "mass of axle and wheel m_w (part of m2)"),
+              ("stiffness", "N/m", "leg stiffness k_l"),
+              ("damping", "N*s/m", "leg damping c_l"))
+
+    def pack(self, p):
+        if not 0 < self.axle_mass < p[dyn.M2]:
+            raise ValueError(f"the axle mass {self.axle_mass} kg must be positive and less than "
+                             f"the unsprung mass {p[dyn.M2]} kg")
+        p[dyn.LEG], p[dyn.M2] = 1.0, p[dyn.M2] - self.axle_mass
+        p[dyn.LEG_MASS], p[dyn.LEG_STIFFNESS] = self.axle_mass, self.stiffness
+        p[dyn.LEG_DAMPING] = self.damping
+
+
+@dataclass(frozen=True)
+class PlatformCompliance(Term):
+    """Platform and load-cell compliance and inertia (physics.md §3 #10).
+
+    The tyre stands on a platform of mass m_p carried by the load cells (spring k_p,
+    damper c_p); the cells read k_p·x_p + c_p·ẋ_p, not the tyre force: ringing at
+    about √(k_p/m_p)/2π on the load channel that the stroke does not show.
+    """
+
+    mass: float           # m_p [kg]
+    stiffness: float      # k_p [N/m]
+    damping: float = 0.0  # c_p [N·s/m]
+    name = "platform compliance"
+    fields = (("mass", "kg", "platform mass m_p"),
+              ("stiffness", "N/m", "load-cell stiffness k_p"),
+              ("damping", "N*s/m", "load-cell damping c_p"))
+
+    def pack(self, p):
+        p[dyn.PLATFORM], p[dyn.PLATFORM_MASS] = 1.0, self.mass
+        p[dyn.PLATFORM_STIFFNESS], p[dyn.PLATFORM_DAMPING] = self.stiffness, self.damping
+
+
+@dataclass(frozen=True)
+class OilCompressibility(Term):
+    """Oil compressibility: the oil column as a spring in series with the orifice
+    (physics.md §3 #7).
+
+    k_oil = β·A_h²/V_oil; the hydraulic force becomes a state, Ḟ_h = k_oil·(ṡ − q), with
+    the orifice flow q from K·q|q| = F_h, regularised as q = F_h/√(K·√(F_h² + F_ε²)).
+    The pressure builds with a lag of a few milliseconds at breakout.
+    """
+
+    stiffness: float             # k_oil [N/m]
+    smoothing_force: float = 50.0  # F_ε [N]
+    name = "oil compressibility"
+    fields = (("stiffness", "N/m", "oil-column stiffness k_oil = β·A_h²/V_oil"),
+              ("smoothing_force", "N", "regularisation F_ε of the inverse orifice law"))
+
+    @classmethod
+    def from_oil(cls, bulk_modulus: float, hydraulic_area: float, oil_volume: float,
+                 **kwargs) -> OilCompressibility:
+        """From the oil's (effective) bulk modulus β [Pa], A_h [m^2] and oil volume [m^3]."""
+        return cls(bulk_modulus * hydraulic_area ** 2 / oil_volume, **kwargs)
+
+    def pack(self, p):
+        p[dyn.OIL], p[dyn.OIL_STIFFNESS] = 1.0, self.stiffness
+        p[dyn.OIL_SMOOTHING] = self.smoothing_force
 
 
 @dataclass(frozen=True)

@@ -10,8 +10,10 @@ from __future__ import annotations
 import math
 
 from .drop_conditions import drop_weight_share, lift_force_ratio
+from .dynamics import PIN_POINTS
 from .drop_model import P_ATM, DropModel, EndStops, GasSpring, Orifice, Tyre
-from .effects import MeteringPin, ReboundOrifice, SealFriction, TyreHysteresis
+from .effects import (GasHeatTransfer, LegFlexibility, MeteringPin, OilCompressibility,
+                      PlatformCompliance, ReboundOrifice, SealFriction, TyreHysteresis)
 from .errors import CertkitInputError, Problem
 from .spec import CampaignSpec, Run
 from .units import STANDARD_GRAVITY
@@ -89,6 +91,17 @@ def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = 
         need(strut, "metering_pin", ("strut",))
     if "tyre-hysteresis" in chosen:
         need(tyre, "hysteresis", ("tyre",))
+    if "heat-transfer" in chosen:
+        need(strut, "heat_transfer", ("strut",))
+    if "oil-compressibility" in chosen:
+        need(strut, "oil", ("strut",))
+    if "leg-flexibility" in chosen:
+        need(unit, "leg", ())
+    platform = spec.instrumentation.platform if spec.instrumentation else None
+    if "platform-compliance" in chosen and platform is None:
+        missing.append(Problem(spec_file, line_of(lines, ("instrumentation",)) if lines else None,
+                               "instrumentation.platform", "needed to simulate the platform's "
+                               "compliance (effect platform-compliance)"))
     if missing:
         raise CertkitInputError(missing)
 
@@ -120,22 +133,43 @@ def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = 
                           density.si)
         terms.append(ReboundOrifice(rebound.coefficient - orifice.coefficient))
     if "seal-friction" in chosen:
-        terms.append(SealFriction(strut.seal_friction.constant.si,
-                                  strut.seal_friction.pressure_factor.si))
+        friction = strut.seal_friction
+        terms.append(SealFriction(friction.constant.si, friction.pressure_factor.si,
+                                  friction.breakaway.si, friction.stribeck_velocity.si))
     if "metering-pin" in chosen:
         pin = strut.metering_pin
         strokes = tuple(q.si for q in pin.strokes)
-        if len(pin.strokes) != len(pin.areas) or any(b <= a for a, b in zip(strokes, strokes[1:])):
+        if (len(pin.strokes) != len(pin.areas) or len(pin.strokes) > PIN_POINTS
+                or any(b <= a for a, b in zip(strokes, strokes[1:]))):
             raise CertkitInputError.single(
                 spec_file, None, f"gear_units[{index}].strut.metering_pin",
-                "expected as many areas as strokes, with the strokes increasing")
+                f"expected as many areas as strokes (at most {PIN_POINTS}), with the strokes "
+                f"increasing; found {len(pin.strokes)} strokes and {len(pin.areas)} areas")
         terms.append(MeteringPin(strokes, tuple(q.si for q in pin.areas), hydraulic.si,
                                  orifice_area, discharge.si, density.si))
-    tyre_terms = (TyreHysteresis(tyre.hysteresis.si),) if "tyre-hysteresis" in chosen else ()
+    if "tyre-hysteresis" in chosen:
+        terms.append(TyreHysteresis(tyre.hysteresis.si))
+    if "heat-transfer" in chosen:
+        heat = strut.heat_transfer
+        terms.append(GasHeatTransfer(heat.time_constant.si, heat.ratio_of_specific_heats.si))
+    if "oil-compressibility" in chosen:
+        terms.append(OilCompressibility.from_oil(strut.oil.bulk_modulus.si, hydraulic.si,
+                                                 strut.oil.volume.si))
+    if "leg-flexibility" in chosen:
+        leg = unit.leg
+        if leg.axle_mass.si >= unsprung.si:
+            raise CertkitInputError.single(
+                spec_file, line_of(lines, ("gear_units", index, "leg", "axle_mass")) if lines
+                else None, f"gear_units[{index}].leg.axle_mass",
+                f"{leg.axle_mass.text} is not less than the unsprung mass {unsprung.text} it is "
+                f"part of")
+        terms.append(LegFlexibility(leg.axle_mass.si, leg.stiffness.si, leg.damping.si))
+    if "platform-compliance" in chosen:
+        terms.append(PlatformCompliance(platform.mass.si, platform.stiffness.si,
+                                        platform.damping.si))
     return DropModel(
         upper_mass=total - unsprung.si, lower_mass=unsprung.si, gas=gas, orifice=orifice,
         stops=EndStops(unit.design_stroke.si, STOP_STIFFNESS, STOP_DAMPING),
         tyre=Tyre(curve.reference_load.si, curve.reference_deflection.si, curve.exponent.si,
                   tyre.damping.si if tyre.damping is not None else 0.0),
-        lift_ratio=lift_force_ratio(run), inclination=inclination, effects=tuple(terms),
-        tyre_effects=tyre_terms)
+        lift_ratio=lift_force_ratio(run), inclination=inclination, effects=tuple(terms))

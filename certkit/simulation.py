@@ -1,5 +1,6 @@
 """Simulating drops: a reference path (scipy ``solve_ivp`` LSODA, tight tolerances, one drop)
-and a fast batched path (fixed-step RK4 over many drops at once, numpy).
+and a fast batched path (fixed-step RK4 over many drops at once, compiled).  Both call
+the same compiled equations of motion (:mod:`certkit.dynamics`).
 
 The output has the channels of a measured run (platform load, strut stroke, tyre
 deflection, drop-mass acceleration and displacement) at the logger's sample rate, so
@@ -16,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from . import dynamics as dyn
 from .drop_model import DropModel
 from .units import STANDARD_GRAVITY
 
@@ -48,47 +50,13 @@ class SimulatedDrop:
                 float(self.tyre_work[np.argmax(self.tyre)]))
 
 
-# State: z1, v1, z2, v2, then three works integrated alongside: dissipated
-# (∫(F_s − F_gas − F_stop,spring)·ṡ + tyre damping·δ̇), on the strut (∫F_s·ṡ), on the tyre (∫F_V·δ̇).
-
-
-def _energy_parts(model: DropModel, state) -> tuple:
-    z1, v1, z2, v2 = state[0], state[1], state[2], state[3]
-    cos_theta = math.cos(model.inclination)
-    stroke = (z1 - z2) / cos_theta
-    kinetic = 0.5 * model.upper_mass * v1 ** 2 + 0.5 * model.lower_mass * v2 ** 2
-    stops = model.stops
-    stop_spring = np.where(stroke < 0, 0.5 * stops.stiffness * stroke ** 2,
-                           np.where(stroke > stops.travel,
-                                    0.5 * stops.stiffness * (stroke - stops.travel) ** 2, 0.0))
-    stored = model.gas.energy(stroke) + model.tyre.energy(z2) + stop_spring
-    gravity = STANDARD_GRAVITY * (model.upper_mass * z1 + model.lower_mass * z2)
-    lift = model.lift * z1  # the lift acts from contact on (the simulation's start)
-    return kinetic + stored - gravity + lift
-
-
-def _rhs(model: DropModel):
-    cos_theta = math.cos(model.inclination)
-
-    def rhs(_t, y):
-        motion = model.rates(y[:4])
-        z1, v1, z2, v2 = y[0], y[1], y[2], y[3]
-        stroke, rate = (z1 - z2) / cos_theta, (v1 - v2) / cos_theta
-        parts = model.strut_parts(stroke, rate)
-        stops = model.stops
-        spring = np.where(stroke < 0, stops.stiffness * stroke,
-                          np.where(stroke > stops.travel, stops.stiffness * (stroke - stops.travel),
-                                   0.0))
-        # everything in the strut but the gas spring and the stops' springs dissipates
-        non_conservative = sum(parts.values()) - parts["gas"] - spring
-        ground = model.ground_force(z2, v2)
-        tyre_damping = ground - np.where(z2 > 0, model.tyre.static_force(z2), 0.0)
-        power = non_conservative * rate + tyre_damping * v2
-        strut_power = sum(parts.values()) * rate
-        tyre_power = ground * v2
-        return np.concatenate([motion, [power, strut_power, tyre_power]])
-
-    return rhs
+def _free_fall(contact_velocity: float, lead: float, sample_rate: float):
+    """Sample times and drop-mass displacement of the free fall before contact."""
+    lead_samples = int(round(lead * sample_rate))
+    t_lead = -np.arange(lead_samples, 0, -1) / sample_rate
+    fall_height = contact_velocity ** 2 / (2 * STANDARD_GRAVITY)
+    velocity = contact_velocity + STANDARD_GRAVITY * t_lead
+    return t_lead, fall_height - velocity ** 2 / (2 * STANDARD_GRAVITY), fall_height
 
 
 def simulate_reference(model: DropModel, contact_velocity: float, duration: float = 2.0,
@@ -107,47 +75,48 @@ def simulate_reference(model: DropModel, contact_velocity: float, duration: floa
     run : str
         Name used in error messages.
     """
-    y0 = np.concatenate([model.initial_state(contact_velocity), [0.0, 0.0, 0.0]])
+    p = model.pack()
+    dy = np.empty(dyn.STATES)
+
+    def rhs(_t, y):
+        dyn.rates(p, y, dy)
+        return dy.copy()
+
     samples = int(round(duration * sample_rate)) + 1
     t_eval = np.linspace(0.0, duration, samples)
-    solution = solve_ivp(_rhs(model), (0.0, duration), y0, method="LSODA", t_eval=t_eval,
-                         rtol=rtol, atol=atol, max_step=1e-3)
+    solution = solve_ivp(rhs, (0.0, duration), model.initial_state(contact_velocity),
+                         method="LSODA", t_eval=t_eval, rtol=rtol, atol=atol, max_step=1e-3)
     if not solution.success:
         failed_at = solution.t[-1] if solution.t.size else 0.0
         raise SimulationError(f"run {run}: the integrator failed at t = {failed_at:.6g} s after "
                               f"contact: {solution.message}")
     y = solution.y
-    cos_theta = math.cos(model.inclination)
-    stroke = (y[0] - y[2]) / cos_theta
-    load = model.ground_force(y[2], y[3])
-    motion = model.rates(y[:4])
-    mechanical = _energy_parts(model, y[:4])
-    mechanical = mechanical - mechanical[0]
+    recorded = np.empty((samples, dyn.CHANNELS))
+    for index in range(samples):
+        dyn.channels(p, y[:, index], recorded[index], False, 0.0)
+    energy = recorded[:, dyn.ENERGY] - recorded[0, dyn.ENERGY]
 
-    # free fall before contact, sampled on the same grid
-    lead_samples = int(round(lead * sample_rate))
-    t_lead = -np.arange(lead_samples, 0, -1) / sample_rate
-    fall_height = contact_velocity ** 2 / (2 * STANDARD_GRAVITY)
-    velocity_lead = contact_velocity + STANDARD_GRAVITY * t_lead
-    zeros = np.zeros(lead_samples)
+    t_lead, fall, fall_height = _free_fall(contact_velocity, lead, sample_rate)
+    zeros = np.zeros(t_lead.size)
     return SimulatedDrop(
         time=np.concatenate([t_lead, solution.t]),
-        load=np.concatenate([zeros, load]),
-        stroke=np.concatenate([zeros, stroke]),
-        tyre=np.concatenate([zeros, np.maximum(y[2], 0.0)]),
-        acceleration=np.concatenate([np.full(lead_samples, -STANDARD_GRAVITY), -motion[1]]),
-        displacement=np.concatenate([fall_height - velocity_lead ** 2 / (2 * STANDARD_GRAVITY),
-                                     fall_height + y[0]]),
-        dissipated=np.concatenate([zeros, y[4]]),
-        mechanical=np.concatenate([zeros, mechanical]),
-        strut_work=np.concatenate([zeros, y[5]]),
-        tyre_work=np.concatenate([zeros, y[6]]),
+        load=np.concatenate([zeros, recorded[:, dyn.LOAD]]),
+        stroke=np.concatenate([zeros, recorded[:, dyn.STROKE]]),
+        tyre=np.concatenate([zeros, recorded[:, dyn.TYRE]]),
+        acceleration=np.concatenate([np.full(t_lead.size, -STANDARD_GRAVITY),
+                                     recorded[:, dyn.ACCELERATION]]),
+        displacement=np.concatenate([fall, fall_height + recorded[:, dyn.DISPLACEMENT]]),
+        dissipated=np.concatenate([zeros, y[dyn.DISSIPATED]]),
+        mechanical=np.concatenate([zeros, energy]),
+        strut_work=np.concatenate([zeros, y[dyn.STRUT_WORK]]),
+        tyre_work=np.concatenate([zeros, y[dyn.TYRE_WORK]]),
     )
 
 
 @dataclass
 class BatchDrops:
-    """Channels of a batch of drops: arrays of shape (drops, samples); ``time`` is shared."""
+    """Channels of a batch of drops: arrays of shape (drops, samples); ``time`` is shared,
+    0 at contact.  ``dissipated`` is the total work of the dissipative terms per drop [J]."""
 
     time: np.ndarray
     load: np.ndarray
@@ -155,44 +124,108 @@ class BatchDrops:
     tyre: np.ndarray
     acceleration: np.ndarray
     displacement: np.ndarray
+    mechanical: np.ndarray
+    dissipated: np.ndarray
 
 
-#: RK4 step of the batched path.  The stiffest rate in the model is the regularised seal
-#: friction against the unsprung mass (about 3e4 1/s for a 2 mm/s smoothing width), which
-#: RK4 integrates stably and accurately at 0.2 ms (test_fast_path_agrees_with_the_reference).
-BATCH_STEP = 2.0e-4
+#: Longest RK4 step of the batched path [s].  The step is otherwise set by the model's
+#: fastest rate (:func:`fastest_rate`): RK4 is accurate far beyond the 0.1 % the fast
+#: path must match the reference to (test_fast_path_agrees_with_the_reference), so
+#: stability, not accuracy, limits it.
+MAX_STEP = 5.0e-4
+#: Largest step·rate accepted (RK4's stability limit is 2.78 on the real axis and 2.83
+#: on the imaginary axis).
+STABILITY = 2.5
 
 
-def simulate_batch(model: DropModel, contact_velocity, duration: float = 2.0,
-                   sample_rate: float = 1000.0, step: float = BATCH_STEP) -> BatchDrops:
-    """Simulate many drops at once with classical RK4 at a fixed step.
+def fastest_rate(model: DropModel, contact_velocity: float) -> float:
+    """Estimate of the model's fastest persistent rate [1/s] in a drop at ``contact_velocity``.
 
-    The model's parameters and ``contact_velocity`` may be arrays of one common length
-    (one entry per drop): every force term is element-wise, so the batch runs through the
-    same code as the reference path.  Output starts at contact (no free-fall lead).
+    Stops, orifice damping at the contact velocity and the tyre's stiffness near its
+    reference deflection, all against the unsprung mass; seal friction while the strut
+    sticks at its static position (level F_0 + μ·m1·g over v_ε·m2; near maximum stroke
+    the friction's steep zone is crossed within a step, which RK4 follows accurately);
+    the oil column, the platform and the leg.
     """
+    m2 = model.lower_mass
+    leg = model.effect("leg flexibility")
+    if leg is not None:
+        m2 = min(m2 - leg.axle_mass, leg.axle_mass)
+    tyre = model.tyre
+    rates = [math.sqrt(model.stops.stiffness / m2), model.stops.damping / m2,
+             2.0 * math.sqrt(tyre.exponent * tyre.reference_load / tyre.reference_deflection / m2)]
+    if model.orifice is not None:
+        coefficient = model.orifice.coefficient
+        for effect in model.effects:
+            if effect.name == "rebound orifice":
+                coefficient += effect.extra_coefficient
+            if effect.name == "metering pin":
+                coefficient = max(coefficient, model.orifice.coefficient
+                                  * (model.orifice.orifice_area / min(effect.areas)) ** 2)
+        rates.append(2.0 * coefficient * abs(contact_velocity) / m2)
+    if leg is not None:
+        rates += [math.sqrt(leg.stiffness / m2), leg.damping / m2]
+    friction = model.effect("seal friction")
+    if friction is not None:
+        level = (friction.constant + abs(friction.breakaway)
+                 + friction.pressure_factor * model.upper_mass * STANDARD_GRAVITY)
+        rates.append(level / (friction.smoothing_velocity * m2))
+    oil = model.effect("oil compressibility")
+    if oil is not None and model.orifice is not None:
+        rates.append(oil.stiffness / math.sqrt(model.orifice.coefficient * oil.smoothing_force))
+    platform = model.effect("platform compliance")
+    if platform is not None:
+        rates += [math.sqrt(platform.stiffness / platform.mass),
+                  platform.damping / platform.mass]
+    return max(rates)
+
+
+def batch_step(models, contact_velocities, sample_rate: float) -> float:
+    """The batched path's step: the longest whole fraction of the sample interval within
+    MAX_STEP and the stability limit of every drop's fastest rate."""
+    rate = max(fastest_rate(m, v) for m, v in zip(models, contact_velocities))
+    step = min(MAX_STEP, STABILITY / rate)
+    return 1.0 / (sample_rate * math.ceil(1.0 / (sample_rate * step) - 1e-9))
+
+
+def simulate_batch(models, contact_velocity, duration: float = 2.0,
+                   sample_rate: float = 1000.0, step: float | None = None) -> BatchDrops:
+    """Simulate many drops at once with classical RK4 at a fixed step (compiled, parallel).
+
+    Parameters
+    ----------
+    models : DropModel or sequence of DropModel
+        One model for every drop, or one per drop (parameter sets, effects may differ).
+    contact_velocity : float or array
+        One per drop (broadcast against ``models``).
+    step : float, optional
+        Integration step [s]; default :func:`batch_step`.  Must divide the sample interval.
+
+    Output starts at contact (no free-fall lead).
+    """
+    models = [models] if isinstance(models, DropModel) else list(models)
     velocity = np.atleast_1d(np.asarray(contact_velocity, dtype=float))
-    state = model.initial_state(velocity)
+    count = max(len(models), velocity.size)
+    if len(models) == 1:
+        models = models * count
+    if velocity.size == 1:
+        velocity = np.full(count, velocity[0])
+    if len(models) != count or velocity.size != count:
+        raise ValueError("give one model, or one per contact velocity")
+    step = batch_step(models, velocity, sample_rate) if step is None else step
     per_sample = int(round(1.0 / (sample_rate * step)))
     if not np.isclose(per_sample * step * sample_rate, 1.0):
         raise ValueError("the step must divide the sample interval")
     samples = int(round(duration * sample_rate)) + 1
-    history = np.empty((samples,) + state.shape)
-    history[0] = state
-    for index in range(1, samples):
-        for _ in range(per_sample):
-            k1 = model.rates(state)
-            k2 = model.rates(state + 0.5 * step * k1)
-            k3 = model.rates(state + 0.5 * step * k2)
-            k4 = model.rates(state + step * k3)
-            state = state + step / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
-        history[index] = state
-    z1, z2, v2 = history[:, 0].T, history[:, 2].T, history[:, 3].T  # (drops, samples)
-    acceleration = np.array([model.rates(history[i])[1] for i in range(samples)]).T
-    column = (-1, 1)  # per-drop values as a column, to broadcast over samples
+    parameters = np.array([m.pack() for m in models])
+    initial = np.array([m.initial_state(v) for m, v in zip(models, velocity)])
+    out, final = dyn.integrate_batch(parameters, initial, step, per_sample, samples,
+                                     np.empty(0))
+    fall = velocity ** 2 / (2 * STANDARD_GRAVITY)
     return BatchDrops(
-        time=np.arange(samples) / sample_rate,
-        load=model.ground_force(z2.T, v2.T).T,  # samples first, so per-drop parameters broadcast
-        stroke=(z1 - z2) / np.reshape(np.cos(model.inclination), column),
-        tyre=np.maximum(z2, 0.0), acceleration=-acceleration,
-        displacement=z1 + np.reshape(velocity ** 2 / (2 * STANDARD_GRAVITY), column))
+        time=np.arange(samples) / sample_rate, load=out[:, :, dyn.LOAD],
+        stroke=out[:, :, dyn.STROKE], tyre=out[:, :, dyn.TYRE],
+        acceleration=out[:, :, dyn.ACCELERATION],
+        displacement=out[:, :, dyn.DISPLACEMENT] + fall[:, None],
+        mechanical=out[:, :, dyn.ENERGY] - out[:, :1, dyn.ENERGY],
+        dissipated=final[:, dyn.DISSIPATED])

@@ -82,6 +82,9 @@ Frequency = _quantity("frequency", exclusive=True)
 Inclination = _quantity("angle", "strut axis from vertical, e.g. '3 deg' (at most 45 deg)",
                         minimum=-math.pi / 4, maximum=math.pi / 4)
 Density = _quantity("density", exclusive=True)
+Stiffness = _quantity("stiffness", exclusive=True)
+Damping = _quantity("damping")
+Duration = _quantity("time", exclusive=True)
 WingLoading = _quantity("wing_loading", "a wing loading (force per area), e.g. '10.15 lbf/ft^2'",
                         exclusive=True)
 PositiveNumber = _quantity("dimensionless", exclusive=True)
@@ -188,10 +191,36 @@ class MeteringPinSpec(_Model):
 
 
 class SealFrictionSpec(_Model):
-    """Seal friction F = (constant + pressure_factor·|F_gas|)·sign(ṡ)."""
+    """Seal friction F = (constant + pressure_factor·|F_gas| + breakaway·exp(−(ṡ/v_s)²))·sign(ṡ)."""
 
     constant: Force
     pressure_factor: Fraction = Field(parse_quantity("0", "dimensionless"))
+    breakaway: Force = Field(parse_quantity("0 N", "force"),
+                             description="Stribeck excess of static over Coulomb friction")
+    stribeck_velocity: _quantity("velocity", exclusive=True) = Field(  # type: ignore[valid-type]
+        parse_quantity("10 mm/s", "velocity"))
+
+
+class HeatTransferSpec(_Model):
+    """Gas-to-wall heat transfer (effect 'heat-transfer'): replaces the polytropic law."""
+
+    time_constant: Duration = Field(description="τ = m·c_v/(h·A), e.g. '1 s'")
+    ratio_of_specific_heats: PositiveNumber = Field(parse_quantity("1.4", "dimensionless"))
+
+
+class OilSpec(_Model):
+    """Oil compressibility (effect 'oil-compressibility'): k_oil = β·A_h²/V_oil."""
+
+    bulk_modulus: Pressure = Field(description="effective β, e.g. '1.5 GPa' (less if aerated)")
+    volume: Volume = Field(description="oil volume between piston and orifice")
+
+
+class LegSpec(_Model):
+    """Gear-leg flexibility (effect 'leg-flexibility'): axle mass on a leg spring."""
+
+    axle_mass: Mass = Field(description="axle and wheel, part of the unsprung mass")
+    stiffness: Stiffness
+    damping: Damping = Field(parse_quantity("0 N*s/m", "damping"))
 
 
 class Strut(_Model):
@@ -214,6 +243,8 @@ class Strut(_Model):
     unsprung_mass: Mass | None = None
     seal_friction: SealFrictionSpec | None = None
     metering_pin: MeteringPinSpec | None = None
+    heat_transfer: HeatTransferSpec | None = None
+    oil: OilSpec | None = None
     notes: str | None = None
 
 
@@ -229,6 +260,7 @@ class GearUnit(_Model):
     design_stroke: PositiveLength
     tyre: Tyre
     strut: Strut | None = None
+    leg: LegSpec | None = None
     wheel_diameter: PositiveLength | None = None
 
 
@@ -243,8 +275,17 @@ class InstrumentChannel(_Model):
     calibration_reference: str | None = None
 
 
+class PlatformSpec(_Model):
+    """The drop rig's platform on its load cells (effect 'platform-compliance')."""
+
+    mass: Mass
+    stiffness: Stiffness = Field(description="load cells and foundation under the platform")
+    damping: Damping = Field(parse_quantity("0 N*s/m", "damping"))
+
+
 class Instrumentation(_Model):
     sampling_rate: Frequency
+    platform: PlatformSpec | None = None
     logger: str | None = None
     channels: list[InstrumentChannel] = []
 
@@ -387,7 +428,8 @@ class DisplayUnits(_Model):
 
 
 Effect = Literal["seal-friction", "rebound-orifice", "metering-pin", "tyre-hysteresis",
-                 "sensor-dynamics"]
+                 "heat-transfer", "oil-compressibility", "leg-flexibility",
+                 "platform-compliance", "sensor-dynamics"]
 
 
 class SensorSpec(_Model):

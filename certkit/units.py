@@ -46,6 +46,8 @@ KINDS: dict[str, tuple[str, str]] = {
     "wing_loading": ("[pressure]", "Pa"),
     "density": ("[mass]/[length]**3", "kg/m**3"),
     "slowness": ("[time]/[length]", "s/m"),
+    "stiffness": ("[force]/[length]", "N/m"),
+    "damping": ("[force]*[time]/[length]", "N*s/m"),
 }
 
 _ARTICLE = {"area": "an area", "acceleration": "an acceleration", "angle": "an angle",
@@ -220,7 +222,8 @@ def _example_unit(kind: str) -> str:
     return {"length": "mm", "area": "m^2", "volume": "L", "mass": "kg", "force": "N",
             "pressure": "MPa", "energy": "J", "time": "s", "frequency": "Hz",
             "velocity": "m/s", "acceleration": "m/s^2", "angle": "deg", "weight": "kg",
-            "wing_loading": "lbf/ft^2", "density": "kg/m^3", "slowness": "s/m"}.get(kind, "")
+            "wing_loading": "lbf/ft^2", "density": "kg/m^3", "slowness": "s/m",
+            "stiffness": "N/mm", "damping": "N*s/m"}.get(kind, "")
 
 
 def parse_unit(text: str, kind: str) -> str:

@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 
+from certkit.dynamics import V1, V2, Z1, Z2
 from certkit.drop_model import P_ATM, DropModel, EndStops, GasSpring, Orifice, Tyre
 from certkit.effects import ReboundOrifice, SealFriction
 from certkit.simulation import simulate_reference
@@ -74,7 +75,9 @@ def test_static_position_matches_the_closed_form_gas_law():
     model = seed_gear(friction=False)
 
     def accelerations(z):
-        return model.rates(np.array([z[0], 0.0, z[1], 0.0]))[[1, 3]]
+        state = model.initial_state(0.0)
+        state[[Z1, Z2]] = z
+        return model.rates(state)[[V1, V2]]
 
     z1, z2 = fsolve(accelerations, [0.08, 0.01], xtol=1e-14)
     # p_st = p_atm + m1 g/A_a; s = V0/A_a (1 - (p_a0/p_st)^(1/n))
@@ -133,8 +136,9 @@ def test_fast_path_agrees_with_the_reference(effects):
     chosen = {"none": (), "seal friction": full.effects[1:], "rebound orifice": full.effects[:1],
               "metering pin": (metering_pin(),), "tyre hysteresis": (),
               "both": full.effects}[effects]
-    tyre_effects = (TyreHysteresis(0.05),) if effects == "tyre hysteresis" else ()
-    model = replace(full, effects=tuple(chosen), tyre_effects=tyre_effects)
+    if effects == "tyre hysteresis":
+        chosen = (TyreHysteresis(0.05),)
+    model = replace(full, effects=tuple(chosen))
     velocities = np.sqrt(2 * G * np.array([0.2, 0.3]))
     batch = simulate_batch(model, velocities, duration=0.4)
     for index, velocity in enumerate(velocities):
@@ -150,11 +154,10 @@ def test_batch_of_parameter_sets_matches_single_runs():
 
     base = seed_gear(friction=False)
     volumes = np.array([0.95, 1.0, 1.05]) * base.gas.volume
-    batch = simulate_batch(replace(base, gas=replace(base.gas, volume=volumes)),
-                           math.sqrt(2 * G * 0.25), duration=0.3)
-    for index, volume in enumerate(volumes):
-        single = simulate_batch(replace(base, gas=replace(base.gas, volume=float(volume))),
-                                math.sqrt(2 * G * 0.25), duration=0.3)
+    models = [replace(base, gas=replace(base.gas, volume=float(v))) for v in volumes]
+    batch = simulate_batch(models, math.sqrt(2 * G * 0.25), duration=0.3)
+    for index, model in enumerate(models):
+        single = simulate_batch(model, math.sqrt(2 * G * 0.25), duration=0.3)
         assert np.allclose(batch.load[index], single.load[0], rtol=1e-12, atol=1e-9)
         assert np.allclose(batch.stroke[index], single.stroke[0], rtol=1e-12, atol=1e-12)
     # a larger gas volume is a softer spring: more stroke
@@ -180,7 +183,7 @@ def test_tyre_hysteresis_dissipates_and_is_accounted():
     from certkit.effects import TyreHysteresis
 
     base = seed_gear(damping=False, friction=False, tyre_damping=0.0, stop_damping=0.0)
-    lossy = replace(base, tyre_effects=(TyreHysteresis(0.05),))
+    lossy = replace(base, effects=(TyreHysteresis(0.05),))
     drop = simulate_reference(lossy, math.sqrt(2 * G * 0.3), duration=1.0)
     assert drop.dissipated[-1] > 0  # the only dissipation in this model is the tyre loop
     assert abs(drop.mechanical[-1] + drop.dissipated[-1]) <= 1e-6 * drop.dissipated[-1]

@@ -1,0 +1,488 @@
+"""Bounded nonlinear least-squares calibration: the model-agnostic statistical core.
+
+The caller supplies a residual function of the physical (SI) parameter values that returns
+the stacked, already-normalised residual vector (for example (simulated − measured)/σ over
+all channels and runs); :func:`fit` minimises its sum of squares within the parameter
+bounds (``scipy.optimize.least_squares``, trust-region reflective) and reports what the data
+do and do not determine: standard errors, correlations and plain-English identifiability
+warnings.
+
+Choices, each explained where it is made:
+
+* **Scaling.** The optimiser works in ``u = x/scale`` with ``scale = |nominal|`` (the larger
+  bound magnitude when the nominal is zero), so a 1e6 Pa pre-charge and a 0.6 discharge
+  coefficient both start at ``|u| = 1``.  A linear map keeps linear models linear (the
+  Gauss-Newton statistics are then exact), allows parameters that are zero or change sign,
+  and keeps the bounds simple boxes; physical values are clipped into their bounds, so the
+  bounds are respected exactly.
+* **Finite differences** (when no analytic Jacobian is given): central differences in ``u``
+  with step ``eps^(1/3)·max(|u|, 1)``, one-sided second-order stencils next to a bound so no
+  residual is ever evaluated outside the bounds.  With ``residuals_many`` all stencil points
+  go to the simulator in one batched call.
+* **Statistics**: from the SVD of the Jacobian with respect to the log-parameters
+  (``∂r/∂ln x``, dimensionless); singular values below ``SINGULAR_CUTOFF`` times the largest
+  are treated as zero, i.e. as parameter combinations the data do not determine.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+
+# A direction in log-parameter space whose singular value is below this fraction of the
+# largest is "not determined".  Its standard error would be at least 1e6 times that of the best
+# determined combination (already meaningless at, say, 0.1 % for the best: ±1000 in ln x),
+# while the central-difference Jacobian resolves singular values down to about eps^(2/3)
+# ≈ 4e-11 of the largest, so an exact degeneracy (only a product enters the model) falls
+# well below the cutoff and a merely weak dependence stays well above it.
+SINGULAR_CUTOFF = 1e-6
+# A parameter is involved in an undetermined direction when at least this share of the
+# direction's squared length (in log-parameter space) lies on it: |component| >= 0.01.
+NULL_SHARE = 1e-4
+CORRELATION_LIMIT = 0.95   # |r| above this earns a correlation warning
+BOUND_TOLERANCE = 1e-6     # relative distance within which a parameter is "on" its bound
+# Central differences: truncation O(h²) against rounding O(eps/h) balance at h = eps^(1/3).
+DEFAULT_RELATIVE_STEP = float(np.finfo(float).eps ** (1.0 / 3.0))
+
+Residuals = Callable[[np.ndarray], np.ndarray]
+
+
+class FitError(ValueError):
+    """The residuals could not be evaluated (non-finite or wrong shape) at some parameter values."""
+
+
+@dataclass(frozen=True)
+class FitParameter:
+    """A parameter to calibrate: its name, SI unit, starting value and bounds (SI).
+
+    Raises
+    ------
+    ValueError
+        If a value is not finite, ``lower >= upper`` or the nominal lies outside the bounds;
+        the message names the parameter.
+    """
+
+    name: str      # e.g. "orifice C_d"
+    unit: str      # SI unit string, e.g. "Pa"
+    nominal: float  # starting value (SI), within the bounds
+    lower: float
+    upper: float
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name.strip():
+            raise ValueError(f"fit parameter name must be a non-empty string, got {self.name!r}")
+        for field in ("nominal", "lower", "upper"):
+            value = getattr(self, field)
+            try:
+                finite = math.isfinite(float(value))
+            except (TypeError, ValueError):
+                finite = False
+            if not finite:
+                raise ValueError(f"fit parameter {self.name!r}: {field} must be a finite number, "
+                                 f"got {value!r}")
+        if not self.lower < self.upper:
+            raise ValueError(f"fit parameter {self.name!r}: lower bound {self.lower:g} must be "
+                             f"below upper bound {self.upper:g}")
+        if not self.lower <= self.nominal <= self.upper:
+            raise ValueError(f"fit parameter {self.name!r}: nominal {self.nominal:g} lies outside "
+                             f"its bounds [{self.lower:g}, {self.upper:g}]")
+
+    def describe(self, value: float) -> str:
+        """'name = value unit', for messages."""
+        return f"{self.name} = {value:.6g} {self.unit}".rstrip()
+
+
+# eq=False: the numpy fields make field-wise equality ambiguous; the arrays are read-only.
+@dataclass(frozen=True, eq=False)
+class FitResult:
+    """Outcome of :func:`fit`.  Arrays follow the order of ``parameters``; values are SI."""
+
+    parameters: tuple[FitParameter, ...]
+    estimate: np.ndarray        # SI values at the optimum
+    standard_error: np.ndarray  # sqrt(diag(s²(JᵀJ)⁻¹)), s² = RSS/(m − p); nan where undetermined
+    correlation: np.ndarray     # p × p; nan rows/columns where undetermined
+    cost_nominal: float         # RMS of the residual vector at the nominal values
+    cost: float                 # RMS of the residual vector at the optimum
+    at_bound: tuple[str, ...]   # parameters on (within 1e-6 relative of) a bound
+    warnings: tuple[str, ...]   # plain-English identifiability warnings
+    evaluations: int            # parameter sets evaluated, Jacobian points included
+    success: bool
+    message: str
+
+
+def fit(residuals: Residuals, parameters: Sequence[FitParameter], *,
+        residuals_many: Callable[[np.ndarray], np.ndarray] | None = None,
+        jacobian: Callable[[np.ndarray], np.ndarray] | None = None,
+        max_evaluations: int = 100, tolerance: float = 1e-8,
+        relative_step: float = DEFAULT_RELATIVE_STEP) -> FitResult:
+    """Fit parameters to data by bounded nonlinear least squares.
+
+    Parameters
+    ----------
+    residuals
+        ``residuals(x) -> r``: SI parameter values (length p) to the stacked, normalised
+        residual vector (length m, the same every call).
+    parameters
+        The parameters to fit, in the order of ``x``.
+    residuals_many
+        Optional ``residuals_many(X) -> R``: X of shape (k, p) to R of shape (k, m), for a
+        simulator that evaluates many parameter sets at once.  When given, each
+        finite-difference Jacobian costs one call.
+    jacobian
+        Optional analytic ``jacobian(x) -> J``, J[i, j] = ∂r_i/∂x_j in physical units, shape
+        (m, p).  Replaces the finite differences (and ``residuals_many``).
+    max_evaluations
+        Limit on the optimiser's residual evaluations (``max_nfev``; Jacobian points are
+        not counted against it).
+    tolerance
+        ``ftol``, ``xtol`` and ``gtol`` of ``least_squares``.
+    relative_step
+        Finite-difference step as a fraction of the parameter scale.  The default
+        ``eps^(1/3)`` ≈ 6e-6 suits residuals accurate to machine precision; for residuals
+        with relative noise η (an ODE tolerance, say) use about ``η^(1/3)``.
+
+    Returns
+    -------
+    FitResult
+
+    Notes
+    -----
+    The statistics are the Gauss-Newton linearisation at the optimum.  A parameter on a
+    bound keeps its unconstrained standard error, flagged by the at-bound warning.  "Only the
+    product/ratio is determined" is read from the null direction of ∂r/∂ln x at the optimum:
+    exact for a model that depends on x_i^a·x_j^b only, a local statement otherwise.
+
+    Raises
+    ------
+    ValueError
+        For bad parameters (named in the message) or settings.
+    FitError
+        If the residuals are not finite, or have the wrong shape, at some parameter values
+        (named in the message).
+    """
+    parameters = tuple(parameters)
+    _check_parameters(parameters)
+    if int(max_evaluations) < 1:
+        raise ValueError(f"max_evaluations must be at least 1, got {max_evaluations}")
+    if not tolerance > 0:
+        raise ValueError(f"tolerance must be positive, got {tolerance}")
+    if not 0 < relative_step < 1:
+        raise ValueError(f"relative_step must lie in (0, 1), got {relative_step}")
+
+    problem = _ScaledProblem(parameters, residuals, residuals_many, jacobian, relative_step)
+    u0 = problem.nominal / problem.scale
+    r0 = problem.residuals(u0)
+    solution = least_squares(problem.residuals, u0, jac=problem.jacobian,
+                             bounds=(problem.lower_u, problem.upper_u), method="trf",
+                             x_scale=1.0, ftol=tolerance, xtol=tolerance, gtol=tolerance,
+                             max_nfev=int(max_evaluations))
+
+    estimate = problem.physical(solution.x)
+    r = problem.residuals(solution.x)
+    jac_x = problem.jacobian(solution.x) / problem.scale   # back to ∂r/∂x
+    standard_error, correlation, undetermined = _statistics(jac_x, r, estimate, problem.scale)
+
+    at_bound, bound_warnings = _bound_report(parameters, estimate, problem.scale)
+    warnings = (_undetermined_warnings(parameters, undetermined)
+                + _correlation_warnings(parameters, correlation)
+                + bound_warnings)
+    if r.size <= len(parameters):
+        warnings.append(f"There are {r.size} residual(s) for {len(parameters)} parameters: "
+                        "no degrees of freedom are left to estimate the noise, so no standard "
+                        "errors are given.")
+
+    for array in (estimate, standard_error, correlation):
+        array.setflags(write=False)
+    return FitResult(parameters=parameters, estimate=estimate, standard_error=standard_error,
+                     correlation=correlation, cost_nominal=_rms(r0), cost=_rms(r),
+                     at_bound=at_bound, warnings=tuple(warnings),
+                     evaluations=problem.evaluations, success=bool(solution.success),
+                     message=str(solution.message))
+
+
+# --------------------------------------------------------------------------- the scaled problem
+class _ScaledProblem:
+    """The residuals and their Jacobian in scaled variables u = x/scale, with evaluation
+    counting, one-entry caches and checks that every residual is finite."""
+
+    def __init__(self, parameters, residuals, residuals_many, jacobian, relative_step):
+        self.parameters = parameters
+        self.nominal = np.array([p.nominal for p in parameters], dtype=float)
+        self.lower = np.array([p.lower for p in parameters], dtype=float)
+        self.upper = np.array([p.upper for p in parameters], dtype=float)
+        # |nominal|, or for a zero nominal the larger bound magnitude (> 0 as lower < upper)
+        self.scale = np.where(self.nominal != 0.0, np.abs(self.nominal),
+                              np.maximum(np.abs(self.lower), np.abs(self.upper)))
+        self.lower_u = self.lower / self.scale
+        self.upper_u = self.upper / self.scale
+        self._residuals = residuals
+        self._residuals_many = residuals_many
+        self._jacobian = jacobian
+        self.relative_step = relative_step
+        self.evaluations = 0
+        self.size = None            # m, fixed by the first evaluation
+        self._last_r = (None, None)  # (u, r) of the latest single evaluation
+        self._last_j = (None, None)  # (u, J) of the latest Jacobian
+
+    def physical(self, u: np.ndarray) -> np.ndarray:
+        """SI values; the clip removes rounding past a bound, so bounds hold exactly."""
+        return np.clip(np.asarray(u, dtype=float) * self.scale, self.lower, self.upper)
+
+    def residuals(self, u: np.ndarray) -> np.ndarray:
+        cached_u, cached_r = self._last_r
+        if cached_u is not None and np.array_equal(cached_u, u):
+            return cached_r
+        x = self.physical(u)
+        self.evaluations += 1
+        r = self._checked(np.array(self._residuals(x.copy()), dtype=float), x)
+        r.setflags(write=False)   # cached: shared with least_squares and the Jacobian
+        self._last_r = (np.array(u, dtype=float), r)
+        return r
+
+    def jacobian(self, u: np.ndarray) -> np.ndarray:
+        cached_u, cached_j = self._last_j
+        if cached_u is not None and np.array_equal(cached_u, u):
+            return cached_j
+        if self._jacobian is not None:
+            x = self.physical(u)
+            jac_x = np.asarray(self._jacobian(x.copy()), dtype=float)
+            if jac_x.shape != (self.size, self.nominal.size) or not np.all(np.isfinite(jac_x)):
+                raise FitError(f"the Jacobian must be finite with shape ({self.size}, "
+                               f"{self.nominal.size}); got shape {jac_x.shape} at "
+                               f"{self._describe(x)}")
+            jac = jac_x * self.scale   # chain rule: ∂r/∂u = ∂r/∂x · scale
+        else:
+            jac = self._difference_jacobian(np.asarray(u, dtype=float))
+        jac.setflags(write=False)   # cached
+        self._last_j = (np.array(u, dtype=float), jac)
+        return jac
+
+    def _difference_jacobian(self, u: np.ndarray) -> np.ndarray:
+        """Second-order finite differences in u, never stepping outside the bounds.
+
+        Central differences: their O(h²) truncation error with h = eps^(1/3) gives
+        derivatives good to ~eps^(2/3) ≈ 4e-11 relative, against ~eps^(1/2) ≈ 1.5e-8 for
+        forward differences; the Jacobian at the optimum feeds the standard errors and the
+        null-space test, so the accuracy matters more than the p extra points, which cost
+        little when the simulator evaluates all of them in one batch.  Where u ± h would
+        cross a bound the one-sided three-point formula (also O(h²)) is used instead."""
+        p = u.size
+        h = self.relative_step * np.maximum(np.abs(u), 1.0)
+        h = np.minimum(h, (self.upper_u - self.lower_u) / 4)  # a stencil always fits the box
+        central = (u - h >= self.lower_u) & (u + h <= self.upper_u)
+        forward = ~central & (u + 2 * h <= self.upper_u)
+        # stencil offsets per parameter: central (−h, +h), forward (+h, +2h), backward (−h, −2h)
+        first = np.where(central | ~forward, -h, h)
+        second = np.where(central, h, np.where(forward, 2 * h, -2 * h))
+
+        points = np.repeat(u[None, :], 2 * p, axis=0)
+        points[2 * np.arange(p), np.arange(p)] += first
+        points[2 * np.arange(p) + 1, np.arange(p)] += second
+        cached_u, base = self._last_r
+        need_base = not np.all(central) and not (cached_u is not None
+                                                 and np.array_equal(cached_u, u))
+        if need_base:
+            points = np.vstack([points, u])
+        values = self._evaluate_rows(points)
+        if need_base:
+            base = values[-1]
+
+        jac = np.empty((self.size, p))
+        for j in range(p):
+            f1, f2 = values[2 * j], values[2 * j + 1]
+            if central[j]:
+                jac[:, j] = (f2 - f1) / (2 * h[j])
+            elif forward[j]:
+                jac[:, j] = (-3 * base + 4 * f1 - f2) / (2 * h[j])
+            else:
+                jac[:, j] = (3 * base - 4 * f1 + f2) / (2 * h[j])
+        return jac
+
+    def _evaluate_rows(self, points_u: np.ndarray) -> np.ndarray:
+        """Residuals at each row of ``points_u``: one ``residuals_many`` call if available."""
+        xs = np.array([self.physical(u) for u in points_u])
+        self.evaluations += len(xs)
+        if self._residuals_many is None:
+            return np.array([self._checked(np.asarray(self._residuals(x.copy()), dtype=float), x)
+                             for x in xs])
+        values = np.asarray(self._residuals_many(xs.copy()), dtype=float)
+        if values.shape != (len(xs), self.size):
+            raise FitError(f"residuals_many returned shape {values.shape} for {len(xs)} "
+                           f"parameter sets; expected ({len(xs)}, {self.size})")
+        for x, row in zip(xs, values, strict=True):
+            self._checked(row, x)
+        return values
+
+    def _checked(self, r: np.ndarray, x: np.ndarray) -> np.ndarray:
+        if r.ndim != 1 or r.size == 0:
+            raise FitError(f"the residuals must be a non-empty 1-D array; got shape {r.shape} "
+                           f"at {self._describe(x)}")
+        if self.size is None:
+            self.size = r.size
+        elif r.size != self.size:
+            raise FitError(f"the residual vector changed length from {self.size} to {r.size} "
+                           f"at {self._describe(x)}")
+        if not np.all(np.isfinite(r)):
+            bad = int(np.count_nonzero(~np.isfinite(r)))
+            raise FitError(f"{bad} of {r.size} residuals are not finite at {self._describe(x)}")
+        return r
+
+    def _describe(self, x: np.ndarray) -> str:
+        return ", ".join(p.describe(v) for p, v in zip(self.parameters, x, strict=True))
+
+
+# --------------------------------------------------------------------------- statistics
+@dataclass(frozen=True)
+class _Undetermined:
+    """A group of parameters coupled by undetermined directions (indices into parameters)."""
+
+    members: tuple[int, ...]
+    dimension: int               # how many independent combinations are undetermined
+    exponents: np.ndarray | None  # the one determined combination Π x_i^c_i, if exactly one
+
+
+def _statistics(jac_x: np.ndarray, r: np.ndarray, estimate: np.ndarray, scale: np.ndarray):
+    """Standard errors, correlation and undetermined groups from the Jacobian at the optimum.
+
+    The SVD is taken of G = ∂r/∂ln x = J·diag(x) (the scale replaces a zero value), which is
+    dimensionless, so one relative cutoff serves all parameters and the right singular
+    vectors of tiny singular values read directly as exponents of invariant products.
+    Covariance: s²(JᵀJ)⁺ = D·V Σ⁻² Vᵀ·D over the determined directions, D = diag(x).
+    """
+    m, p = jac_x.shape
+    d = np.where(estimate != 0.0, estimate, scale)
+    _, sigma, vt = np.linalg.svd(jac_x * d, full_matrices=m < p)
+    sigma = np.concatenate([sigma, np.zeros(p - sigma.size)])
+    v = vt.T
+    determined = sigma > SINGULAR_CUTOFF * sigma[0]   # all False if r ignores every parameter
+    null = v[:, ~determined]
+    projector = null @ null.T   # onto the undetermined directions (basis independent)
+    undetermined = np.diag(projector) > NULL_SHARE
+
+    v_det = v[:, determined]
+    unit_cov = (v_det / sigma[determined] ** 2) @ v_det.T * np.outer(d, d)  # (JᵀJ)⁺
+    variance = np.where(undetermined, np.nan, np.diag(unit_cov))
+    s2 = float(r @ r) / (m - p) if m > p else np.nan
+    standard_error = np.sqrt(s2 * variance)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        root = np.sqrt(variance)
+        correlation = unit_cov / np.outer(root, root)
+    np.fill_diagonal(correlation, np.where(undetermined, np.nan, 1.0))
+    return standard_error, correlation, _groups(projector, undetermined)
+
+
+def _groups(projector: np.ndarray, undetermined: np.ndarray) -> list[_Undetermined]:
+    """Connected groups of undetermined parameters (coupled when |P_ij| > NULL_SHARE)."""
+    remaining = [int(i) for i in np.flatnonzero(undetermined)]
+    groups = []
+    while remaining:
+        members, frontier = [], [remaining.pop(0)]
+        while frontier:
+            i = frontier.pop()
+            members.append(i)
+            linked = [j for j in remaining if abs(projector[i, j]) > NULL_SHARE]
+            remaining = [j for j in remaining if j not in linked]
+            frontier.extend(linked)
+        members.sort()
+        block = projector[np.ix_(members, members)]
+        dimension = round(float(np.trace(block)))
+        exponents = None
+        if len(members) - dimension == 1:
+            # the determined combination spans the rest of the group's log-space
+            _, vectors = np.linalg.eigh(np.eye(len(members)) - block)
+            exponents = vectors[:, -1] / np.max(np.abs(vectors[:, -1]))
+            if exponents[np.flatnonzero(np.abs(exponents) > 1e-3)[0]] < 0:
+                exponents = -exponents
+        groups.append(_Undetermined(tuple(members), dimension, exponents))
+    return groups
+
+
+# --------------------------------------------------------------------------- warnings
+def _undetermined_warnings(parameters, groups: list[_Undetermined]) -> list[str]:
+    warnings = []
+    for group in groups:
+        names = [parameters[i].name for i in group.members]
+        listed = _join(names)
+        nan_note = ("its standard error is" if len(names) == 1 else
+                    "their standard errors are") + " reported as nan."
+        if group.dimension >= len(names):
+            warnings.append(f"{listed} {'is' if len(names) == 1 else 'are'} not determined by "
+                            "the data: the residuals do not depend on "
+                            f"{'it' if len(names) == 1 else 'them'}; {nan_note}")
+        elif group.exponents is not None:
+            kind, expression = _combination(names, group.exponents)
+            warnings.append(f"Only the {kind} {expression} is determined by the data: {listed} "
+                            f"can change together, keeping {expression} fixed, without "
+                            f"changing the residuals; {nan_note}")
+        else:
+            count = ("one combination of them is" if group.dimension == 1
+                     else f"{group.dimension} independent combinations of them are")
+            warnings.append(f"The data do not determine {listed} separately: {count} not "
+                            f"determined; {nan_note}")
+    return warnings
+
+
+def _combination(names: list[str], exponents: np.ndarray) -> tuple[str, str]:
+    """('product', 'A·B'), ('ratio', 'A/B') or ('combination', 'A^1·B^-0.5')."""
+    if np.all(np.abs(np.abs(exponents) - 1.0) < 0.05):
+        top = [n for n, c in zip(names, exponents, strict=True) if c > 0]
+        bottom = [n for n, c in zip(names, exponents, strict=True) if c < 0]
+        if not bottom:
+            return "product", "·".join(top)
+        denominator = bottom[0] if len(bottom) == 1 else "(" + "·".join(bottom) + ")"
+        kind = "ratio" if len(top) == 1 and len(bottom) == 1 else "combination"
+        return kind, f"{'·'.join(top)}/{denominator}"
+    terms = [n if abs(c - 1.0) < 1e-3 else f"{n}^{c:.3g}"
+             for n, c in zip(names, exponents, strict=True) if abs(c) > 1e-3]
+    return "combination", "·".join(terms)
+
+
+def _correlation_warnings(parameters, correlation: np.ndarray) -> list[str]:
+    warnings = []
+    p = len(parameters)
+    for i in range(p):
+        for j in range(i + 1, p):
+            r = correlation[i, j]
+            if np.isfinite(r) and abs(r) > CORRELATION_LIMIT:
+                warnings.append(f"{parameters[i].name} and {parameters[j].name} are strongly "
+                                f"correlated (r = {r:.3f}): the data determine a combination of "
+                                "them better than each one.")
+    return warnings
+
+
+def _bound_report(parameters, estimate: np.ndarray, scale: np.ndarray):
+    at_bound, warnings = [], []
+    for parameter, value, size in zip(parameters, estimate, scale, strict=True):
+        for side, bound in (("lower", parameter.lower), ("upper", parameter.upper)):
+            if abs(value - bound) <= BOUND_TOLERANCE * max(abs(bound), size):
+                at_bound.append(parameter.name)
+                warnings.append(f"{parameter.name} ended on its {side} bound "
+                                f"({value:.6g} {parameter.unit}".rstrip() +
+                                "): the bound, not the data, decides it.")
+                break
+    return tuple(at_bound), warnings
+
+
+# --------------------------------------------------------------------------- helpers
+def _check_parameters(parameters: tuple) -> None:
+    if not parameters:
+        raise ValueError("fit needs at least one FitParameter")
+    for parameter in parameters:
+        if not isinstance(parameter, FitParameter):
+            raise TypeError(f"expected FitParameter objects, got {parameter!r}")
+    names = [p.name for p in parameters]
+    duplicates = sorted({n for n in names if names.count(n) > 1})
+    if duplicates:
+        raise ValueError(f"fit parameter names must be unique; repeated: {', '.join(duplicates)}")
+
+
+def _join(names: list[str]) -> str:
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+
+
+def _rms(r: np.ndarray) -> float:
+    return float(np.sqrt(np.mean(r ** 2)))
