@@ -229,3 +229,73 @@ def simulate_batch(models, contact_velocity, duration: float = 2.0,
         displacement=out[:, :, dyn.DISPLACEMENT] + fall[:, None],
         mechanical=out[:, :, dyn.ENERGY] - out[:, :1, dyn.ENERGY],
         dissipated=final[:, dyn.DISSIPATED])
+
+
+@dataclass
+class DrivenResponse:
+    """Response of one gear to a prescribed ground load (shared sample times [s], SI)."""
+
+    time: np.ndarray
+    load: np.ndarray      # the applied ground load [N]
+    stroke: np.ndarray    # strut stroke [m]
+    tyre: np.ndarray      # quasi-static tyre deflection under the applied load [m]
+    acceleration: np.ndarray
+    displacement: np.ndarray
+
+
+def static_state(model: DropModel) -> np.ndarray:
+    """State of the unit resting on its wheel, friction-free, velocities zero.
+
+    The strut sits at the gas law's equilibrium under the upper mass's weight less lift
+    (or on its top-out stop when the preload holds that); a flexible leg carries the
+    weight above it.  Positions are measured from this configuration's axle.
+    """
+    y = np.zeros(dyn.STATES)
+    cos_theta = math.cos(model.inclination)
+    load = (model.upper_mass * STANDARD_GRAVITY - model.lift) * cos_theta
+    stroke = model.gas.equilibrium_stroke(load)
+    if stroke == 0.0:  # topped out: the stop carries preload − load
+        stroke = -(model.gas.preload - load) / model.stops.stiffness
+    y[dyn.Z1] = stroke * cos_theta
+    y[dyn.THETA] = 1.0
+    leg = model.effect("leg flexibility")
+    if leg is not None:
+        above = model.total_mass * STANDARD_GRAVITY - model.lift - leg.axle_mass * STANDARD_GRAVITY
+        y[dyn.Z2] = above / leg.stiffness
+        y[dyn.Z1] += y[dyn.Z2]
+    return y
+
+
+def simulate_driven(model: DropModel, time: np.ndarray, force: np.ndarray,
+                    step: float | None = None) -> DrivenResponse:
+    """The gear driven by a prescribed ground load (the tyre contact replaced by it).
+
+    The plant of the small-signal (Wiener) identification: input the vertical load
+    ``force`` [N] at the uniformly spaced ``time`` [s], outputs stroke and tyre deflection
+    on the same grid.  The unit starts at rest in :func:`static_state`; the tyre
+    deflection is the static curve's inverse at the applied load (tyre damping and
+    hysteresis act on the platform contact, which the drive replaces).
+    """
+    time = np.asarray(time, dtype=float)
+    force = np.asarray(force, dtype=float)
+    if time.ndim != 1 or time.shape != force.shape or time.size < 2:
+        raise ValueError("give time and force as 1-D arrays of the same length (two or more)")
+    interval = float(time[1] - time[0])
+    if not np.allclose(np.diff(time), interval, rtol=1e-9, atol=0.0) or interval <= 0:
+        raise ValueError("the drive's time must be uniformly spaced and increasing")
+    if not np.all(np.isfinite(force)):
+        raise ValueError("the drive force must be finite")
+    sample_rate = 1.0 / interval
+    velocity = 0.0
+    step = batch_step([model], [velocity + 0.5], sample_rate) if step is None else step
+    per_sample = int(round(interval / step))
+    if not np.isclose(per_sample * step, interval):
+        raise ValueError("the step must divide the sample interval")
+    fine = np.linspace(time[0], time[-1], 2 * per_sample * (time.size - 1) + 1)
+    drive = np.interp(fine, time, force)
+    out, _ = dyn.integrate_batch(model.pack()[None, :], static_state(model)[None, :], step,
+                                 per_sample, time.size, drive)
+    out = out[0]
+    return DrivenResponse(time=time, load=out[:, dyn.LOAD], stroke=out[:, dyn.STROKE],
+                          tyre=out[:, dyn.TYRE], acceleration=out[:, dyn.ACCELERATION],
+                          displacement=out[:, dyn.DISPLACEMENT])

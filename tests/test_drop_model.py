@@ -205,3 +205,27 @@ def test_sensor_dynamics_delays_and_attenuates_a_contact_spike():
     assert shift == pytest.approx(delay_samples[0] / 1000.0 + 0.002, abs=0.0015)
     assert 0.8 < recorded.max() < 1.0  # attenuated, not amplified
     assert np.allclose(SensorDynamics(100.0).apply(time, np.ones_like(time)), 1.0)  # DC passes
+
+
+def test_a_prescribed_ground_load_holds_the_static_stroke_and_follows_the_gas_stiffness():
+    from certkit.simulation import simulate_driven
+
+    model = seed_gear(friction=False)
+    weight = 292.5 * G
+    time = np.arange(0.0, 8.0, 0.001)
+    at_rest = simulate_driven(model, time, np.full(time.size, weight))
+    assert np.allclose(at_rest.stroke, 0.032879, atol=1e-6)  # the closed form of the test above
+    # the tyre reads the static curve's deflection under the weight: (W/7.2e5)^(1/1.26)
+    assert np.allclose(at_rest.tyre, (weight / 7.2e5) ** (1 / 1.26), rtol=1e-9)
+    # a slow 100 N sine on top: both masses accelerate together, the strut carries
+    # m1/(m1 + m2) of the extra force against the gas spring's local stiffness
+    # k_g = n·p_st·A²/V_st at the static point (by hand, not from the model).  At 0.25 Hz,
+    # far below the relative mode √(k_g/μ)/2π ≈ 7 Hz, the response is quasi-static
+    # (dynamic amplification 1/(1 − (0.25/7)²) = 1.001).
+    driven = simulate_driven(model, time, weight + 100.0 * np.sin(2 * math.pi * 0.25 * time))
+    p_static = P_ATM + 283.5 * G / PISTON
+    volume = PISTON * 0.230 - PISTON * 0.032879
+    k_gas = 1.2 * p_static * PISTON ** 2 / volume
+    expected = 283.5 / 292.5 * 100.0 / k_gas
+    amplitude = 0.5 * np.ptp(driven.stroke[time > 2.0])
+    assert amplitude == pytest.approx(expected, rel=0.005)
