@@ -167,6 +167,74 @@ def simulate(spec: SpecArgument,
 
 
 @app.command()
+def calibrate(spec: SpecArgument,
+              parameter: Annotated[list[str] | None, typer.Option(
+                  "-p", "--parameter", help="parameter to fit (repeat); default: the spec's "
+                                            "model.calibration, else C_d, pre-charge, n, tyre "
+                                            "stiffness and friction")] = None,
+              gear: Annotated[list[str] | None, typer.Option(
+                  "-g", "--gear", help="gear unit to calibrate (repeat); default: all "
+                                       "recorded")] = None,
+              json_file: Annotated[Path | None, typer.Option(
+                  "--json", help="also write the results (SI) to this JSON file")] = None,
+              ) -> None:
+    """Fit the drop model's parameters to the measured runs, all drop heights jointly."""
+    from rich.table import Table
+
+    from .calibration import CHANNEL_LABELS, calibrate as run_calibration, calibration_document
+    from .campaign import load_campaign
+    from .simulation import SimulationError
+
+    try:
+        campaign = load_campaign(spec)
+        result = run_calibration(campaign, knobs=parameter or None, gears=gear or None)
+    except CertkitInputError as error:
+        _fail_input(error)
+    except SimulationError as error:
+        err.print(Text.assemble(("error: ", "bold red"), f"{spec}: {error}"))
+        raise typer.Exit(2) from None
+    if not result.gears:
+        err.print(Text.assemble(("error: ", "bold red"), f"{spec}: no run records a gear unit "
+                                                         "with time histories; nothing to fit"))
+        raise typer.Exit(2)
+    for item in result.gears:
+        fit_ = item.fit
+        table = Table(title=f"{item.gear_id}: runs {', '.join(item.runs)}; effects "
+                            f"{', '.join(result.effects) or 'none'}")
+        for column in ("parameter", "unit", "nominal", "estimate", "standard error"):
+            table.add_column(column, justify="left" if column in ("parameter", "unit") else "right")
+        for p, e, se in zip(fit_.parameters, fit_.estimate, fit_.standard_error):
+            table.add_row(p.name, p.unit, f"{p.nominal:.6g}", f"{e:.6g}",
+                          "not determined" if se != se else f"{se:.3g}")
+        out.print(table)
+        names = [p.name for p in fit_.parameters]
+        corr = Table(title="correlation of the estimates")
+        corr.add_column("")
+        for number in range(1, len(names) + 1):
+            corr.add_column(f"({number})", justify="right")
+        for number, (name, row) in enumerate(zip(names, fit_.correlation), start=1):
+            corr.add_row(f"({number}) {name}", *("—" if c != c else f"{c:+.2f}" for c in row))
+        out.print(corr)
+        rmse = Table(title="RMSE, nominal → calibrated")
+        for column in ("run", "channel", "nominal", "calibrated"):
+            rmse.add_column(column, justify="left" if column in ("run", "channel") else "right")
+        for e in item.errors:
+            scale, unit = (1.0, "N") if e.unit == "N" else (1e3, "mm")
+            rmse.add_row(e.run, CHANNEL_LABELS[e.channel], f"{e.nominal * scale:.4g} {unit}",
+                         f"{e.calibrated * scale:.4g} {unit}")
+        out.print(rmse)
+        for warning in fit_.warnings:
+            err.print(Text.assemble(("warning: ", "bold yellow"), warning))
+        if not fit_.success:
+            err.print(Text.assemble(("warning: ", "bold yellow"),
+                                    f"the fit did not converge: {fit_.message}"))
+    if json_file is not None:
+        text = json.dumps(calibration_document(result), indent=2, ensure_ascii=False)
+        json_file.write_text(text + "\n", encoding="utf-8")
+        out.print(f"wrote {json_file}")
+
+
+@app.command()
 def schema() -> None:
     """Print the JSON Schema of the campaign spec (for editors and CI)."""
     from .spec import json_schema

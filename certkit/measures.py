@@ -24,7 +24,27 @@ SETTLING_BAND = 0.05
 #: Final value: mean over this last share of the record.
 FINAL_SHARE = 0.05
 #: Window before touchdown used to fit the contact velocity from the drop-mass displacement.
-VELOCITY_WINDOW = 0.020
+VELOCITY_WINDOW = 0.050
+
+
+def _touchdown_threshold(load: np.ndarray, static_weight: float) -> tuple[float, float] | None:
+    """(baseline, threshold above it) of the touchdown detector, None without a peak."""
+    peak = float(np.max(load))
+    if peak <= 0:
+        return None
+    quiet = load[:int(np.argmax(load >= 0.2 * peak))]
+    noise, baseline = 0.0, 0.0
+    if quiet.size >= 5:
+        baseline = float(np.median(quiet))
+        noise = 1.4826 * float(np.median(np.abs(quiet - baseline)))
+    return baseline, max(TOUCHDOWN_SHARE * static_weight, TOUCHDOWN_SIGMAS * noise)
+
+
+def _first_above(values: np.ndarray, level: float) -> int | None:
+    above = np.flatnonzero(values > level)
+    if above.size == 0 or above[0] == 0:
+        return None
+    return int(above[0])
 
 
 def touchdown_index(load: np.ndarray, static_weight: float) -> int | None:
@@ -32,23 +52,37 @@ def touchdown_index(load: np.ndarray, static_weight: float) -> int | None:
 
     The threshold is the larger of 2 % of the unit's static weight and six robust
     standard deviations (1.4826 x median absolute deviation) of the samples before
-    the load first reaches 20 % of its peak.
+    the load first reaches 20 % of its peak, above their median.
     """
     load = np.asarray(load, dtype=float)
-    peak = float(np.max(load))
-    if peak <= 0:
+    found = _touchdown_threshold(load, static_weight)
+    if found is None:
         return None
-    rising = int(np.argmax(load >= 0.2 * peak))
-    quiet = load[:rising]
-    noise = 0.0
-    if quiet.size >= 5:
-        noise = 1.4826 * float(np.median(np.abs(quiet - np.median(quiet))))
-    baseline = float(np.median(quiet)) if quiet.size >= 5 else 0.0
-    threshold = baseline + max(TOUCHDOWN_SHARE * static_weight, TOUCHDOWN_SIGMAS * noise)
-    above = np.flatnonzero(load > threshold)
-    if above.size == 0 or above[0] == 0:
+    baseline, threshold = found
+    return _first_above(load - baseline, threshold)
+
+
+def touchdown_time(time: np.ndarray, load: np.ndarray, static_weight: float | None,
+                   level: float | None = None) -> tuple[float, float] | None:
+    """Time the load first crosses the touchdown threshold, interpolated between samples.
+
+    The threshold is :func:`touchdown_index`'s (above the pre-contact baseline), or
+    ``level`` above zero when given, so a simulated run is detected at the measured run's
+    level.  Returns (time, threshold), or None.
+    """
+    load = np.asarray(load, dtype=float)
+    if level is None:
+        found = _touchdown_threshold(load, static_weight)
+        if found is None:
+            return None
+        baseline, level = found
+        load = load - baseline
+    index = _first_above(load, level)
+    if index is None:
         return None
-    return int(above[0])
+    before, after = float(load[index - 1]), float(load[index])
+    fraction = (level - before) / (after - before)
+    return float(time[index - 1] + fraction * (time[index] - time[index - 1])), level
 
 
 @dataclass(frozen=True)
@@ -176,8 +210,9 @@ def drop_mass_load_factor(time: np.ndarray, acceleration: np.ndarray, reference:
 def contact_velocity(time: np.ndarray, displacement: np.ndarray,
                      touchdown_time: float) -> float | None:
     """Drop-mass velocity at touchdown: derivative at touchdown of a parabola fitted to
-    the displacement over the 20 ms before it (a free fall is a parabola, so a straight
-    line would return the velocity 10 ms early); None if fewer than 5 samples."""
+    the displacement over the 50 ms before it (a free fall is a parabola, so a straight
+    line would return the velocity at the window's middle, 25 ms early); None if fewer
+    than 5 samples."""
     window = (time >= touchdown_time - VELOCITY_WINDOW) & (time <= touchdown_time)
     if np.count_nonzero(window) < 5:
         return None

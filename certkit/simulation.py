@@ -56,7 +56,7 @@ def _free_fall(contact_velocity: float, lead: float, sample_rate: float):
     t_lead = -np.arange(lead_samples, 0, -1) / sample_rate
     fall_height = contact_velocity ** 2 / (2 * STANDARD_GRAVITY)
     velocity = contact_velocity + STANDARD_GRAVITY * t_lead
-    return t_lead, fall_height - velocity ** 2 / (2 * STANDARD_GRAVITY), fall_height
+    return t_lead, velocity ** 2 / (2 * STANDARD_GRAVITY), fall_height
 
 
 def simulate_reference(model: DropModel, contact_velocity: float, duration: float = 2.0,
@@ -105,7 +105,8 @@ def simulate_reference(model: DropModel, contact_velocity: float, duration: floa
         tyre=np.concatenate([zeros, recorded[:, dyn.TYRE]]),
         acceleration=np.concatenate([np.full(t_lead.size, -STANDARD_GRAVITY),
                                      recorded[:, dyn.ACCELERATION]]),
-        displacement=np.concatenate([fall, fall_height + recorded[:, dyn.DISPLACEMENT]]),
+        displacement=np.concatenate([fall, fall_height + recorded[:, dyn.DISPLACEMENT]
+                                     - recorded[0, dyn.DISPLACEMENT]]),
         dissipated=np.concatenate([zeros, y[dyn.DISSIPATED]]),
         mechanical=np.concatenate([zeros, energy]),
         strut_work=np.concatenate([zeros, y[dyn.STRUT_WORK]]),
@@ -226,7 +227,7 @@ def simulate_batch(models, contact_velocity, duration: float = 2.0,
         time=np.arange(samples) / sample_rate, load=out[:, :, dyn.LOAD],
         stroke=out[:, :, dyn.STROKE], tyre=out[:, :, dyn.TYRE],
         acceleration=out[:, :, dyn.ACCELERATION],
-        displacement=out[:, :, dyn.DISPLACEMENT] + fall[:, None],
+        displacement=out[:, :, dyn.DISPLACEMENT] - out[:, :1, dyn.DISPLACEMENT] + fall[:, None],
         mechanical=out[:, :, dyn.ENERGY] - out[:, :1, dyn.ENERGY],
         dissipated=final[:, dyn.DISSIPATED])
 

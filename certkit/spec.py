@@ -440,11 +440,25 @@ class SensorSpec(_Model):
     delay: _quantity("time") = Field(parse_quantity("0 s", "time"))  # type: ignore[valid-type]
 
 
+CalibrationParameter = Literal[
+    "discharge-coefficient", "gas-precharge", "gas-volume", "polytropic-exponent",
+    "tyre-stiffness", "tyre-exponent", "tyre-damping", "friction", "friction-pressure-factor",
+    "rebound-damping"]
+
+
+class CalibrationSpec(_Model):
+    """What `certkit calibrate` fits (default: C_d, pre-charge, n, tyre stiffness, friction)."""
+
+    parameters: list[CalibrationParameter] = Field([], description="parameters to fit")
+    runs: list[Identifier] = Field([], description="runs to fit to (default: all with data)")
+
+
 class ModelSettings(_Model):
     """The physics model used to simulate and calibrate: which optional effects are on."""
 
     effects: list[Effect] = Field([], description="optional effects switched on (default none)")
     sensor: SensorSpec | None = None
+    calibration: CalibrationSpec | None = None
 
 
 class ReportSettings(_Model):

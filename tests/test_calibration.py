@@ -1,0 +1,101 @@
+"""Calibration: fitted parameters recover a known truth from synthetic noisy runs; the
+command line reports estimates, uncertainty and identifiability."""
+
+import json
+
+import pytest
+from typer.testing import CliRunner
+
+from certkit import load_campaign
+from certkit.calibration import calibrate
+from certkit.cli import app
+from certkit.synthetic import SensorModel, simulate_campaign
+
+from .conftest import PHYSICS_SPEC, write_campaign
+
+runner = CliRunner()
+
+# the truth differs from the spec's nominal values by 5-25 %
+TRUTH = {"discharge_coefficient: 0.6": "discharge_coefficient: 0.65",
+         "gas_precharge_pressure: 0.8 MPa": "gas_precharge_pressure: 0.85 MPa",
+         "reference_load: 12471.77 N": "reference_load: 13500 N",
+         "constant: 80 N": "constant: 100 N"}
+TRUE_VALUES = {"discharge-coefficient": 0.65, "gas-precharge": 0.85e6 + 101325.0,
+               "tyre-stiffness": 13500.0, "friction": 100.0, "polytropic-exponent": 1.2}
+NOISE = SensorModel()  # 20 N load noise, 0.05 mm travel noise
+
+
+@pytest.fixture(scope="module")
+def measured(tmp_path_factory):
+    """A synthetic campaign simulated with the truth, whose spec states the nominal values."""
+    root = tmp_path_factory.mktemp("calibration")
+    truth_text = PHYSICS_SPEC
+    for nominal, true in TRUTH.items():
+        assert nominal in truth_text
+        truth_text = truth_text.replace(nominal, true)
+    truth = write_campaign(root / "truth", truth_text)
+    written = simulate_campaign(load_campaign(truth), root / "measured", seed=7, sensors=NOISE)
+    text = written.read_text(encoding="utf-8")
+    for nominal, true in TRUTH.items():  # the engineer's spec: nominal values
+        text = text.replace(true, nominal)
+    written.write_text(text, encoding="utf-8")
+    return written
+
+
+@pytest.fixture(scope="module")
+def result(measured):
+    return calibrate(load_campaign(measured))
+
+
+def test_calibration_recovers_the_truth_within_its_standard_errors(result):
+    gear = result.gears[0]
+    assert gear.runs == ("D200", "D250", "D300")
+    for parameter, estimate, error in zip(gear.fit.parameters, gear.fit.estimate,
+                                          gear.fit.standard_error):
+        true = TRUE_VALUES[parameter.name]
+        assert abs(estimate - true) <= max(4 * error, 1e-3 * true), parameter.name
+        assert estimate == pytest.approx(true, rel=0.02), parameter.name
+
+
+def test_calibrated_model_fits_to_the_noise_and_the_nominal_does_not(result):
+    for error in result.gears[0].errors:
+        noise = 20.0 if error.channel == "load" else 5.0e-5
+        assert error.calibrated == pytest.approx(noise, rel=0.1)   # white noise RMS
+        assert error.nominal > 5 * noise
+
+
+def test_cli_prints_estimates_correlations_and_writes_json(measured, tmp_path):
+    target = tmp_path / "calibration.json"
+    outcome = runner.invoke(app, ["calibrate", str(measured), "-p", "discharge-coefficient",
+                                  "-p", "tyre-stiffness", "--json", str(target)])
+    assert outcome.exit_code == 0, outcome.output
+    assert "discharge-coefficient" in outcome.output and "correlation" in outcome.output
+    document = json.loads(target.read_text(encoding="utf-8"))
+    names = [p["name"] for p in document["gear_units"][0]["parameters"]]
+    assert names == ["discharge-coefficient", "tyre-stiffness"]
+    assert len(document["gear_units"][0]["rmse"]) == 9  # 3 runs x 3 channels
+
+
+def test_a_parameter_ending_on_its_bound_is_flagged(measured):
+    # the truth has C_d = 0.65: bounds that stop it at 0.62 leave it on the bound
+    from certkit.calibration import KNOBS, Knob
+
+    campaign = load_campaign(measured)
+    narrow = Knob(**{**KNOBS["discharge-coefficient"].__dict__,
+                     "name": "narrow-cd", "bounds": lambda nominal: (0.55, 0.62)})
+    KNOBS["narrow-cd"] = narrow
+    try:
+        gear = calibrate(campaign, knobs=["narrow-cd", "tyre-stiffness"]).gears[0]
+    finally:
+        del KNOBS["narrow-cd"]
+    assert gear.fit.estimate[0] == pytest.approx(0.62)
+    assert any("upper bound" in w and "narrow-cd" in w for w in gear.fit.warnings)
+
+
+def test_unknown_parameter_and_missing_effect_are_input_errors(measured, physics_campaign):
+    outcome = runner.invoke(app, ["calibrate", str(measured), "-p", "orifice-size"])
+    assert outcome.exit_code == 2
+    assert "model.calibration.parameters" in outcome.output and "orifice-size" in outcome.output
+    # a campaign without time histories has nothing to calibrate against
+    outcome = runner.invoke(app, ["calibrate", str(physics_campaign)])
+    assert outcome.exit_code == 2 and "nothing to fit" in outcome.output
