@@ -362,6 +362,8 @@ def _derived_gear_values(result: GearResult, run: Run, unit: GearUnit, cos_theta
 
 def _run_result(campaign: Campaign, run: Run, index: int) -> RunResult:
     series = campaign.series.get(run.id)
+    if run.data is not None and run.data.origin == "synthetic":
+        series = None  # simulated histories are not test evidence (quality: synthetic-data)
     gears = [_gear_result(campaign, run, index, gear_id, series) for gear_id in run.gear_units]
     values: dict[str, Value] = {}
     h = run.drop_height

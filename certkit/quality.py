@@ -195,6 +195,15 @@ def check_static_weight_basis(assessment: Assessment) -> None:
                  f"attitude with the nose wheel clear")
 
 
+def check_synthetic_data(assessment: Assessment) -> None:
+    for run in assessment.campaign.spec.runs:
+        if run.data is not None and run.data.origin == "synthetic":
+            _add(assessment, "synthetic-data", "warning", run.id, None,
+                 f"run {run.id}: the time histories in {run.data.file} are synthetic "
+                 f"(simulated, origin: synthetic); they are not test evidence, so no "
+                 f"compliance value is computed from them (the physics-model sections use them)")
+
+
 def check_data_waivers(assessment: Assessment) -> None:
     for run in assessment.runs:
         if run.series is None:
@@ -393,7 +402,8 @@ def check_energy_method_lift(assessment: Assessment) -> None:
                 _add(assessment, "energy-method-lift", "warning", run.run.id, gear.gear_id, message)
 
 
-CHECKS = (check_static_weight_basis, check_data_waivers, check_energy_bounds,
+CHECKS = (check_static_weight_basis, check_synthetic_data, check_data_waivers,
+          check_energy_bounds,
           check_available_energy, check_implied_drop_weight, check_stroke_trend, check_bottoming,
           check_asymmetry, check_reported_values, check_acceleration_against_load,
           check_travel_zero_at_touchdown, check_energy_method_lift)

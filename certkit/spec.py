@@ -348,6 +348,9 @@ class Waiver(_Model):
 
 class RunData(_Model):
     file: Text
+    origin: Literal["measured", "synthetic"] = Field(
+        "measured", description="synthetic (simulated) data are never used as compliance "
+                                "evidence, only by the physics model")
     time: TimeColumn
     sampling_rate: Frequency | None = Field(
         None, description="declared rate; defaults to instrumentation.sampling_rate")

@@ -117,7 +117,8 @@ def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
             columns["x_mm"] = (displacement, 1e3, _decimals(sensors.displacement_step * 1e3))
             _write_csv(staging / "data" / f"{run.id}.csv", columns)
             raw["runs"][index]["data"] = {
-                "file": f"data/{run.id}.csv", "time": {"column": "t_s", "unit": "s"},
+                "file": f"data/{run.id}.csv", "origin": "synthetic",
+                "time": {"column": "t_s", "unit": "s"},
                 "sampling_rate": f"{rate:g} Hz", "gears": mapping,
                 "drop_mass_acceleration": {"column": "acc_ms2", "unit": "m/s^2",
                                            "reference": "kinematic"},
