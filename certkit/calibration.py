@@ -372,3 +372,37 @@ def calibration_document(calibration: Calibration) -> dict:
             "evaluations": fit_.evaluations, "step_s": gear.step,
         })
     return {"effects": list(calibration.effects), "gear_units": gears}
+
+
+@dataclass(frozen=True)
+class ModelEvidence:
+    """What the report's governing-equation section shows: a calibration, or why none."""
+
+    calibration: Calibration | None
+    note: str
+    synthetic_runs: tuple[str, ...] = ()
+
+
+def model_evidence(campaign: Campaign) -> ModelEvidence:
+    """Calibrate every recorded gear unit that the spec gives the model's parameters for;
+    otherwise say plainly why the section is empty."""
+    spec = campaign.spec
+    synthetic = tuple(r.id for r in spec.runs if r.data is not None and r.data.origin == "synthetic")
+    recorded = [g.id for g in spec.gear_units
+                if any(s is not None and g.id in s.gears for s in campaign.series.values())]
+    if not recorded:
+        return ModelEvidence(None, "No run has time histories, so the drop model cannot be "
+                                   "compared with or calibrated against the tests.", synthetic)
+    ready, missing = [], []
+    for gear_id in recorded:
+        run = next(r for r in spec.runs if gear_id in r.gear_units)
+        try:
+            drop_model_for(spec, run, gear_id, campaign.spec_path.name, campaign.lines)
+            ready.append(gear_id)
+        except CertkitInputError as error:
+            missing += [f"{p.key} ({p.message})" for p in error.problems]
+    if not ready:
+        return ModelEvidence(None, "The spec lacks drop-model parameters: "
+                                   + "; ".join(missing) + ".", synthetic)
+    note = "" if not missing else ("Not modelled: " + "; ".join(missing) + ".")
+    return ModelEvidence(calibrate(campaign, gears=ready), note, synthetic)

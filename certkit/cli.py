@@ -99,13 +99,18 @@ def report(spec: SpecArgument,
            output: Annotated[Path, typer.Option("-o", "--output", help="output folder")] = Path("out"),
            strict: Annotated[bool, typer.Option(
                "--strict", help="exit 1 when a criterion fails or the data-quality audit "
-                                "finds an error")] = False) -> None:
+                                "finds an error")] = False,
+           model: Annotated[bool, typer.Option(
+               "--model/--no-model", help="calibrate the drop model against the runs and add "
+                                          "the governing-equation section")] = True) -> None:
     """Write report.html, report.pdf (PDF/A-3b), results.json and tables/*.csv."""
     from rich.status import Status
 
+    from .calibration import model_evidence
     from .campaign import load_campaign
     from .compliance import assess
     from .report import render_report
+    from .simulation import SimulationError
 
     status = Status("loading campaign", console=err) if err.is_terminal else None
     if status:
@@ -123,8 +128,20 @@ def report(spec: SpecArgument,
             _fail_input(error)
         progress("assessing")
         assessment = assess(campaign)
+        evidence = None
+        if model:
+            progress("calibrating the drop model")
+            try:
+                evidence = model_evidence(campaign)
+            except (CertkitInputError, SimulationError) as error:
+                if status:
+                    status.stop()
+                if isinstance(error, CertkitInputError):
+                    _fail_input(error)
+                err.print(Text.assemble(("error: ", "bold red"), f"{spec}: {error}"))
+                raise typer.Exit(2) from None
         try:
-            render_report(assessment, output, progress)
+            render_report(assessment, output, progress, evidence)
         except CertkitInputError as error:
             if status:
                 status.stop()

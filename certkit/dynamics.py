@@ -178,10 +178,10 @@ def _evaluate(p, y, dy, driven, drive_force):
 
     if p[THERMAL] > 0.0:
         # gas energy equation, m·c_v·T' = −p·V' − hA·(T − T_w), with T/T0 = θ:
-        # θ' = (γ − 1)·p·A·ṡ/(p0·V0) + (1 − θ)/τ  (the volume floor holds V' = 0)
+        # θ' = (γ − 1)·p·A·ṡ/(p0·V0) + (1 − θ)/τ.  Past the volume floor the piston's work
+        # still heats the gas, so the energy balance stays exact there too.
         v0 = p[GAS_VOLUME]
-        above_floor = v0 - p[GAS_AREA] * stroke > VOLUME_FLOOR * v0
-        compression = p[GAS_AREA] * rate if above_floor else 0.0
+        compression = p[GAS_AREA] * rate
         internal = p[GAS_PRECHARGE] * v0 / (p[GAS_GAMMA] - 1.0)       # m·c_v·T0
         dy[THETA] = (pressure * compression / internal
                      + (1.0 - y[THETA]) * p[GAS_COOLING])
@@ -261,10 +261,14 @@ def stored_energy(p, y):
     if p[THERMAL] > 0.0:
         stored += p0 * v0 / (p[GAS_GAMMA] - 1.0) * (y[THETA] - 1.0)
     else:
-        ratio = v0 / (v0 - p[GAS_AREA] * stroke)
+        # ∫p dV down to the volume floor, then the floor's constant pressure times travel
+        floor = (1.0 - VOLUME_FLOOR) * v0 / p[GAS_AREA]
+        ratio = v0 / (v0 - p[GAS_AREA] * min(stroke, floor))
         n = p[GAS_EXPONENT]
         stored += (p0 * v0 * math.log(ratio) if n == 1.0
                    else p0 * v0 * (ratio ** (n - 1.0) - 1.0) / (n - 1.0))
+        if stroke > floor:
+            stored += p0 * ratio ** n * p[GAS_AREA] * (stroke - floor)
     stored -= P_ATM * p[GAS_AREA] * stroke
     if p[OIL] > 0.0:
         stored += 0.5 * y[OIL_FORCE] ** 2 / p[OIL_STIFFNESS]

@@ -33,6 +33,11 @@ class SealFriction(Term):
     stribeck_velocity: float = 0.01  # v_s [m/s]
     smoothing_velocity: float = 0.002  # v_ε [m/s]
     name = "seal friction"
+
+    def __post_init__(self):
+        if not (self.stribeck_velocity > 0 and self.smoothing_velocity > 0):
+            raise ValueError("seal friction needs positive Stribeck and smoothing velocities")
+
     fields = (("constant", "N", "Coulomb friction F_0"),
               ("pressure_factor", "1", "share μ of the gas force acting as friction"),
               ("breakaway", "N", "Stribeck excess F_S − F_C"),
@@ -51,6 +56,7 @@ class ReboundOrifice(Term):
 
     The nominal orifice damps both ways with K_h; on extension (ṡ < 0) this adds
     (K_reb − K_h)·ṡ|ṡ| so the total rebound damping is K_reb = ρ·A_h³/(2·(C_d·A_reb)²).
+    With a metering pin the excess adds to the pin's K(s) (a parallel recoil restriction).
     """
 
     extra_coefficient: float  # K_reb − K_h [N·s²/m²]
@@ -114,6 +120,11 @@ class TyreHysteresis(Term):
     share: float                      # h [1]
     smoothing_velocity: float = 0.01  # v_ε [m/s]
     name = "tyre hysteresis"
+
+    def __post_init__(self):
+        if not self.smoothing_velocity > 0:
+            raise ValueError("tyre hysteresis needs a positive smoothing velocity")
+
     fields = (("share", "1", "half-width h of the loop, share of f(δ)"),
               ("smoothing_velocity", "m/s", "regularisation width v_ε"))
 
@@ -162,6 +173,11 @@ class LegFlexibility(Term):
     stiffness: float      # k_l [N/m]
     damping: float = 0.0  # c_l [N·s/m]
     name = "leg flexibility"
+
+    def __post_init__(self):
+        if not (self.axle_mass > 0 and self.stiffness > 0 and self.damping >= 0):
+            raise ValueError("the leg needs a positive axle mass and stiffness")
+
     fields = (("axle_mass", "kg", "mass of axle and wheel m_w (part of m2)"),
               ("stiffness", "N/m", "leg stiffness k_l"),
               ("damping", "N*s/m", "leg damping c_l"))
@@ -188,6 +204,11 @@ class PlatformCompliance(Term):
     stiffness: float      # k_p [N/m]
     damping: float = 0.0  # c_p [N·s/m]
     name = "platform compliance"
+
+    def __post_init__(self):
+        if not (self.mass > 0 and self.stiffness > 0 and self.damping >= 0):
+            raise ValueError("the platform needs a positive mass and stiffness")
+
     fields = (("mass", "kg", "platform mass m_p"),
               ("stiffness", "N/m", "load-cell stiffness k_p"),
               ("damping", "N*s/m", "load-cell damping c_p"))
@@ -210,6 +231,11 @@ class OilCompressibility(Term):
     stiffness: float             # k_oil [N/m]
     smoothing_force: float = 50.0  # F_ε [N]
     name = "oil compressibility"
+
+    def __post_init__(self):
+        if not (self.stiffness > 0 and self.smoothing_force > 0):
+            raise ValueError("oil compressibility needs a positive stiffness and smoothing force")
+
     fields = (("stiffness", "N/m", "oil-column stiffness k_oil = β·A_h²/V_oil"),
               ("smoothing_force", "N", "regularisation F_ε of the inverse orifice law"))
 

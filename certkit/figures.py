@@ -112,3 +112,35 @@ def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | N
                                        "whose area is the absorbed energy (certkit E1).",
                             "svg": _to_svg(figure)})
     return figures
+
+
+_CHANNEL_LABELS = {"load": "vertical load", "stroke": "strut stroke", "tyre": "tyre deflection"}
+
+
+def model_figure(gear_id: str, run_id: str, traces: list, units, window: float = 1.0) -> dict:
+    """Measured against nominal and calibrated model, one panel per channel (0 to ``window`` s
+    after touchdown, as the seed paper's Figs. 14-15)."""
+    with plt.rc_context(_STYLE):
+        figure, all_axes = plt.subplots(len(traces), 1, figsize=(_WIDTH, 1.1 * len(traces) + 0.4),
+                                        sharex=True)
+        all_axes = np.atleast_1d(all_axes)
+        for axes, trace in zip(all_axes, traces):
+            kind, si = ("force", "N") if trace.channel == "load" else ("length", "m")
+            unit = getattr(units, kind)
+            scale = convert(1.0, si, unit)
+            # every other sample (2 ms at 1 kHz): about one point per printed point at
+            # this width, and half the drawing time
+            shown = np.flatnonzero(trace.time <= window)[::2]
+            t_ms = trace.time[shown] * 1e3
+            axes.plot(t_ms, scale * trace.measured[shown], color="0.55", linewidth=1.6,
+                      label="measured")
+            axes.plot(t_ms, scale * trace.nominal[shown], linestyle="--", label="nominal model")
+            axes.plot(t_ms, scale * trace.calibrated[shown], label="calibrated model")
+            axes.set_ylabel(f"{_CHANNEL_LABELS[trace.channel]}\n[{unit}]")
+        all_axes[0].legend(loc="upper right", frameon=False, ncol=3)
+        all_axes[-1].set_xlabel("time from touchdown [ms]")
+        figure.tight_layout()
+        return {"title": f"Run {run_id}, {gear_id}: measured and governing-equation model",
+                "caption": "Grey: the run's channels; dashed: the drop model with the spec's "
+                           "nominal parameters; solid: after calibration on all runs of this "
+                           "gear unit.", "svg": _to_svg(figure)}

@@ -86,8 +86,11 @@ def _value_row(value: Value, units) -> dict:
 
 
 # --------------------------------------------------------------------------- view model
-def build_view(assessment: Assessment, record: dict) -> dict:
-    """Plain data for the templates: every string already formatted."""
+def build_view(assessment: Assessment, record: dict, model=None) -> dict:
+    """Plain data for the templates: every string already formatted.
+
+    ``model`` is the :class:`~certkit.calibration.ModelEvidence` of the governing-equation
+    section (None: the section says the model was not run)."""
     campaign = assessment.campaign
     spec = campaign.spec
     units = spec.report.units
@@ -290,7 +293,91 @@ def build_view(assessment: Assessment, record: dict) -> dict:
         "assumptions": [a.strip() for a in spec.assumptions],
         "audit": {name: getattr(spec.audit, name).text for name in type(spec.audit).model_fields},
         "provenance": record, "version": __version__,
+        "model": _model_view(model, units),
     }
+
+
+#: The seed paper's governing-equation (EOM) RMSEs, right gear, 0-1 s (its §5 and Figs. 14-15;
+#: the unit is not stated, mm presumed from the figures).
+SEED_EOM_RMSE = {"stroke": 9.7364, "tyre": 11.3473}
+_PARAMETER_KINDS = {"Pa": "pressure", "N": "force"}
+
+
+def _model_view(evidence, units) -> dict:
+    """The governing-equation model section: calibration per gear unit, or why none."""
+    from .calibration import CHANNEL_LABELS
+    from .figures import model_figure
+
+    if evidence is None:
+        return {"available": False, "note": "The drop model was not run for this report "
+                                            "(library call without a model evidence).",
+                "synthetic": "", "gears": [], "effects": "—", "seed_rows": []}
+    synthetic = ""
+    if evidence.synthetic_runs:
+        synthetic = (f"The time histories of run(s) {', '.join(evidence.synthetic_runs)} are "
+                     f"SYNTHETIC (simulated, declared origin: synthetic), not measured: the "
+                     f"model is compared here with simulated data, which shows the method, "
+                     f"not the real gear's behaviour.")
+    calibration = evidence.calibration
+    if calibration is None:
+        return {"available": False, "note": evidence.note, "synthetic": synthetic, "gears": [],
+                "effects": "—", "seed_rows": []}
+    gears, seed_rows = [], []
+    for gear in calibration.gears:
+        fit = gear.fit
+        parameters = []
+        for knob, p, estimate, error in zip(gear.knobs, fit.parameters, fit.estimate,
+                                            fit.standard_error):
+            kind = _PARAMETER_KINDS.get(p.unit)
+            if kind is not None:
+                nominal, unit = display(p.nominal, kind, units)
+                value, _ = display(float(estimate), kind, units)
+                se = "not determined" if not math.isfinite(error) else display(float(error), kind, units)[0]
+                bounds = f"{display(p.lower, kind, units)[0]} to {display(p.upper, kind, units)[0]}"
+            else:
+                unit = p.unit if p.unit != "1" else ""
+                nominal, value = _number(p.nominal), _number(float(estimate))
+                se = "not determined" if not math.isfinite(error) else _number(float(error))
+                bounds = f"{_number(p.lower)} to {_number(p.upper)}"
+            parameters.append({"name": knob.label, "unit": unit, "nominal": nominal,
+                               "estimate": value, "error": se, "bounds": bounds})
+        names = [p.name for p in fit.parameters]
+        correlation = [{"name": f"({i}) {name}",
+                        "cells": ["—" if not math.isfinite(c) else f"{c:+.2f}" for c in row]}
+                       for i, (name, row) in enumerate(zip(names, fit.correlation), start=1)]
+        rmse = []
+        for e in gear.errors:
+            kind = "force" if e.channel == "load" else "length"
+            before, unit = display(e.nominal, kind, units)
+            after, _ = display(e.calibrated, kind, units)
+            change = (e.calibrated / e.nominal - 1) if e.nominal else float("nan")
+            rmse.append({"run": e.run, "channel": CHANNEL_LABELS[e.channel], "unit": unit,
+                         "nominal": before, "calibrated": after,
+                         "change": f"{change:+.1%}" if math.isfinite(change) else "—"})
+        for trace in gear.traces:
+            if trace.channel in SEED_EOM_RMSE:
+                first = trace.time <= 1.0
+                nominal = math.sqrt(float(((trace.nominal - trace.measured)[first] ** 2).mean()))
+                fitted = math.sqrt(float(((trace.calibrated - trace.measured)[first] ** 2).mean()))
+                seed_rows.append({
+                    "gear": gear.gear_id, "run": trace.run,
+                    "channel": CHANNEL_LABELS[trace.channel],
+                    "seed": _number(SEED_EOM_RMSE[trace.channel]),
+                    "nominal": _number(nominal * 1e3), "calibrated": _number(fitted * 1e3)})
+        figures = [model_figure(gear.gear_id, run, [t for t in gear.traces if t.run == run], units)
+                   for run in gear.runs]
+        figures = [dict(f, svg=Markup(f["svg"])) for f in figures]
+        velocities = "; ".join(f"{run}: {v:.4f} m/s ({source})"
+                               for run, (v, source) in gear.contact_velocities.items())
+        gears.append({
+            "id": gear.gear_id, "runs": ", ".join(gear.runs), "parameters": parameters,
+            "correlation_header": [f"({i})" for i in range(1, len(names) + 1)],
+            "correlation": correlation, "warnings": list(fit.warnings),
+            "converged": fit.success, "message": fit.message, "evaluations": fit.evaluations,
+            "cost": f"{fit.cost_nominal:.4g} → {fit.cost:.4g}", "rmse": rmse,
+            "figures": figures, "velocities": velocities, "step": f"{gear.step * 1e3:g} ms"})
+    return {"available": True, "note": evidence.note, "synthetic": synthetic, "gears": gears,
+            "effects": ", ".join(calibration.effects) or "none", "seed_rows": seed_rows}
 
 
 def _load_factor_view(assessment: Assessment) -> tuple[list[dict], str]:
@@ -340,9 +427,16 @@ def _finite(value):
     return value
 
 
-def results_document(assessment: Assessment, record: dict) -> dict:
+def results_document(assessment: Assessment, record: dict, model=None) -> dict:
     """Every computed number with its SI unit, source and inputs."""
+    from .calibration import calibration_document
+
     spec = assessment.campaign.spec
+    model_part = None
+    if model is not None:
+        model_part = {"note": model.note, "synthetic_runs": list(model.synthetic_runs),
+                      "calibration": (calibration_document(model.calibration)
+                                      if model.calibration is not None else None)}
     return _finite({
         "format": "certkit-results/1",
         "campaign": {"id": spec.campaign.id, "title": spec.campaign.title,
@@ -367,6 +461,7 @@ def results_document(assessment: Assessment, record: dict) -> dict:
         "findings": [f.as_dict() for f in assessment.findings],
         "comparisons": [c.as_dict() for c in assessment.comparisons],
         "equations": EQUATIONS,
+        "model": model_part,
         "provenance": record,
     })
 
@@ -380,9 +475,14 @@ def _write_csv(path: Path, header: list[str], rows: list[list]) -> None:
                              else cell for cell in row])
 
 
-def write_tables(assessment: Assessment, folder: Path) -> None:
+def write_tables(assessment: Assessment, folder: Path, model=None) -> None:
     """tables/*.csv: the audit tables a CI job or a spreadsheet reads."""
     folder.mkdir()
+    calibration = model.calibration if model is not None else None
+    _write_csv(folder / "model.csv",
+               ["gear", "run", "channel", "unit", "rmse_nominal", "rmse_calibrated"],
+               [[g.gear_id, e.run, e.channel, e.unit, e.nominal, e.calibrated]
+                for g in (calibration.gears if calibration else ()) for e in g.errors])
     _write_csv(folder / "verdicts.csv",
                ["id", "requirement_set", "criterion", "clause", "run", "gear", "verdict", "value",
                 "limit", "margin", "unit", "comparison", "to_confirm", "reason"],
@@ -499,17 +599,17 @@ def render_pdf(html: str, attachments: list[tuple[str, bytes, str]], date: dt.da
 
 
 # --------------------------------------------------------------------------- writing
-def _write_outputs(assessment: Assessment, folder: Path, progress) -> None:
+def _write_outputs(assessment: Assessment, folder: Path, progress, model) -> None:
     campaign = assessment.campaign
     record = provenance(campaign.inputs)
     progress("computing results")
-    results = results_document(assessment, record)
+    results = results_document(assessment, record, model)
     results_bytes = (json.dumps(results, indent=2, ensure_ascii=False, allow_nan=False)
                      + "\n").encode("utf-8")
     (folder / "results.json").write_bytes(results_bytes)
-    write_tables(assessment, folder / "tables")
+    write_tables(assessment, folder / "tables", model)
     progress("drawing figures and laying out HTML")
-    html = render_html(build_view(assessment, record))
+    html = render_html(build_view(assessment, record, model))
     (folder / "report.html").write_text(html, encoding="utf-8")
     progress("writing PDF/A-3b")
     attachments = [(f"inputs/{item.name}", item.path.read_bytes(), "Source")
@@ -519,13 +619,18 @@ def _write_outputs(assessment: Assessment, folder: Path, progress) -> None:
 
 
 #: What render_report writes; an existing folder holding anything else is not replaced.
-TABLES = ("verdicts", "findings", "values", "comparisons")
+TABLES = ("verdicts", "findings", "values", "comparisons", "model")
 REPORT_FILES = {"report.html", "report.pdf", "results.json"} | {f"tables/{name}.csv"
                                                                 for name in TABLES}
 
 
-def render_report(assessment: Assessment, out_dir: str | Path, progress=None) -> Path:
+def render_report(assessment: Assessment, out_dir: str | Path, progress=None,
+                  model=None) -> Path:
     """Write report.html, report.pdf, results.json and tables/*.csv into ``out_dir``.
+
+    ``model``: the governing-equation model evidence
+    (:func:`certkit.calibration.model_evidence`); without it the section says the model
+    was not run.
 
     Everything is written into a temporary sibling folder and moved into place at
     the end; on any failure (or interruption) nothing is left behind and an
@@ -535,5 +640,5 @@ def render_report(assessment: Assessment, out_dir: str | Path, progress=None) ->
     progress = progress or (lambda message: None)
     inputs = [item.path for item in assessment.campaign.inputs]
     with staged_folder(out_dir, inputs, REPORT_FILES) as staging:
-        _write_outputs(assessment, staging, progress)
+        _write_outputs(assessment, staging, progress, model)
     return Path(out_dir)

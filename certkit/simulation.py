@@ -18,7 +18,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from . import dynamics as dyn
-from .drop_model import DropModel
+from .drop_model import DropModel, orifice_coefficient
 from .units import STANDARD_GRAVITY
 
 
@@ -78,8 +78,11 @@ def simulate_reference(model: DropModel, contact_velocity: float, duration: floa
     p = model.pack()
     dy = np.empty(dyn.STATES)
 
-    def rhs(_t, y):
+    def rhs(t, y):
         dyn.rates(p, y, dy)
+        if not np.all(np.isfinite(dy)):
+            raise SimulationError(f"run {run}: the model's rates are not finite at t = {t:.6g} s "
+                                  f"after contact (check the gear parameters)")
         return dy.copy()
 
     samples = int(round(duration * sample_rate)) + 1
@@ -139,41 +142,60 @@ MAX_STEP = 5.0e-4
 STABILITY = 2.5
 
 
+def _peak_tyre_force(model: DropModel, contact_velocity: float) -> float:
+    """Upper estimate of the tyre force in a drop: the static curve at the deflection where
+    the tyre alone would absorb the kinetic energy plus the fall over the design stroke."""
+    tyre = model.tyre
+    energy = model.total_mass * (0.5 * contact_velocity ** 2
+                                 + STANDARD_GRAVITY * model.stops.travel)
+    b = tyre.exponent
+    deflection = ((b + 1) * energy * tyre.reference_deflection ** b
+                  / tyre.reference_load) ** (1 / (b + 1))
+    return float(tyre.static_force(deflection))
+
+
 def fastest_rate(model: DropModel, contact_velocity: float) -> float:
     """Estimate of the model's fastest persistent rate [1/s] in a drop at ``contact_velocity``.
 
-    Stops, orifice damping at the contact velocity and the tyre's stiffness near its
-    reference deflection, all against the unsprung mass; seal friction while the strut
-    sticks at its static position (level F_0 + μ·m1·g over v_ε·m2; near maximum stroke
-    the friction's steep zone is crossed within a step, which RK4 follows accurately);
-    the oil column, the platform and the leg.
+    Against the unsprung mass: the stops, orifice damping at the contact velocity, the
+    tyre's stiffness, damping and hysteresis near its peak force, and seal friction while
+    the strut sticks (level F_0 + μ·max(preload, static load) over v_ε·m2; near maximum
+    stroke the friction's steep zone is crossed within a step, which RK4 follows
+    accurately); the oil column, the platform and the leg.
     """
     m2 = model.lower_mass
     leg = model.effect("leg flexibility")
     if leg is not None:
         m2 = min(m2 - leg.axle_mass, leg.axle_mass)
     tyre = model.tyre
+    peak = _peak_tyre_force(model, contact_velocity)
     rates = [math.sqrt(model.stops.stiffness / m2), model.stops.damping / m2,
-             2.0 * math.sqrt(tyre.exponent * tyre.reference_load / tyre.reference_deflection / m2)]
-    if model.orifice is not None:
-        coefficient = model.orifice.coefficient
-        for effect in model.effects:
-            if effect.name == "rebound orifice":
-                coefficient += effect.extra_coefficient
-            if effect.name == "metering pin":
-                coefficient = max(coefficient, model.orifice.coefficient
-                                  * (model.orifice.orifice_area / min(effect.areas)) ** 2)
-        rates.append(2.0 * coefficient * abs(contact_velocity) / m2)
+             2.0 * math.sqrt(tyre.exponent * tyre.reference_load / tyre.reference_deflection / m2),
+             tyre.damping * peak / m2]
+    hysteresis = model.effect("tyre hysteresis")
+    if hysteresis is not None:
+        rates.append(hysteresis.share * peak / (hysteresis.smoothing_velocity * m2))
+    pin = model.effect("metering pin")
+    rebound = model.effect("rebound orifice")
+    largest = smallest = model.orifice.coefficient if model.orifice is not None else 0.0
+    if pin is not None:
+        pinned = [orifice_coefficient(pin.hydraulic_area, area, pin.discharge, pin.density)
+                  for area in pin.areas]
+        largest, smallest = max(pinned), min(pinned)
+    if rebound is not None:
+        largest += rebound.extra_coefficient
+    rates.append(2.0 * largest * abs(contact_velocity) / m2)
     if leg is not None:
         rates += [math.sqrt(leg.stiffness / m2), leg.damping / m2]
     friction = model.effect("seal friction")
     if friction is not None:
+        resting = (model.upper_mass * STANDARD_GRAVITY - model.lift) * math.cos(model.inclination)
         level = (friction.constant + abs(friction.breakaway)
-                 + friction.pressure_factor * model.upper_mass * STANDARD_GRAVITY)
+                 + friction.pressure_factor * max(model.gas.preload, resting))
         rates.append(level / (friction.smoothing_velocity * m2))
     oil = model.effect("oil compressibility")
-    if oil is not None and model.orifice is not None:
-        rates.append(oil.stiffness / math.sqrt(model.orifice.coefficient * oil.smoothing_force))
+    if oil is not None and smallest > 0:
+        rates.append(oil.stiffness / math.sqrt(smallest * oil.smoothing_force))
     platform = model.effect("platform compliance")
     if platform is not None:
         rates += [math.sqrt(platform.stiffness / platform.mass),
@@ -181,11 +203,20 @@ def fastest_rate(model: DropModel, contact_velocity: float) -> float:
     return max(rates)
 
 
+#: Below this step the batched path refuses to run: the model is too stiff for it.
+MIN_STEP = 1.0e-6
+
+
 def batch_step(models, contact_velocities, sample_rate: float) -> float:
     """The batched path's step: the longest whole fraction of the sample interval within
     MAX_STEP and the stability limit of every drop's fastest rate."""
     rate = max(fastest_rate(m, v) for m, v in zip(models, contact_velocities))
     step = min(MAX_STEP, STABILITY / rate)
+    if step < MIN_STEP:
+        raise SimulationError(f"the model is too stiff for the batched path: its fastest rate "
+                              f"{rate:.3g} 1/s needs a step of {step:.2g} s (below "
+                              f"{MIN_STEP:g} s); check very small masses or very stiff "
+                              f"elements")
     return 1.0 / (sample_rate * math.ceil(1.0 / (sample_rate * step) - 1e-9))
 
 
@@ -254,7 +285,7 @@ def static_state(model: DropModel) -> np.ndarray:
     y = np.zeros(dyn.STATES)
     cos_theta = math.cos(model.inclination)
     load = (model.upper_mass * STANDARD_GRAVITY - model.lift) * cos_theta
-    stroke = model.gas.equilibrium_stroke(load)
+    stroke = model.static_stroke()
     if stroke == 0.0:  # topped out: the stop carries preload − load
         stroke = -(model.gas.preload - load) / model.stops.stiffness
     y[dyn.Z1] = stroke * cos_theta

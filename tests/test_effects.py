@@ -142,3 +142,56 @@ def test_oil_compressibility_delays_the_load_build_up(reference):
     nominal, oil = reference["none"], reference["oil compressibility"]
     level = 0.5 * nominal.load.max()
     assert (oil.time[np.argmax(oil.load > level)] >= nominal.time[np.argmax(nominal.load > level)])
+
+
+# --- found by review: stiff corners the batched path's step must respect --------------
+def _agree(model, height, duration=1.0):
+    velocity = math.sqrt(2 * G * height)
+    batch = simulate_batch(model, velocity, duration=duration)
+    drop = simulate_reference(model, velocity, duration=duration, lead=0.0)
+    assert batch.load[0].max() == pytest.approx(drop.load.max(), rel=1e-3)
+    assert batch.stroke[0].max() == pytest.approx(drop.stroke.max(), rel=1e-3)
+    # every sample, not only the peaks; and the same energy lost
+    assert np.max(np.abs(batch.load[0] - drop.load)) <= 2e-3 * drop.load.max()
+    assert batch.dissipated[0] == pytest.approx(drop.dissipated[-1], rel=5e-3)
+
+
+def test_fast_path_follows_a_sharp_tyre_hysteresis_loop():
+    from certkit.effects import TyreHysteresis
+
+    base = seed_gear(friction=False)
+    _agree(replace(base, effects=(TyreHysteresis(0.1, smoothing_velocity=0.002),)), 0.1)
+
+
+def test_fast_path_follows_friction_on_a_strut_that_never_breaks_out():
+    base = seed_gear()
+    _agree(replace(base, gas=replace(base.gas, precharge=8e6)), 0.1)
+
+
+def test_fast_path_follows_oil_compressibility_behind_a_metering_pin():
+    from certkit.effects import MeteringPin
+
+    base = seed_gear(friction=False)
+    nominal = math.pi * 0.0094 ** 2 / 4
+    pin = MeteringPin((0.0, 0.05, 0.1, 0.2), tuple(f * nominal for f in (2, 1.5, 1, 0.8)),
+                      PISTON, nominal, 0.6, 860.0)
+    oil = OilCompressibility.from_oil(1.5e9, PISTON, 3e-4)
+    _agree(replace(base, effects=base.effects + (pin, oil)), 0.3)
+
+
+def test_resting_state_with_heat_transfer_is_isothermal():
+    from certkit.simulation import simulate_driven
+
+    base = seed_gear(friction=False)
+    model = replace(base, effects=base.effects + (GasHeatTransfer(0.5),))
+    assert model.static_stroke() == pytest.approx(0.038868, abs=1e-6)  # the hand value above
+    time = np.arange(0.0, 2.0, 0.001)
+    rest = simulate_driven(model, time, np.full(time.size, 292.5 * G))
+    assert np.allclose(rest.stroke, 0.038868, atol=2e-6)
+
+
+@pytest.mark.parametrize("change", [{"lower_mass": 0.0}, {"upper_mass": -1.0},
+                                    {"inclination": math.pi / 2}])
+def test_degenerate_models_are_refused(change):
+    with pytest.raises(ValueError):
+        replace(seed_gear(), **change)
