@@ -14,7 +14,7 @@ runner = CliRunner()
 
 
 def run_report(spec: Path, out: Path):
-    return runner.invoke(app, ["report", str(spec), "-o", str(out)])
+    return runner.invoke(app, ["report", str(spec), "-o", str(out), "--no-model"])
 
 
 def edit_spec(spec: Path, old: str, new: str) -> None:

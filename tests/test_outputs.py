@@ -15,7 +15,8 @@ runner = CliRunner()
 
 
 def report(spec, out):
-    return runner.invoke(app, ["report", str(spec), "-o", str(out)])
+    # folder handling, not the model: --no-model keeps these fast
+    return runner.invoke(app, ["report", str(spec), "-o", str(out), "--no-model"])
 
 
 def test_output_into_the_campaign_folder_is_refused_and_nothing_is_deleted(seed_copy):
@@ -75,7 +76,7 @@ def test_symbolic_link_output_is_refused(seed_copy, tmp_path):
 
 def test_terminated_report_leaves_nothing_behind(seed_copy, tmp_path):
     process = subprocess.Popen([sys.executable, "-m", "certkit.cli", "report", str(seed_copy),
-                                "-o", str(tmp_path / "deep" / "er" / "out")],
+                                "-o", str(tmp_path / "deep" / "er" / "out"), "--no-model"],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     # wait until the staging folder exists, then terminate mid-render
     deadline = time.monotonic() + 60

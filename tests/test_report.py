@@ -122,9 +122,9 @@ def test_failed_render_leaves_nothing_and_keeps_the_previous_report(tmp_path, mo
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
 
 
-def _render_in_fresh_process(spec: Path, out: Path) -> None:
-    subprocess.run([sys.executable, "-m", "certkit.cli", "report", str(spec), "-o", str(out)],
-                   check=True, capture_output=True, timeout=300)
+def _render_in_fresh_process(spec: Path, out: Path, *options: str) -> None:
+    subprocess.run([sys.executable, "-m", "certkit.cli", "report", str(spec), "-o", str(out),
+                    *options], check=True, capture_output=True, timeout=300)
 
 
 def _digests(folder: Path) -> dict[str, str]:
@@ -141,3 +141,23 @@ def test_same_inputs_give_identical_bytes_across_processes(timeseries_campaign, 
     assert first == second
     html = (tmp_path / "a" / "report.html").read_text(encoding="utf-8")
     assert html.count("<svg") == 3  # load, travel, load-travel figures
+
+
+@pytest.mark.slow
+def test_model_section_is_reproducible_and_says_the_data_are_synthetic(tmp_path):
+    # the example campaign: calibration of both gears, overlays, in two fresh processes
+    _render_in_fresh_process(SEED, tmp_path / "a")
+    _render_in_fresh_process(SEED, tmp_path / "b")
+    assert _digests(tmp_path / "a") == _digests(tmp_path / "b")
+    html = (tmp_path / "a" / "report.html").read_text(encoding="utf-8")
+    assert "9. Governing-equation model" in html
+    assert "are SYNTHETIC" in html and "9.7364" in html and "11.3473" in html
+    assert html.count('class="model-gear"') == 2
+    results = json.loads((tmp_path / "a" / "results.json").read_text(encoding="utf-8"))
+    gears = results["model"]["calibration"]["gear_units"]
+    assert [g["gear_unit"] for g in gears] == ["left-main", "right-main"]
+    for gear in gears:  # calibration improves every run's stroke fit
+        strokes = [e for e in gear["rmse"] if e["channel"] == "stroke"]
+        assert all(e["calibrated"] < e["nominal"] for e in strokes)
+    rows = (tmp_path / "a" / "tables" / "model.csv").read_text(encoding="utf-8").splitlines()
+    assert len(rows) == 1 + 2 * 3 * 3  # header + 2 gears x 3 runs x 3 channels
