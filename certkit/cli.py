@@ -106,11 +106,9 @@ def report(spec: SpecArgument,
     """Write report.html, report.pdf (PDF/A-3b), results.json and tables/*.csv."""
     from rich.status import Status
 
-    from .calibration import model_evidence
     from .campaign import load_campaign
     from .compliance import assess
     from .report import render_report
-    from .simulation import SimulationError
 
     status = Status("loading campaign", console=err) if err.is_terminal else None
     if status:
@@ -129,7 +127,10 @@ def report(spec: SpecArgument,
         progress("assessing")
         assessment = assess(campaign)
         evidence = None
-        if model:
+        if model:  # the model's compiled kernel loads only when it is asked for
+            from .calibration import model_evidence
+            from .simulation import SimulationError
+
             progress("calibrating the drop model")
             try:
                 evidence = model_evidence(campaign)

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import certkit
 
-DEPENDENCIES = ("numpy", "scipy", "pandas", "pyarrow", "jinja2", "matplotlib", "weasyprint",
+DEPENDENCIES = ("numpy", "numba", "scipy", "pandas", "pyarrow", "jinja2", "matplotlib", "weasyprint",
                 "pydantic", "pint", "PyYAML")
 
 

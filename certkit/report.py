@@ -305,9 +305,6 @@ _PARAMETER_KINDS = {"Pa": "pressure", "N": "force"}
 
 def _model_view(evidence, units) -> dict:
     """The governing-equation model section: calibration per gear unit, or why none."""
-    from .calibration import CHANNEL_LABELS
-    from .figures import model_figure
-
     if evidence is None:
         return {"available": False, "note": "The drop model was not run for this report "
                                             "(library call without a model evidence).",
@@ -322,6 +319,9 @@ def _model_view(evidence, units) -> dict:
     if calibration is None:
         return {"available": False, "note": evidence.note, "synthetic": synthetic, "gears": [],
                 "effects": "—", "seed_rows": []}
+    from .calibration import CHANNEL_LABELS
+    from .figures import model_figure
+
     gears, seed_rows = [], []
     for gear in calibration.gears:
         fit = gear.fit
@@ -429,11 +429,11 @@ def _finite(value):
 
 def results_document(assessment: Assessment, record: dict, model=None) -> dict:
     """Every computed number with its SI unit, source and inputs."""
-    from .calibration import calibration_document
-
     spec = assessment.campaign.spec
     model_part = None
     if model is not None:
+        from .calibration import calibration_document
+
         model_part = {"note": model.note, "synthetic_runs": list(model.synthetic_runs),
                       "calibration": (calibration_document(model.calibration)
                                       if model.calibration is not None else None)}
