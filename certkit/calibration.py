@@ -402,7 +402,8 @@ def model_evidence(campaign: Campaign) -> ModelEvidence:
         except CertkitInputError as error:
             missing += [f"{p.key} ({p.message})" for p in error.problems]
     if not ready:
-        return ModelEvidence(None, "The spec lacks drop-model parameters: "
+        return ModelEvidence(None, "The drop model cannot be built from the spec: "
                                    + "; ".join(missing) + ".", synthetic)
-    note = "" if not missing else ("Not modelled: " + "; ".join(missing) + ".")
+    note = "" if not missing else ("Not modelled (the drop model cannot be built from the "
+                                   "spec): " + "; ".join(missing) + ".")
     return ModelEvidence(calibrate(campaign, gears=ready), note, synthetic)

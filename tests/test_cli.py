@@ -49,3 +49,7 @@ def test_timeseries_campaign_reports_with_exit_0(timeseries_campaign, tmp_path):
     result = runner.invoke(app, ["report", str(timeseries_campaign), "-o", str(tmp_path / "o")])
     assert result.exit_code == 0, result.output
     assert "wrote" in result.output
+    # its gear has no strut servicing: the model section says why it is empty, by key
+    html = (tmp_path / "o" / "report.html").read_text(encoding="utf-8")
+    assert "The drop model cannot be built from the spec" in html
+    assert "gear_units[0].strut.pneumatic_area" in html
