@@ -162,6 +162,12 @@ class GearCalibration:
     nominal_model: DropModel
     calibrated_model: DropModel
 
+    def apply(self, model: DropModel) -> DropModel:
+        """``model`` (of this gear, any run) with the calibrated values."""
+        for knob, value in zip(self.knobs, self.fit.estimate):
+            model = knob.write(model, float(value))
+        return model
+
 
 @dataclass(frozen=True)
 class Calibration:
@@ -407,3 +413,18 @@ def model_evidence(campaign: Campaign) -> ModelEvidence:
     note = "" if not missing else ("Not modelled (the drop model cannot be built from the "
                                    "spec): " + "; ".join(missing) + ".")
     return ModelEvidence(calibrate(campaign, gears=ready), note, synthetic)
+
+
+def simulate_like_runs(campaign: Campaign, gear_id: str, configure=lambda model: model,
+                       run_ids: list[str] | None = None) -> dict:
+    """Each run's channels as the (configured) drop model simulates them, aligned on the
+    measured touchdown and sampled at the measured times: run id -> {"time", "load",
+    "stroke", "tyre"} (SI, time from the measured touchdown)."""
+    runs = _runs_for(campaign, gear_id, list(campaign.spec.model.effects), run_ids)
+    if not runs:
+        return {}
+    models = [configure(r.model) for r in runs]
+    rate = 1.0 / float(np.median(np.diff(runs[0].time)))
+    simulated = _simulated(runs, models, batch_step(models, [r.velocity for r in runs], rate),
+                           rate)
+    return {r.run_id: dict(sim, time=r.time) for r, sim in zip(runs, simulated)}
