@@ -387,11 +387,13 @@ class ModelEvidence:
     calibration: Calibration | None
     note: str
     synthetic_runs: tuple[str, ...] = ()
+    identification: object | None = None   # certkit.identification.Identification
 
 
-def model_evidence(campaign: Campaign) -> ModelEvidence:
-    """Calibrate every recorded gear unit that the spec gives the model's parameters for;
-    otherwise say plainly why the section is empty."""
+def model_evidence(campaign: Campaign, identification: bool = True) -> ModelEvidence:
+    """Calibrate every recorded gear unit that the spec gives the model's parameters for
+    and identify its block-oriented models (``identification``); otherwise say plainly
+    why the section is empty."""
     spec = campaign.spec
     synthetic = tuple(r.id for r in spec.runs if r.data is not None and r.data.origin == "synthetic")
     recorded = [g.id for g in spec.gear_units
@@ -412,7 +414,10 @@ def model_evidence(campaign: Campaign) -> ModelEvidence:
                                    + "; ".join(missing) + ".", synthetic)
     note = "" if not missing else ("Not modelled (the drop model cannot be built from the "
                                    "spec): " + "; ".join(missing) + ".")
-    return ModelEvidence(calibrate(campaign, gears=ready), note, synthetic)
+    from .identification import identify
+
+    return ModelEvidence(calibrate(campaign, gears=ready), note, synthetic,
+                         identify(campaign, gears=ready) if identification else None)
 
 
 def simulate_like_runs(campaign: Campaign, gear_id: str, configure=lambda model: model,

@@ -144,3 +144,55 @@ def model_figure(gear_id: str, run_id: str, traces: list, units, window: float =
                 "caption": "Grey: the run's channels; dashed: the drop model with the spec's "
                            "nominal parameters; solid: after calibration on all runs of this "
                            "gear unit.", "svg": _to_svg(figure)}
+
+
+_OUTPUT_LABELS = {"stroke": "strut stroke", "tyre": "tyre deflection"}
+
+
+def identification_figures(gear) -> list[dict]:
+    """Static nonlinearities (seed Figs. 12-13), the held-out drop against every model
+    (Figs. 14-15) and the models' errors (Figs. 16-17) of one gear unit (kN, mm, ms)."""
+    figures = []
+    outputs = ("stroke", "tyre")
+    held = gear.measured[gear.held_out]
+    with plt.rc_context(_STYLE):
+        figure, all_axes = plt.subplots(1, 2, figsize=(_WIDTH, _HEIGHT))
+        for axes, output in zip(all_axes, outputs):
+            for (model, name), (grid, curve) in gear.nonlinearities.items():
+                if name == output:
+                    axes.plot(grid, curve, label=model)
+            axes.set_xlabel("vertical load [kN]")
+            axes.set_ylabel(f"{_OUTPUT_LABELS[output]} [mm]")
+        all_axes[0].legend(loc="upper left", frameon=False, fontsize=6.5)
+        figure.tight_layout()
+        figures.append({"title": f"{gear.gear_id}: static nonlinearities",
+                        "caption": "Wiener: f(z) against the unit-gain linear block's output z "
+                                   "(kN); Hammerstein: f(u) with the linear block scaled to unit "
+                                   "static gain, up to its offset. Fitted on the training runs "
+                                   f"({', '.join(gear.training)}).",
+                        "svg": _to_svg(figure)})
+        t_ms = np.arange(held.load.size)
+        for kind in ("response", "error"):
+            figure, all_axes = plt.subplots(2, 1, figsize=(_WIDTH, 4.2), sharex=True)
+            for axes, output in zip(all_axes, outputs):
+                measured = held.outputs[output]
+                if kind == "response":
+                    axes.plot(t_ms, measured, color="0.55", linewidth=1.6, label="measured")
+                for score in gear.scores:
+                    if score.protocol == "held-out" and score.output == output:
+                        values = score.simulated if kind == "response" else score.simulated - measured
+                        axes.plot(t_ms[:values.size], values, linewidth=0.9, label=score.model)
+                axes.set_ylabel(f"{_OUTPUT_LABELS[output]}{' error' if kind == 'error' else ''}"
+                                f"\n[mm]")
+            all_axes[0].legend(loc="upper right", frameon=False, fontsize=6.0, ncol=2)
+            all_axes[-1].set_xlabel("time from touchdown [ms]")
+            figure.tight_layout()
+            figures.append({
+                "title": (f"{gear.gear_id}, held-out run {gear.held_out}: "
+                          + ("measured and free-run simulated" if kind == "response"
+                             else "free-run simulation error")),
+                "caption": "Every model simulated in free run from the load alone (the "
+                           "Hammerstein and NARX models take their first samples from the "
+                           "record); none was fitted or tuned on this run.",
+                "svg": _to_svg(figure)})
+    return figures

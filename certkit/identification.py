@@ -268,8 +268,8 @@ def identify_gear(campaign: Campaign, gear_id: str, na: int = 6,
     return result
 
 
-def identify(campaign: Campaign) -> Identification:
-    """Every gear unit with at least two recorded drops."""
+def identify(campaign: Campaign, gears: list[str] | None = None) -> Identification:
+    """Every gear unit (or ``gears``) with at least two recorded drops."""
     spec = campaign.spec
     small_signal = [r.id for r in spec.runs if r.test_type == "small-signal"]
     plant_note = (
@@ -279,5 +279,6 @@ def identify(campaign: Campaign) -> Identification:
         if not small_signal else
         f"Small-signal run(s) {', '.join(small_signal)} recorded; certkit still uses the "
         f"calibrated drop model as the plant (recorded small-signal runs are not yet used).")
-    gears = [g for g in (identify_gear(campaign, unit.id) for unit in spec.gear_units) if g]
-    return Identification(gears, plant_note)
+    chosen = [u.id for u in spec.gear_units if gears is None or u.id in gears]
+    found = [g for g in (identify_gear(campaign, gear_id) for gear_id in chosen) if g]
+    return Identification(found, plant_note)

@@ -503,13 +503,15 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
 
     if refine:
         best = min(record, key=record.get)
-        x0 = np.array(best, dtype=float)
+        low = np.array([bounds[n][0] for n in free])
+        high = np.array([bounds[n][1] for n in free])
+        x0 = np.clip(np.array(best, dtype=float), low, high)  # rounding can leave a bound
         steps = np.array([(bounds[n][1] - bounds[n][0]) / max(grid - 1, 1) for n in free])
         simplex = [x0]
         for i, n in enumerate(free):
             vertex = x0.copy()
             vertex[i] += steps[i] if x0[i] + steps[i] <= bounds[n][1] else -steps[i]
-            simplex.append(vertex)
+            simplex.append(np.clip(vertex, low, high))
         scale = abs(record[best]) if math.isfinite(record[best]) else 1.0
         optimize.minimize(evaluate, x0, method="Nelder-Mead",
                           bounds=[bounds[n] for n in free],

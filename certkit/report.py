@@ -294,6 +294,7 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
         "audit": {name: getattr(spec.audit, name).text for name in type(spec.audit).model_fields},
         "provenance": record, "version": __version__,
         "model": _model_view(model, units),
+        "identification": _identification_view(model),
     }
 
 
@@ -380,6 +381,79 @@ def _model_view(evidence, units) -> dict:
             "effects": ", ".join(calibration.effects) or "none", "seed_rows": seed_rows}
 
 
+_MODEL_ORDER = ("governing equation, nominal", "governing equation, calibrated", "Hammerstein",
+                "Wiener (small-signal)", "Wiener (BLA)", "NARX")
+
+
+def _ranking_sentence(scores, output: str, protocol: str) -> str:
+    chosen = sorted((s for s in scores if s.output == output and s.protocol == protocol),
+                    key=lambda s: s.rmse)
+    return ", ".join(f"{s.model} {s.rmse:.3g} mm" for s in chosen)
+
+
+def _identification_view(evidence) -> dict:
+    """The identification section: RMSE tables beside the seed's, linear blocks, figures."""
+    identification = getattr(evidence, "identification", None)
+    if identification is None or not identification.gears:
+        return {"available": False, "gears": [], "plant_note": "",
+                "note": "Not run: it needs time histories of at least two drops of a gear unit "
+                        "whose drop model can be built from the spec."}
+    from .figures import identification_figures
+    from .identification import OUTPUT_LABELS, SEED_RMSE
+
+    gears = []
+    for gear in identification.gears:
+        table = []
+        for model in _MODEL_ORDER:
+            row = {"model": model, "cells": []}
+            for output in ("stroke", "tyre"):
+                for protocol in ("paper", "held-out"):
+                    score = next((x for x in gear.scores if (x.model, x.output, x.protocol)
+                                  == (model, output, protocol)), None)
+                    row["cells"].append("—" if score is None else _number(round(score.rmse, 4)))
+                seed_key = ("Wiener" if model.startswith("Wiener (small") else
+                            "governing equation" if model == "governing equation, nominal"
+                            else model)
+                row["cells"].append(_number(SEED_RMSE[output][seed_key])
+                                    if seed_key in SEED_RMSE[output] else "—")
+            table.append(row)
+        details = [{"model": x.model, "protocol": x.protocol, "output": OUTPUT_LABELS[x.output],
+                    "run": x.run, "rmse": f"{x.rmse:.4g}", "nrmse": f"{x.nrmse:.4g}",
+                    "fit": f"{x.fit:.1f}", "max": f"{x.max_error:.4g}"}
+                   for x in sorted(gear.scores, key=lambda x: (x.output, x.protocol,
+                                                               _MODEL_ORDER.index(x.model)))]
+        blocks = []
+        for (route, output), arx in gear.linear_blocks.items():
+            blocks.append({"route": route, "output": OUTPUT_LABELS[output],
+                           "a": ", ".join(f"{v:.6g}" for v in arx.a_),
+                           "b": ", ".join(f"{v:.6g}" for v in arx.b_),
+                           "gain": f"{arx.static_gain_:.6g} mm/kN",
+                           "stable": "yes" if arx.stable_ else "NO"})
+        steps = [{"output": OUTPUT_LABELS[output], "amplitude": f"{step.amplitude:.4g}",
+                  "mismatch": f"{step.mismatch[output]:.3g}",
+                  "accepted": "accepted" if step.accepted else "not linear: shrink"}
+                 for output, recorded in gear.small_signal.items() for step in recorded]
+        one_step = [{"model": m, "output": OUTPUT_LABELS[o], "run": r, "rmse": f"{v:.4g}"}
+                    for m, o, r, v in gear.one_step]
+        whiteness = [{"model": m, "output": OUTPUT_LABELS[o],
+                      "auto": f"{int(a.autocorrelation_ok.sum())}/{a.autocorrelation_ok.size}",
+                      "cross": (f"{int(a.cross_correlation_ok.sum())}/{a.cross_correlation_ok.size}"
+                                if a.cross_correlation_ok is not None else "—"),
+                      "white": "yes" if a.white else "no"} for m, o, a in gear.whiteness]
+        rankings = [f"{OUTPUT_LABELS[o]}, {p} protocol: {_ranking_sentence(gear.scores, o, p)}"
+                    for o in ("stroke", "tyre") for p in ("held-out", "paper")]
+        figures = [dict(f, svg=Markup(f["svg"])) for f in identification_figures(gear)]
+        gears.append({"id": gear.gear_id, "training": ", ".join(gear.training),
+                      "held_out": gear.held_out, "table": table, "details": details,
+                      "blocks": blocks, "steps": steps, "one_step": one_step,
+                      "whiteness": whiteness, "rankings": rankings, "figures": figures,
+                      "ratios": ", ".join(f"{OUTPUT_LABELS[o]} {r:.3g}"
+                                          for o, r in gear.hammerstein_ratio.items()),
+                      "notes": list(gear.notes)})
+    return {"available": True, "gears": gears, "plant_note": identification.plant_note,
+            "note": ""}
+
+
 def _load_factor_view(assessment: Assessment) -> tuple[list[dict], str]:
     """Every load factor of each run side by side, and what a stated one turned out to be."""
     rows = []
@@ -436,7 +510,8 @@ def results_document(assessment: Assessment, record: dict, model=None) -> dict:
 
         model_part = {"note": model.note, "synthetic_runs": list(model.synthetic_runs),
                       "calibration": (calibration_document(model.calibration)
-                                      if model.calibration is not None else None)}
+                                      if model.calibration is not None else None),
+                      "identification": _identification_document(model.identification)}
     return _finite({
         "format": "certkit-results/1",
         "campaign": {"id": spec.campaign.id, "title": spec.campaign.title,
@@ -466,6 +541,24 @@ def results_document(assessment: Assessment, record: dict, model=None) -> dict:
     })
 
 
+def _identification_document(identification) -> dict | None:
+    if identification is None:
+        return None
+    return {"plant": identification.plant_note, "gear_units": [
+        {"gear_unit": g.gear_id, "training": list(g.training), "held_out": g.held_out,
+         "free_run": [{"model": x.model, "protocol": x.protocol, "output": x.output,
+                       "run": x.run, "rmse_mm": x.rmse, "nrmse": x.nrmse, "fit_percent": x.fit,
+                       "max_error_mm": x.max_error} for x in g.scores],
+         "one_step": [{"model": m, "output": o, "run": r, "rmse_mm": v}
+                      for m, o, r, v in g.one_step],
+         "linear_blocks": [{"route": route, "output": output, "a": arx.a_.tolist(),
+                            "b": arx.b_.tolist(), "static_gain_mm_per_kN": arx.static_gain_,
+                            "stable": arx.stable_}
+                           for (route, output), arx in g.linear_blocks.items()],
+         "hammerstein_singular_value_ratio": g.hammerstein_ratio, "notes": g.notes}
+        for g in identification.gears]}
+
+
 def _write_csv(path: Path, header: list[str], rows: list[list]) -> None:
     with path.open("w", newline="", encoding="utf-8") as handle:
         writer = csv.writer(handle, lineterminator="\n")
@@ -483,6 +576,13 @@ def write_tables(assessment: Assessment, folder: Path, model=None) -> None:
                ["gear", "run", "channel", "unit", "rmse_nominal", "rmse_calibrated"],
                [[g.gear_id, e.run, e.channel, e.unit, e.nominal, e.calibrated]
                 for g in (calibration.gears if calibration else ()) for e in g.errors])
+    identification = model.identification if model is not None else None
+    _write_csv(folder / "identification.csv",
+               ["gear", "model", "protocol", "output", "run", "rmse_mm", "nrmse", "fit_percent",
+                "max_error_mm"],
+               [[g.gear_id, x.model, x.protocol, x.output, x.run, x.rmse, x.nrmse, x.fit,
+                 x.max_error] for g in (identification.gears if identification else ())
+                for x in g.scores])
     _write_csv(folder / "verdicts.csv",
                ["id", "requirement_set", "criterion", "clause", "run", "gear", "verdict", "value",
                 "limit", "margin", "unit", "comparison", "to_confirm", "reason"],
@@ -619,7 +719,7 @@ def _write_outputs(assessment: Assessment, folder: Path, progress, model) -> Non
 
 
 #: What render_report writes; an existing folder holding anything else is not replaced.
-TABLES = ("verdicts", "findings", "values", "comparisons", "model")
+TABLES = ("verdicts", "findings", "values", "comparisons", "model", "identification")
 REPORT_FILES = {"report.html", "report.pdf", "results.json"} | {f"tables/{name}.csv"
                                                                 for name in TABLES}
 

@@ -145,7 +145,7 @@ def test_same_inputs_give_identical_bytes_across_processes(timeseries_campaign, 
 
 @pytest.mark.slow
 def test_model_section_is_reproducible_and_says_the_data_are_synthetic(tmp_path):
-    # the example campaign: calibration of both gears, overlays, in two fresh processes
+    # the example campaign: calibration and identification of both gears, in two processes
     _render_in_fresh_process(SEED, tmp_path / "a")
     _render_in_fresh_process(SEED, tmp_path / "b")
     assert _digests(tmp_path / "a") == _digests(tmp_path / "b")
@@ -153,6 +153,8 @@ def test_model_section_is_reproducible_and_says_the_data_are_synthetic(tmp_path)
     assert "9. Governing-equation model" in html
     assert "are SYNTHETIC" in html and "9.7364" in html and "11.3473" in html
     assert html.count('class="model-gear"') == 2
+    assert "10. Identification" in html and html.count('class="identification-gear"') == 2
+    assert "0.48805" in html and "0.38246" in html  # the seed's Wiener RMSEs quoted
     results = json.loads((tmp_path / "a" / "results.json").read_text(encoding="utf-8"))
     gears = results["model"]["calibration"]["gear_units"]
     assert [g["gear_unit"] for g in gears] == ["left-main", "right-main"]
@@ -161,3 +163,5 @@ def test_model_section_is_reproducible_and_says_the_data_are_synthetic(tmp_path)
         assert all(e["calibrated"] < e["nominal"] for e in strokes)
     rows = (tmp_path / "a" / "tables" / "model.csv").read_text(encoding="utf-8").splitlines()
     assert len(rows) == 1 + 2 * 3 * 3  # header + 2 gears x 3 runs x 3 channels
+    identification = results["model"]["identification"]["gear_units"]
+    assert [g["held_out"] for g in identification] == ["D300", "D300"]
