@@ -253,6 +253,55 @@ def calibrate(spec: SpecArgument,
 
 
 @app.command()
+def identify(spec: SpecArgument,
+             json_file: Annotated[Path | None, typer.Option(
+                 "--json", help="also write the results to this JSON file")] = None) -> None:
+    """Identify Hammerstein, Wiener and NARX models of each gear and validate them."""
+    from rich.table import Table
+
+    from .campaign import load_campaign
+    from .identification import OUTPUT_LABELS, identification_document
+    from .identification import identify as run_identification
+    from .simulation import SimulationError
+
+    try:
+        campaign = load_campaign(spec)
+        result = run_identification(campaign)
+    except CertkitInputError as error:
+        _fail_input(error)
+    except SimulationError as error:
+        err.print(Text.assemble(("error: ", "bold red"), f"{spec}: {error}"))
+        raise typer.Exit(2) from None
+    if not result.gears:
+        err.print(Text.assemble(("error: ", "bold red"), f"{spec}: no gear unit has two drops "
+                                                         "with time histories; nothing to identify"))
+        raise typer.Exit(2)
+    out.print(result.plant_note)
+    for gear in result.gears:
+        table = Table(title=f"{gear.gear_id}: free-run RMSE [mm]; trained on "
+                            f"{', '.join(gear.training)}, held out {', '.join(gear.held_out)}")
+        table.add_column("model")
+        columns = [(o, p) for o in ("stroke", "tyre") for p in ("paper", "held-out")]
+        for output, protocol in columns:
+            table.add_column(f"{OUTPUT_LABELS[output]}, {protocol}", justify="right")
+        models = list(dict.fromkeys(x.model for x in gear.scores))
+        for model in models:
+            cells = []
+            for output, protocol in columns:
+                score = next((x for x in gear.scores if (x.model, x.output, x.protocol, x.run)
+                              == (model, output, protocol, gear.held_out[0])), None)
+                cells.append("—" if score is None else f"{score.rmse:.4g}")
+            table.add_row(model, *cells)
+        out.print(table)
+        for note in gear.notes:
+            err.print(Text.assemble(("note: ", "bold"), note))
+    if json_file is not None:
+        text = json.dumps(identification_document(result), indent=2, ensure_ascii=False)
+        json_file.write_text(text + "\n", encoding="utf-8")
+        out.print(f"wrote {json_file}")
+
+
+@app.command()
 def schema() -> None:
     """Print the JSON Schema of the campaign spec (for editors and CI)."""
     from .spec import json_schema

@@ -154,7 +154,7 @@ def identification_figures(gear) -> list[dict]:
     (Figs. 14-15) and the models' errors (Figs. 16-17) of one gear unit (kN, mm, ms)."""
     figures = []
     outputs = ("stroke", "tyre")
-    held = gear.measured[gear.held_out]
+    held = gear.measured[gear.held_out[0]]
     with plt.rc_context(_STYLE):
         figure, all_axes = plt.subplots(1, 2, figsize=(_WIDTH, _HEIGHT))
         for axes, output in zip(all_axes, outputs):
@@ -179,7 +179,8 @@ def identification_figures(gear) -> list[dict]:
                 if kind == "response":
                     axes.plot(t_ms, measured, color="0.55", linewidth=1.6, label="measured")
                 for score in gear.scores:
-                    if score.protocol == "held-out" and score.output == output:
+                    if (score.protocol == "held-out" and score.output == output
+                            and score.run == gear.held_out[0]):
                         values = score.simulated if kind == "response" else score.simulated - measured
                         axes.plot(t_ms[:values.size], values, linewidth=0.9, label=score.model)
                 axes.set_ylabel(f"{_OUTPUT_LABELS[output]}{' error' if kind == 'error' else ''}"
@@ -188,7 +189,7 @@ def identification_figures(gear) -> list[dict]:
             all_axes[-1].set_xlabel("time from touchdown [ms]")
             figure.tight_layout()
             figures.append({
-                "title": (f"{gear.gear_id}, held-out run {gear.held_out}: "
+                "title": (f"{gear.gear_id}, held-out run {gear.held_out[0]}: "
                           + ("measured and free-run simulated" if kind == "response"
                              else "free-run simulation error")),
                 "caption": "Every model simulated in free run from the load alone (the "

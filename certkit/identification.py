@@ -30,7 +30,7 @@ from .hammerstein import HammersteinLSSVM
 from .lssvm import (NARX, LSSVMRegressor, fit_percent, kfold_cost, max_abs_error, nrmse,
                     residual_analysis, rmse, tune)
 from .measures import touchdown_index
-from .wiener import (WienerModel, best_linear_records, physics_plant,
+from .wiener import (SmallSignalExperiment, WienerModel, best_linear_records, physics_plant,
                      small_signal_records)
 
 OUTPUTS = ("stroke", "tyre")
@@ -70,7 +70,7 @@ class Score:
 class GearIdentification:
     gear_id: str
     training: tuple[str, ...]
-    held_out: str
+    held_out: tuple[str, ...]       # the first is the paper protocol's run
     scores: list = field(default_factory=list)           # Score
     one_step: list = field(default_factory=list)         # (model, output, run, rmse mm)
     whiteness: list = field(default_factory=list)        # (model, output, dict)
@@ -113,42 +113,58 @@ def _score(name: str, protocol: str, output: str, run: str, measured, simulated)
                  max_abs_error(measured, simulated), np.asarray(simulated))
 
 
-def _tuned_static_map(x: np.ndarray, y: np.ndarray) -> LSSVMRegressor:
-    """LS-SVM regression y = f(x), (γ, σ²) tuned by 4-fold cross-validation on a shuffled
-    (seeded) subsample; step 9's stopping rule is the tuner's convergence."""
-    rng = np.random.default_rng(0)
-    order = rng.permutation(x.shape[0])[:300]
-    scale = float(np.var(x)) or 1.0
-    cost = kfold_cost(lambda g, s: LSSVMRegressor(g, s), x[order], y[order], folds=4)
-    result = tune(cost, gamma=(1e0, 1e7), sigma2=(1e-3 * scale, 10 * scale), grid=5,
-                  max_refine=15)
-    return LSSVMRegressor(result.gamma, result.sigma2).fit(x, y)
+def _static_map(settings):
+    """Step 8-9: LS-SVM regression y = f(z); (γ, σ²) from the spec, or tuned by 4-fold
+    cross-validation on a shuffled (seeded) subsample of the training data."""
+    def fit(x: np.ndarray, y: np.ndarray) -> LSSVMRegressor:
+        gamma, sigma2 = settings.gamma, settings.sigma2
+        if gamma is None or sigma2 is None:
+            order = np.random.default_rng(0).permutation(x.shape[0])[:300]
+            scale = float(np.var(x)) or 1.0
+            cost = kfold_cost(lambda g, s: LSSVMRegressor(g, s), x[order], y[order], folds=4)
+            result = tune(cost, gamma=gamma.si if gamma else (1e0, 1e7),
+                          sigma2=sigma2.si if sigma2 else (1e-3 * scale, 10 * scale),
+                          grid=5, max_refine=15)
+            return LSSVMRegressor(result.gamma, result.sigma2).fit(x, y)
+        return LSSVMRegressor(gamma.si, sigma2.si).fit(x, y)
+    return fit
 
 
-def _hammerstein(train: list[Drop], output: str, na: int, nb: int) -> HammersteinLSSVM:
-    """Hammerstein LS-SVM with (γ, σ²) tuned on the free-run error of each training run
-    simulated by a model fitted on the others (one fold per run), or by halves of the
-    training data when there is one run."""
-    folds = ([([d for d in train if d is not held], [held]) for held in train] if len(train) > 1
-             else [([Drop(train[0].run, train[0].load[:k], {output: train[0].outputs[output][:k]})],
-                    [train[0]]) for k in (len(train[0].load) // 2,)])
+def _hammerstein(train: list[Drop], output: str, settings) -> HammersteinLSSVM:
+    """Hammerstein LS-SVM; (γ, σ²) from the spec, or tuned on free-run error: each training
+    run simulated by a model fitted on the others, or with one training run, its second
+    half simulated by a model fitted on its first half."""
+    na, nb = settings.na, settings.nb
+    if len(train) > 1:
+        folds = [([d for d in train if d is not held], held, 0) for held in train]
+    else:
+        half = train[0].load.size // 2
+        first = Drop(train[0].run, train[0].load[:half], {output: train[0].outputs[output][:half]})
+        folds = [([first], train[0], half)]
 
     def cost(gamma: float, sigma2: float) -> float:
         total = 0.0
-        for fit_on, test_on in folds:
+        for fit_on, test_on, scored_from in folds:
             model = HammersteinLSSVM(na, nb, gamma=gamma, sigma2=sigma2)
             try:
                 model.fit([d.load for d in fit_on], [d.outputs[output] for d in fit_on])
             except (ValueError, np.linalg.LinAlgError):
                 return float("inf")
-            for drop in test_on:
-                y = drop.outputs[output]
-                simulated = model.simulate(drop.load, y[:na])
-                total += nrmse(y, simulated) if np.all(np.isfinite(simulated)) else float("inf")
+            y = test_on.outputs[output]
+            simulated = model.simulate(test_on.load, y[:na])
+            if not np.all(np.isfinite(simulated)):
+                return float("inf")
+            total += nrmse(y[scored_from:], simulated[scored_from:])
         return total
 
-    result = tune(cost, gamma=(1e1, 1e6), sigma2=(1e-1, 1e3), grid=3, max_refine=6)
-    model = HammersteinLSSVM(na, nb, gamma=result.gamma, sigma2=result.sigma2)
+    gamma, sigma2 = settings.gamma, settings.sigma2
+    if gamma is None or sigma2 is None:
+        result = tune(cost, gamma=gamma.si if gamma else (1e1, 1e6),
+                      sigma2=sigma2.si if sigma2 else (1e-1, 1e3), grid=3, max_refine=6)
+        gamma_value, sigma2_value = result.gamma, result.sigma2
+    else:
+        gamma_value, sigma2_value = gamma.si, sigma2.si
+    model = HammersteinLSSVM(na, nb, gamma=gamma_value, sigma2=sigma2_value)
     return model.fit([d.load for d in train], [d.outputs[output] for d in train])
 
 
@@ -159,9 +175,9 @@ def _refit(model, train: list[Drop], output: str):
 
 
 def _governing_equation(campaign: Campaign, gear_id: str, result: GearIdentification,
-                        held: Drop) -> object | None:
-    """Nominal and calibrated (on the training runs only) drop models on the held-out run;
-    returns the calibrated model of the held-out run (the Wiener plant), or None."""
+                        held: list[Drop]):
+    """Nominal and calibrated (on the training runs only) drop models on the held-out runs;
+    returns the calibrated model of the first held-out run (the Wiener plant), or None."""
     from .calibration import calibrate_gear, simulate_like_runs
     from .errors import CertkitInputError
     from .gear_model import drop_model_for
@@ -174,97 +190,140 @@ def _governing_equation(campaign: Campaign, gear_id: str, result: GearIdentifica
         return None
     for name, configure in (("governing equation, nominal", lambda m: m),
                             ("governing equation, calibrated", calibration.apply)):
-        simulated = simulate_like_runs(campaign, gear_id, configure, [held.run])[held.run]
-        for output in OUTPUTS:
-            values = simulated[output][:WINDOW] * 1e3
-            result.scores.append(_score(name, "held-out", output, held.run,
-                                        held.outputs[output][:values.size], values))
-    run = next(r for r in campaign.spec.runs if r.id == held.run)
+        simulated = simulate_like_runs(campaign, gear_id, configure, [d.run for d in held])
+        for drop in held:
+            for output in OUTPUTS:
+                values = simulated[drop.run][output][:WINDOW] * 1e3
+                result.scores.append(_score(name, "held-out", output, drop.run,
+                                            drop.outputs[output][:values.size], values))
+    run = next(r for r in campaign.spec.runs if r.id == held[0].run)
     return calibration.apply(drop_model_for(campaign.spec, run, gear_id))
 
 
-def identify_gear(campaign: Campaign, gear_id: str, na: int = 6,
-                  nb: int = 4) -> GearIdentification | None:
-    """Identify and validate every model of ``gear_id``; None without two usable runs."""
+def _recorded_small_signal(campaign: Campaign, gear_id: str):
+    """A recorded small-signal run of the gear: (run id, load deviation [N], outputs' [m])."""
+    for run in campaign.spec.runs:
+        series = campaign.series.get(run.id)
+        if run.test_type != "small-signal" or series is None or gear_id not in series.gears:
+            continue
+        gear = series.gears[gear_id]
+        if gear.stroke is None or gear.tyre is None:
+            continue
+        return run.id, gear.load - gear.load.mean(), {"stroke": gear.stroke - gear.stroke.mean(),
+                                                      "tyre": gear.tyre - gear.tyre.mean()}
+    return None
+
+
+def _whiteness(result, name, output, test, predicted):
+    y = test.outputs[output]
+    result.one_step.append((name, output, test.run, rmse(y, predicted)))
+    result.whiteness.append((name, output, residual_analysis(y - predicted, test.load)))
+
+
+def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None:
+    """Identify and validate every model of ``gear_id``; None without two usable runs.
+
+    Orders, hyper-parameters, the held-out runs and the small-signal settings come from
+    the spec's ``model.identification`` (defaults: the seed's orders, everything tuned,
+    the highest drop held out)."""
+    settings = campaign.spec.model.identification
     drops = _drops(campaign, gear_id)
     if len(drops) < 2:
         return None
     heights = {r.id: r.drop_height.si for r in campaign.spec.runs}
     drops.sort(key=lambda d: heights[d.run])
-    held, train = drops[-1], drops[:-1]
-    result = GearIdentification(gear_id, tuple(d.run for d in train), held.run,
-                                measured={d.run: d for d in drops})
+    held = ([d for d in drops if d.run in settings.held_out] if settings.held_out
+            else [drops[-1]])
+    held.sort(key=lambda d: -heights[d.run])
+    train = [d for d in drops if d not in held]
+    if not held or not train:
+        return None
+    result = GearIdentification(gear_id, tuple(d.run for d in train),
+                                tuple(d.run for d in held), measured={d.run: d for d in drops})
     plant_model = _governing_equation(campaign, gear_id, result, held)
-    paper_train = Drop(held.run, held.load[:PAPER_TRAINING],
-                       {k: v[:PAPER_TRAINING] for k, v in held.outputs.items()})
-    protocols = (("held-out", train, held), ("paper", [paper_train], held))
+    first = held[0]   # the paper's protocol: the first 200 samples of the highest held-out drop
+    paper_train = Drop(first.run, first.load[:PAPER_TRAINING],
+                       {k: v[:PAPER_TRAINING] for k, v in first.outputs.items()})
     rate = 1000.0
-    plants = {}
-    if plant_model is not None:
-        plants["small-signal"] = physics_plant(plant_model, 2000, rate)
+    recorded = _recorded_small_signal(campaign, gear_id)
+    plant = physics_plant(plant_model, 2000, rate) if plant_model is not None else None
+    grid = np.linspace(0.0, max(d.load.max() for d in drops), 200)
     for output in OUTPUTS:
-        # Hammerstein (hyper-parameters tuned on the training runs only, for both protocols)
-        tuned = _hammerstein(train, output, na, nb)
-        for protocol, fit_on, test in protocols:
-            model = tuned if protocol == "held-out" else _refit(
-                HammersteinLSSVM(na, nb, gamma=tuned.gamma, sigma2=tuned.sigma2), fit_on, output)
+        # Hammerstein: tuned on the training runs only, for both protocols
+        tuned = _hammerstein(train, output, settings.hammerstein)
+        paper = _refit(HammersteinLSSVM(settings.hammerstein.na, settings.hammerstein.nb,
+                                        gamma=tuned.gamma, sigma2=tuned.sigma2),
+                       [paper_train], output)
+        na = settings.hammerstein.na
+        for test in held:
             y = test.outputs[output]
-            result.scores.append(_score("Hammerstein", protocol, output, test.run, y,
-                                        model.simulate(test.load, y[:na])))
-            if protocol == "held-out":
-                result.hammerstein_ratio[output] = model.singular_value_ratio_
-                grid = np.linspace(0.0, max(d.load.max() for d in drops), 200)
-                result.nonlinearities[("Hammerstein", output)] = (grid, model.nonlinearity(grid))
-                predicted = model.predict(test.load, y)
-                result.one_step.append(("Hammerstein", output, test.run, rmse(y, predicted)))
-                result.whiteness.append(("Hammerstein", output,
-                                         residual_analysis(y - predicted, test.load)))
+            result.scores.append(_score("Hammerstein", "held-out", output, test.run, y,
+                                        tuned.simulate(test.load, y[:na])))
+            _whiteness(result, "Hammerstein", output, test, tuned.predict(test.load, y))
+        y = first.outputs[output]
+        result.scores.append(_score("Hammerstein", "paper", output, first.run, y,
+                                    paper.simulate(first.load, y[:na])))
+        result.hammerstein_ratio[output] = tuned.singular_value_ratio_
+        result.nonlinearities[("Hammerstein", output)] = (grid, tuned.nonlinearity(grid))
+
         # NARX (black-box reference), tuned on the training runs' free-run error
-        tuned_narx = NARX(2, 2, 1, engine="fixed-size", prototypes=150,
-                          tuning={"grid": 3, "max_refine": 8}).fit(
+        spec = settings.narx
+        tuned_narx = NARX(spec.na, spec.nb, 1, spec.gamma.si if spec.gamma else None,
+                          spec.sigma2.si if spec.sigma2 else None, engine="fixed-size",
+                          prototypes=150, tuning={"grid": 3, "max_refine": 8}).fit(
             [d.load for d in train], [d.outputs[output] for d in train])
-        for protocol, fit_on, test in protocols:
-            narx = tuned_narx if protocol == "held-out" else _refit(
-                NARX(2, 2, 1, tuned_narx.gamma_, tuned_narx.sigma2_, engine="fixed-size",
-                     prototypes=150), fit_on, output)
+        paper_narx = _refit(NARX(spec.na, spec.nb, 1, tuned_narx.gamma_, tuned_narx.sigma2_,
+                                 engine="fixed-size", prototypes=150), [paper_train], output)
+        for test in held:
             y = test.outputs[output]
-            result.scores.append(_score("NARX", protocol, output, test.run, y,
-                                        narx.simulate(test.load, y[:narx.init_length])))
-            if protocol == "held-out":
-                predicted = narx.predict(test.load, y)
-                result.one_step.append(("NARX", output, test.run, rmse(y, predicted)))
-        # Wiener: the linear block from the plant, the nonlinearity from the drop data
-        if plant_model is None:
-            continue
+            result.scores.append(_score("NARX", "held-out", output, test.run, y,
+                                        tuned_narx.simulate(test.load, y[:tuned_narx.init_length])))
+            _whiteness(result, "NARX", output, test, tuned_narx.predict(test.load, y))
+        y = first.outputs[output]
+        result.scores.append(_score("NARX", "paper", output, first.run, y,
+                                    paper_narx.simulate(first.load, y[:paper_narx.init_length])))
+
+        # Wiener: the linear block from small-signal records, the nonlinearity from drops
         routes = {}
-        experiment = small_signal_records(plants["small-signal"], [output], 2000, rate,
-                                          amplitude=500.0, tolerance=0.05)
-        result.small_signal[output] = experiment.steps
-        if experiment.accepted:
-            routes["Wiener (small-signal)"] = experiment
-        else:
-            result.notes.append(f"{OUTPUT_LABELS[output]}: the small-signal method found no "
-                                f"amplitude with a linear response; no small-signal Wiener model")
-        amplitude = float(np.sqrt(np.mean(np.concatenate([d.load for d in train]) ** 2))) * 1e3
-        routes["Wiener (BLA)"] = best_linear_records(plants["small-signal"], [output], 2000, rate,
-                                                     amplitude=amplitude)
+        small = settings.small_signal
+        if recorded is not None:
+            run_id, force, outputs = recorded
+            routes["Wiener (small-signal)"] = SmallSignalExperiment(
+                force=[force], responses={output: [outputs[output]]}, accepted=True)
+            result.notes.append(f"{OUTPUT_LABELS[output]}: the small-signal Wiener block comes "
+                                f"from recorded run {run_id}; with one record the K-scaling "
+                                f"linearity check cannot be made")
+        elif plant is not None:
+            experiment = small_signal_records(plant, [output], 2000, rate,
+                                              amplitude=small.amplitude.si, gain=small.gain.si,
+                                              tolerance=small.tolerance.si)
+            result.small_signal[output] = experiment.steps
+            if experiment.accepted:
+                routes["Wiener (small-signal)"] = experiment
+            else:
+                result.notes.append(f"{OUTPUT_LABELS[output]}: the small-signal method found no "
+                                    f"amplitude with a linear response; no small-signal Wiener "
+                                    f"model")
+        if plant is not None:
+            amplitude = float(np.sqrt(np.mean(np.concatenate([d.load for d in train]) ** 2)))
+            routes["Wiener (BLA)"] = best_linear_records(plant, [output], 2000, rate,
+                                                         amplitude=amplitude * 1e3)
         for name, records in routes.items():
-            wiener = WienerModel(na, nb).fit_linear([f / 1e3 for f in records.force],
-                                                    [r * 1e3 for r in records.responses[output]])
+            wiener = WienerModel(settings.wiener.na, settings.wiener.nb).fit_linear(
+                [f / 1e3 for f in records.force], [r * 1e3 for r in records.responses[output]])
             result.linear_blocks[(name, output)] = wiener.raw_linear_
-            for protocol, fit_on, test in protocols:
-                # tuned on the training runs; the paper's protocol reuses (γ, σ²)
-                fitter = _tuned_static_map if protocol == "held-out" else (
-                    lambda x, y, f=wiener.nonlinearity_: LSSVMRegressor(f.gamma, f.sigma2).fit(x, y))
-                wiener.fit_nonlinearity([d.load for d in fit_on],
-                                        [d.outputs[output] for d in fit_on], fitter)
-                y = test.outputs[output]
-                result.scores.append(_score(name, protocol, output, test.run, y,
-                                            wiener.simulate(test.load)))
-                if protocol == "held-out":
-                    grid = np.linspace(0.0, max(d.load.max() for d in drops), 200)
-                    result.nonlinearities[(name, output)] = (
-                        grid, wiener.nonlinearity_.predict(grid[:, None]))
+            wiener.fit_nonlinearity([d.load for d in train], [d.outputs[output] for d in train],
+                                    _static_map(settings.wiener))
+            result.nonlinearities[(name, output)] = (
+                grid, wiener.nonlinearity_.predict(grid[:, None]))
+            for test in held:
+                result.scores.append(_score(name, "held-out", output, test.run,
+                                            test.outputs[output], wiener.simulate(test.load)))
+            fitted = wiener.nonlinearity_   # the paper's protocol reuses the tuned (γ, σ²)
+            wiener.fit_nonlinearity([paper_train.load], [paper_train.outputs[output]],
+                                    lambda x, y: LSSVMRegressor(fitted.gamma, fitted.sigma2).fit(x, y))
+            result.scores.append(_score(name, "paper", output, first.run,
+                                        first.outputs[output], wiener.simulate(first.load)))
     return result
 
 
@@ -277,8 +336,28 @@ def identify(campaign: Campaign, gears: list[str] | None = None) -> Identificati
         "model calibrated on the training runs, driven by a prescribed ground load (the tyre "
         "contact replaced by the applied force) around its resting point."
         if not small_signal else
-        f"Small-signal run(s) {', '.join(small_signal)} recorded; certkit still uses the "
-        f"calibrated drop model as the plant (recorded small-signal runs are not yet used).")
+        f"Small-signal run(s) {', '.join(small_signal)} recorded: the small-signal Wiener "
+        f"blocks come from them; the best-linear-approximation route still uses the "
+        f"calibrated drop model as its plant.")
     chosen = [u.id for u in spec.gear_units if gears is None or u.id in gears]
     found = [g for g in (identify_gear(campaign, gear_id) for gear_id in chosen) if g]
     return Identification(found, plant_note)
+
+
+def identification_document(identification) -> dict | None:
+    """Plain, JSON-ready summary: free-run and one-step errors, linear blocks, notes."""
+    if identification is None:
+        return None
+    return {"plant": identification.plant_note, "gear_units": [
+        {"gear_unit": g.gear_id, "training": list(g.training), "held_out": list(g.held_out),
+         "free_run": [{"model": x.model, "protocol": x.protocol, "output": x.output,
+                       "run": x.run, "rmse_mm": x.rmse, "nrmse": x.nrmse, "fit_percent": x.fit,
+                       "max_error_mm": x.max_error} for x in g.scores],
+         "one_step": [{"model": m, "output": o, "run": r, "rmse_mm": v}
+                      for m, o, r, v in g.one_step],
+         "linear_blocks": [{"route": route, "output": output, "a": arx.a_.tolist(),
+                            "b": arx.b_.tolist(), "static_gain_mm_per_kN": arx.static_gain_,
+                            "stable": arx.stable_}
+                           for (route, output), arx in g.linear_blocks.items()],
+         "hammerstein_singular_value_ratio": g.hammerstein_ratio, "notes": g.notes}
+        for g in identification.gears]}

@@ -385,10 +385,45 @@ _MODEL_ORDER = ("governing equation, nominal", "governing equation, calibrated",
                 "Wiener (small-signal)", "Wiener (BLA)", "NARX")
 
 
-def _ranking_sentence(scores, output: str, protocol: str) -> str:
-    chosen = sorted((s for s in scores if s.output == output and s.protocol == protocol),
-                    key=lambda s: s.rmse)
+def _ranking_sentence(scores, output: str, protocol: str, run: str) -> str:
+    chosen = sorted((s for s in scores if s.output == output and s.protocol == protocol
+                     and s.run == run), key=lambda s: s.rmse)
     return ", ".join(f"{s.model} {s.rmse:.3g} mm" for s in chosen)
+
+
+def _discussion(gear) -> list[str]:
+    """Where the ranking of the seed's three models differs from what the data say."""
+    from .identification import OUTPUT_LABELS, PAPER_TRAINING, SEED_RMSE
+
+    three = {"governing equation, nominal": "governing equation", "Hammerstein": "Hammerstein",
+             "Wiener (small-signal)": "Wiener"}
+    run = gear.held_out[0]
+    sentences = []
+    for output in ("stroke", "tyre"):
+        def order(protocol):
+            chosen = [x for x in gear.scores if x.output == output and x.protocol == protocol
+                      and x.run == run and x.model in three]
+            return [three[x.model] for x in sorted(chosen, key=lambda x: x.rmse)]
+
+        seed = sorted(SEED_RMSE[output], key=SEED_RMSE[output].get)
+        held = order("held-out")
+        text = (f"{OUTPUT_LABELS[output].capitalize()}: the seed paper ranks "
+                f"{' < '.join(seed)} (RMSE). On the held-out drop {run} the order here is "
+                f"{' < '.join(held) or 'not available'}")
+        text += "; the same as the seed's." if held == seed else (
+            "; it differs from the seed's.")
+        paper_full = [x for x in gear.scores if x.output == output and x.protocol == "paper"]
+        held_full = [x for x in gear.scores if x.output == output and x.protocol == "held-out"
+                     and x.run == run]
+        if paper_full and held_full:
+            best_paper = min(paper_full, key=lambda x: x.rmse)
+            best_held = min(held_full, key=lambda x: x.rmse)
+            text += (f" Trained on the first {PAPER_TRAINING} samples of the very drop it then simulates, "
+                     f"the best model reaches {best_paper.rmse:.3g} mm over the whole second "
+                     f"({best_paper.model}); trained on other drop heights, "
+                     f"{best_held.rmse:.3g} mm ({best_held.model}).")
+        sentences.append(text)
+    return sentences
 
 
 def _identification_view(evidence) -> dict:
@@ -408,8 +443,8 @@ def _identification_view(evidence) -> dict:
             row = {"model": model, "cells": []}
             for output in ("stroke", "tyre"):
                 for protocol in ("paper", "held-out"):
-                    score = next((x for x in gear.scores if (x.model, x.output, x.protocol)
-                                  == (model, output, protocol)), None)
+                    score = next((x for x in gear.scores if (x.model, x.output, x.protocol, x.run)
+                                  == (model, output, protocol, gear.held_out[0])), None)
                     row["cells"].append("—" if score is None else _number(round(score.rmse, 4)))
                 seed_key = ("Wiener" if model.startswith("Wiener (small") else
                             "governing equation" if model == "governing equation, nominal"
@@ -440,13 +475,16 @@ def _identification_view(evidence) -> dict:
                       "cross": (f"{int(a.cross_correlation_ok.sum())}/{a.cross_correlation_ok.size}"
                                 if a.cross_correlation_ok is not None else "—"),
                       "white": "yes" if a.white else "no"} for m, o, a in gear.whiteness]
-        rankings = [f"{OUTPUT_LABELS[o]}, {p} protocol: {_ranking_sentence(gear.scores, o, p)}"
+        rankings = [f"{OUTPUT_LABELS[o]}, {p} protocol, run {gear.held_out[0]}: "
+                    f"{_ranking_sentence(gear.scores, o, p, gear.held_out[0])}"
                     for o in ("stroke", "tyre") for p in ("held-out", "paper")]
+        discussion = _discussion(gear)
         figures = [dict(f, svg=Markup(f["svg"])) for f in identification_figures(gear)]
         gears.append({"id": gear.gear_id, "training": ", ".join(gear.training),
-                      "held_out": gear.held_out, "table": table, "details": details,
+                      "held_out": ", ".join(gear.held_out), "table": table, "details": details,
                       "blocks": blocks, "steps": steps, "one_step": one_step,
                       "whiteness": whiteness, "rankings": rankings, "figures": figures,
+                      "discussion": discussion,
                       "ratios": ", ".join(f"{OUTPUT_LABELS[o]} {r:.3g}"
                                           for o, r in gear.hammerstein_ratio.items()),
                       "notes": list(gear.notes)})
@@ -507,11 +545,12 @@ def results_document(assessment: Assessment, record: dict, model=None) -> dict:
     model_part = None
     if model is not None:
         from .calibration import calibration_document
+        from .identification import identification_document
 
         model_part = {"note": model.note, "synthetic_runs": list(model.synthetic_runs),
                       "calibration": (calibration_document(model.calibration)
                                       if model.calibration is not None else None),
-                      "identification": _identification_document(model.identification)}
+                      "identification": identification_document(model.identification)}
     return _finite({
         "format": "certkit-results/1",
         "campaign": {"id": spec.campaign.id, "title": spec.campaign.title,
@@ -539,24 +578,6 @@ def results_document(assessment: Assessment, record: dict, model=None) -> dict:
         "model": model_part,
         "provenance": record,
     })
-
-
-def _identification_document(identification) -> dict | None:
-    if identification is None:
-        return None
-    return {"plant": identification.plant_note, "gear_units": [
-        {"gear_unit": g.gear_id, "training": list(g.training), "held_out": g.held_out,
-         "free_run": [{"model": x.model, "protocol": x.protocol, "output": x.output,
-                       "run": x.run, "rmse_mm": x.rmse, "nrmse": x.nrmse, "fit_percent": x.fit,
-                       "max_error_mm": x.max_error} for x in g.scores],
-         "one_step": [{"model": m, "output": o, "run": r, "rmse_mm": v}
-                      for m, o, r, v in g.one_step],
-         "linear_blocks": [{"route": route, "output": output, "a": arx.a_.tolist(),
-                            "b": arx.b_.tolist(), "static_gain_mm_per_kN": arx.static_gain_,
-                            "stable": arx.stable_}
-                           for (route, output), arx in g.linear_blocks.items()],
-         "hammerstein_singular_value_ratio": g.hammerstein_ratio, "notes": g.notes}
-        for g in identification.gears]}
 
 
 def _write_csv(path: Path, header: list[str], rows: list[list]) -> None:

@@ -456,12 +456,43 @@ class CalibrationSpec(_Model):
     runs: list[Identifier] = Field([], description="runs to fit to (default: all with data)")
 
 
+class BlockModelSpec(_Model):
+    """Orders and (optionally fixed) LS-SVM hyper-parameters of one identified model."""
+
+    na: int = Field(ge=0, le=20, description="past outputs (denominator order)")
+    nb: int = Field(ge=1, le=20, description="input terms (numerator terms)")
+    gamma: PositiveNumber | None = Field(None, description="regularisation γ; default: tuned")
+    sigma2: PositiveNumber | None = Field(
+        None, description="RBF width σ² of K = exp(−‖x − z‖²/σ²); default: tuned")
+
+
+class SmallSignalSpec(_Model):
+    """The seed's small-signal method (§4): first amplitude, scaling K, linearity tolerance."""
+
+    amplitude: Force = Field(parse_quantity("500 N", "force"),
+                             description="RMS of the first small random force")
+    gain: PositiveNumber = Field(parse_quantity("2", "dimensionless"), description="K")
+    tolerance: Fraction = Field(parse_quantity("5 %", "dimensionless"))
+
+
+class IdentificationSpec(_Model):
+    """Identification settings; defaults follow the seed paper (6 poles, 4 input terms)."""
+
+    hammerstein: BlockModelSpec = BlockModelSpec(na=6, nb=4)
+    wiener: BlockModelSpec = BlockModelSpec(na=6, nb=4)
+    narx: BlockModelSpec = BlockModelSpec(na=2, nb=2)
+    held_out: list[Identifier] = Field(
+        [], description="runs kept out of fitting and tuning (default: the highest drop)")
+    small_signal: SmallSignalSpec = SmallSignalSpec()
+
+
 class ModelSettings(_Model):
     """The physics model used to simulate and calibrate: which optional effects are on."""
 
     effects: list[Effect] = Field([], description="optional effects switched on (default none)")
     sensor: SensorSpec | None = None
     calibration: CalibrationSpec | None = None
+    identification: IdentificationSpec = IdentificationSpec()
 
 
 class ReportSettings(_Model):

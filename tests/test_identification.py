@@ -24,7 +24,7 @@ def result(synthetic):
 
 
 def test_every_model_is_scored_on_the_held_out_drop_in_free_run(result):
-    assert result.training == ("D200", "D250") and result.held_out == "D300"
+    assert result.training == ("D200", "D250") and result.held_out == ("D300",)
     models = {s.model for s in result.scores if s.protocol == "held-out"}
     assert models == {"governing equation, nominal", "governing equation, calibrated",
                       "Hammerstein", "NARX", "Wiener (small-signal)", "Wiener (BLA)"}
@@ -73,3 +73,46 @@ def test_the_held_out_drop_does_not_influence_any_fitted_model(synthetic, result
     before = {(s.model, s.output): s.rmse for s in result.scores if s.protocol == "held-out"}
     after = {(s.model, s.output): s.rmse for s in again.scores if s.protocol == "held-out"}
     assert any(after[k] != before[k] for k in before if k[1] == "stroke")
+
+
+def test_json_document_is_plain_and_finite(result):
+    import json
+
+    from certkit.identification import Identification, identification_document
+
+    document = identification_document(Identification([result], "plant"))
+    text = json.dumps(document, allow_nan=False)
+    gear = json.loads(text)["gear_units"][0]
+    assert gear["held_out"] == ["D300"]
+    assert {x["protocol"] for x in gear["free_run"]} == {"paper", "held-out"}
+    assert all(x["model"] in ("Hammerstein", "NARX") for x in gear["one_step"])
+
+
+def test_spec_chooses_held_out_runs_orders_and_fixed_hyper_parameters(synthetic):
+    import yaml
+
+    text = synthetic.read_text(encoding="utf-8")
+    raw = yaml.safe_load(text)
+    raw["model"]["identification"] = {
+        "held_out": ["D250"],
+        "hammerstein": {"na": 2, "nb": 2, "gamma": 1e4, "sigma2": 20},
+        "wiener": {"na": 2, "nb": 2, "gamma": 1e4, "sigma2": 10},
+        "narx": {"na": 1, "nb": 1, "gamma": 1e3, "sigma2": 5}}
+    synthetic.write_text(yaml.safe_dump(raw, sort_keys=False), encoding="utf-8")
+    try:
+        chosen = identify_gear(load_campaign(synthetic), "left-main")
+    finally:
+        synthetic.write_text(text, encoding="utf-8")
+    assert chosen.training == ("D200", "D300") and chosen.held_out == ("D250",)
+    blocks = [block for (route, _), block in chosen.linear_blocks.items()]
+    assert blocks and all(block.a_.size == 2 and block.b_.size == 2 for block in blocks)
+    assert all(s.run == "D250" for s in chosen.scores)
+
+
+def test_identify_command_needs_two_recorded_drops(physics_campaign):
+    from typer.testing import CliRunner
+
+    from certkit.cli import app
+
+    outcome = CliRunner().invoke(app, ["identify", str(physics_campaign)])
+    assert outcome.exit_code == 2 and "nothing to identify" in outcome.output

@@ -164,4 +164,4 @@ def test_model_section_is_reproducible_and_says_the_data_are_synthetic(tmp_path)
     rows = (tmp_path / "a" / "tables" / "model.csv").read_text(encoding="utf-8").splitlines()
     assert len(rows) == 1 + 2 * 3 * 3  # header + 2 gears x 3 runs x 3 channels
     identification = results["model"]["identification"]["gear_units"]
-    assert [g["held_out"] for g in identification] == ["D300", "D300"]
+    assert [g["held_out"] for g in identification] == [["D300"], ["D300"]]
