@@ -414,9 +414,13 @@ def model_evidence(campaign: Campaign, identification: bool = True) -> ModelEvid
                                    + "; ".join(missing) + ".", synthetic)
     note = "" if not missing else ("Not modelled (the drop model cannot be built from the "
                                    "spec): " + "; ".join(missing) + ".")
+    from threadpoolctl import threadpool_limits
+
     from .identification import identify
 
-    return ModelEvidence(calibrate(campaign, gears=ready), note, synthetic,
+    with threadpool_limits(limits=1):   # results independent of the machine's core count
+        calibration = calibrate(campaign, gears=ready)
+    return ModelEvidence(calibration, note, synthetic,
                          identify(campaign, gears=ready) if identification else None)
 
 

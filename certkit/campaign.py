@@ -133,6 +133,14 @@ def _cross_references(spec: CampaignSpec, display: str, lines: LineMap) -> list[
                     add(("runs", index, section, "gears", gear_id),
                         f"gear unit {gear_id!r} is not among this run's gear_units "
                         f"({', '.join(run.gear_units)})")
+    references = [(("model", "identification", "held_out"), spec.model.identification.held_out)]
+    if spec.model.calibration is not None:
+        references.append((("model", "calibration", "runs"), spec.model.calibration.runs))
+    for location, chosen in references:
+        for position, run_id in enumerate(chosen):
+            if run_id not in run_ids:
+                add(location + (position,),
+                    f"unknown run {run_id!r}; declared: {', '.join(run_ids)}")
     return problems
 
 

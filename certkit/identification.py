@@ -24,6 +24,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from .campaign import Campaign
 from .hammerstein import HammersteinLSSVM
@@ -107,24 +108,33 @@ def _drops(campaign: Campaign, gear_id: str) -> list[Drop]:
     return drops
 
 
+#: Every model is scored from this sample on: the Hammerstein and NARX free runs copy their
+#: first measured samples (the initialisation window), which must not count.
+SCORED_FROM = 10
+
+
 def _score(name: str, protocol: str, output: str, run: str, measured, simulated) -> Score:
-    return Score(name, protocol, output, run, rmse(measured, simulated),
-                 nrmse(measured, simulated), fit_percent(measured, simulated),
-                 max_abs_error(measured, simulated), np.asarray(simulated))
+    y, y_hat = np.asarray(measured)[SCORED_FROM:], np.asarray(simulated)[SCORED_FROM:]
+    return Score(name, protocol, output, run, rmse(y, y_hat), nrmse(y, y_hat),
+                 fit_percent(y, y_hat), max_abs_error(y, y_hat), np.asarray(simulated))
 
 
-def _static_map(settings):
-    """Step 8-9: LS-SVM regression y = f(z); (γ, σ²) from the spec, or tuned by 4-fold
-    cross-validation on a shuffled (seeded) subsample of the training data."""
+def _static_map(settings, target: float):
+    """Steps 8-9: LS-SVM regression y = f(z); (γ, σ²) from the spec, or tuned by 4-fold
+    cross-validation on a shuffled (seeded) subsample of the training data: a grid, then a
+    refinement only while the cross-validated RMSE is above ``target`` [mm] (step 9)."""
     def fit(x: np.ndarray, y: np.ndarray) -> LSSVMRegressor:
         gamma, sigma2 = settings.gamma, settings.sigma2
         if gamma is None or sigma2 is None:
             order = np.random.default_rng(0).permutation(x.shape[0])[:300]
             scale = float(np.var(x)) or 1.0
             cost = kfold_cost(lambda g, s: LSSVMRegressor(g, s), x[order], y[order], folds=4)
-            result = tune(cost, gamma=gamma.si if gamma else (1e0, 1e7),
-                          sigma2=sigma2.si if sigma2 else (1e-3 * scale, 10 * scale),
-                          grid=5, max_refine=15)
+            ranges = {"gamma": gamma.si if gamma else (1e0, 1e7),
+                      "sigma2": sigma2.si if sigma2 else (1e-3 * scale, 10 * scale)}
+            result = tune(cost, grid=5, refine=False, **ranges)
+            if np.sqrt(result.cost) > target:
+                start = (result.gamma, result.sigma2)
+                result = tune(cost, grid=5, start=start, max_refine=15, **ranges)
             return LSSVMRegressor(result.gamma, result.sigma2).fit(x, y)
         return LSSVMRegressor(gamma.si, sigma2.si).fit(x, y)
     return fit
@@ -150,6 +160,8 @@ def _hammerstein(train: list[Drop], output: str, settings) -> HammersteinLSSVM:
                 model.fit([d.load for d in fit_on], [d.outputs[output] for d in fit_on])
             except (ValueError, np.linalg.LinAlgError):
                 return float("inf")
+            if not model.stable_:
+                return float("inf")   # an unstable AR part is no candidate
             y = test_on.outputs[output]
             simulated = model.simulate(test_on.load, y[:na])
             if not np.all(np.isfinite(simulated)):
@@ -255,14 +267,19 @@ def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None
                                         gamma=tuned.gamma, sigma2=tuned.sigma2),
                        [paper_train], output)
         na = settings.hammerstein.na
-        for test in held:
-            y = test.outputs[output]
-            result.scores.append(_score("Hammerstein", "held-out", output, test.run, y,
-                                        tuned.simulate(test.load, y[:na])))
-            _whiteness(result, "Hammerstein", output, test, tuned.predict(test.load, y))
-        y = first.outputs[output]
-        result.scores.append(_score("Hammerstein", "paper", output, first.run, y,
-                                    paper.simulate(first.load, y[:na])))
+        for protocol, model in (("held-out", tuned), ("paper", paper)):
+            if not model.stable_:
+                result.notes.append(
+                    f"{OUTPUT_LABELS[output]}, {protocol} protocol: the Hammerstein model's AR "
+                    f"part is unstable (largest |pole| {np.max(np.abs(model.poles_)):.4g}); "
+                    f"its free run diverges, so it is not scored")
+                continue
+            for test in (held if protocol == "held-out" else [first]):
+                y = test.outputs[output]
+                result.scores.append(_score("Hammerstein", protocol, output, test.run, y,
+                                            model.simulate(test.load, y[:na])))
+                if protocol == "held-out":
+                    _whiteness(result, "Hammerstein", output, test, model.predict(test.load, y))
         result.hammerstein_ratio[output] = tuned.singular_value_ratio_
         result.nonlinearities[("Hammerstein", output)] = (grid, tuned.nonlinearity(grid))
 
@@ -300,6 +317,17 @@ def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None
             result.small_signal[output] = experiment.steps
             if experiment.accepted:
                 routes["Wiener (small-signal)"] = experiment
+                friction = plant_model.effect("seal friction")
+                accepted = max(step.amplitude for step in experiment.steps if step.accepted)
+                if friction is not None and output == "stroke":
+                    breakout = friction.constant + friction.pressure_factor * (
+                        plant_model.upper_mass * 9.80665)
+                    if 3.0 * accepted < breakout:
+                        result.notes.append(
+                            f"strut stroke: the small-signal force accepted as linear "
+                            f"({accepted:.3g} N RMS) stays below the seal friction's breakout "
+                            f"(about {breakout:.3g} N): the linear block describes the strut "
+                            f"held by its seals, not its dynamics in a drop")
             else:
                 result.notes.append(f"{OUTPUT_LABELS[output]}: the small-signal method found no "
                                     f"amplitude with a linear response; no small-signal Wiener "
@@ -308,14 +336,24 @@ def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None
             amplitude = float(np.sqrt(np.mean(np.concatenate([d.load for d in train]) ** 2)))
             routes["Wiener (BLA)"] = best_linear_records(plant, [output], 2000, rate,
                                                          amplitude=amplitude * 1e3)
+        target = settings.nonlinearity_target.si * 1e3
         for name, records in routes.items():
             wiener = WienerModel(settings.wiener.na, settings.wiener.nb).fit_linear(
                 [f / 1e3 for f in records.force], [r * 1e3 for r in records.responses[output]])
             result.linear_blocks[(name, output)] = wiener.raw_linear_
+            if not wiener.raw_linear_.stable_:
+                result.notes.append(f"{OUTPUT_LABELS[output]}: the {name} linear block is "
+                                    f"unstable; no Wiener model on this route")
+                continue
+            if not wiener.raw_linear_.gain_determined:
+                result.notes.append(f"{OUTPUT_LABELS[output]}: the {name} linear block's static "
+                                    f"gain is not determined (Σb or 1 − Σa near zero); it is "
+                                    f"scaled to unit ‖b‖ instead of unit gain")
             wiener.fit_nonlinearity([d.load for d in train], [d.outputs[output] for d in train],
-                                    _static_map(settings.wiener))
+                                    _static_map(settings.wiener, target))
+            z_grid = np.linspace(*wiener.z_range_, 200)
             result.nonlinearities[(name, output)] = (
-                grid, wiener.nonlinearity_.predict(grid[:, None]))
+                z_grid, wiener.nonlinearity_.predict(z_grid[:, None]))
             for test in held:
                 result.scores.append(_score(name, "held-out", output, test.run,
                                             test.outputs[output], wiener.simulate(test.load)))
@@ -340,7 +378,9 @@ def identify(campaign: Campaign, gears: list[str] | None = None) -> Identificati
         f"blocks come from them; the best-linear-approximation route still uses the "
         f"calibrated drop model as its plant.")
     chosen = [u.id for u in spec.gear_units if gears is None or u.id in gears]
-    found = [g for g in (identify_gear(campaign, gear_id) for gear_id in chosen) if g]
+    # one BLAS thread: the results must not depend on the machine's core count
+    with threadpool_limits(limits=1):
+        found = [g for g in (identify_gear(campaign, gear_id) for gear_id in chosen) if g]
     return Identification(found, plant_note)
 
 
@@ -356,7 +396,9 @@ def identification_document(identification) -> dict | None:
          "one_step": [{"model": m, "output": o, "run": r, "rmse_mm": v}
                       for m, o, r, v in g.one_step],
          "linear_blocks": [{"route": route, "output": output, "a": arx.a_.tolist(),
-                            "b": arx.b_.tolist(), "static_gain_mm_per_kN": arx.static_gain_,
+                            "b": arx.b_.tolist(),
+                            "static_gain_mm_per_kN": (arx.static_gain_ if np.isfinite(
+                                arx.static_gain_) else None),
                             "stable": arx.stable_}
                            for (route, output), arx in g.linear_blocks.items()],
          "hammerstein_singular_value_ratio": g.hammerstein_ratio, "notes": g.notes}

@@ -57,14 +57,30 @@ class ARX:
         self.poles_ = np.roots(np.concatenate([[1.0], -self.a_])) if self.na else np.empty(0)
         self.stable_ = bool(np.all(np.abs(self.poles_) < 1.0))
         denominator = 1.0 - np.sum(self.a_)
-        self.static_gain_ = float(np.sum(self.b_) / denominator) if denominator else float("inf")
+        self.static_gain_ = float(np.sum(self.b_) / denominator) if denominator else float("nan")
         return self
 
+    @property
+    def gain_determined(self) -> bool:
+        """Whether the static gain is well conditioned: Σb and 1 − Σa both clearly away
+        from zero (relative to Σ|b| and 1 + Σ|a|)."""
+        denominator = 1.0 - np.sum(self.a_)
+        return bool(abs(np.sum(self.b_)) > 1e-6 * np.sum(np.abs(self.b_))
+                    and abs(denominator) > 1e-6 * (1.0 + np.sum(np.abs(self.a_))))
+
     def normalised(self) -> ARX:
-        """The same dynamics scaled to unit static gain (the gain goes to the nonlinearity)."""
+        """The same dynamics scaled to unit static gain (the gain goes to the nonlinearity),
+        or to unit ‖b‖ with a positive largest coefficient when the gain is not determined."""
+        if self.gain_determined:
+            scale = self.static_gain_
+        else:
+            scale = float(np.linalg.norm(self.b_)) * np.sign(self.b_[np.argmax(np.abs(self.b_))])
         model = ARX(self.na, self.nb)
-        model.a_, model.b_ = self.a_.copy(), self.b_ / self.static_gain_
-        model.poles_, model.stable_, model.static_gain_ = self.poles_, self.stable_, 1.0
+        model.a_, model.b_ = self.a_.copy(), self.b_ / scale
+        model.poles_, model.stable_ = self.poles_, self.stable_
+        denominator = 1.0 - np.sum(model.a_)
+        model.static_gain_ = (float(np.sum(model.b_) / denominator) if self.gain_determined
+                              else float("nan"))
         return model
 
     def simulate(self, u: np.ndarray) -> np.ndarray:

@@ -462,7 +462,8 @@ def _identification_view(evidence) -> dict:
             blocks.append({"route": route, "output": OUTPUT_LABELS[output],
                            "a": ", ".join(f"{v:.6g}" for v in arx.a_),
                            "b": ", ".join(f"{v:.6g}" for v in arx.b_),
-                           "gain": f"{arx.static_gain_:.6g} mm/kN",
+                           "gain": (f"{arx.static_gain_:.6g} mm/kN" if math.isfinite(
+                               arx.static_gain_) else "not determined"),
                            "stable": "yes" if arx.stable_ else "NO"})
         steps = [{"output": OUTPUT_LABELS[output], "amplitude": f"{step.amplitude:.4g}",
                   "mismatch": f"{step.mismatch[output]:.3g}",

@@ -484,6 +484,10 @@ class IdentificationSpec(_Model):
     held_out: list[Identifier] = Field(
         [], description="runs kept out of fitting and tuning (default: the highest drop)")
     small_signal: SmallSignalSpec = SmallSignalSpec()
+    nonlinearity_target: Length = Field(
+        parse_quantity("0.1 mm", "length"),
+        description="step 9: the static nonlinearity's tuning stops once its cross-validated "
+                    "RMSE is at or below this")
 
 
 class ModelSettings(_Model):

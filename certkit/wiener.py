@@ -69,13 +69,16 @@ def small_signal_records(plant: Plant, outputs: list[str], samples: int, sample_
     """Steps 1-4: find an amplitude at which the plant responds linearly.
 
     Applies ``amplitude``·r and ``gain``·``amplitude``·r (r: :func:`excitation`) and
-    accepts when every output scales by ``gain`` within ``tolerance``; otherwise the
-    amplitude shrinks by ``shrink`` (at most ``max_steps`` times).
+    checks that every output scales by ``gain`` within ``tolerance``.  While it does, the
+    amplitude grows by ``gain`` and the largest linear one is kept (steps 2-3); if the
+    first check fails the amplitude shrinks by ``shrink`` until one passes (step 4); at
+    most ``max_steps`` checks.
     """
     base = excitation(samples, sample_rate, bandwidth, seed)
     experiment = SmallSignalExperiment(force=[], responses={name: [] for name in outputs})
-    for _ in range(max_steps):
-        first, second = amplitude * base, gain * amplitude * base
+
+    def check(level: float):
+        first, second = level * base, gain * level * base
         y1, y2 = plant(first), plant(second)
         mismatch = {}
         for name in outputs:
@@ -84,14 +87,34 @@ def small_signal_records(plant: Plant, outputs: list[str], samples: int, sample_
             mismatch[name] = (float(np.linalg.norm(y2[name] - reference)) / norm
                               if norm > 0 else float("inf"))
         accepted = all(m <= tolerance for m in mismatch.values())
-        experiment.steps.append(LinearityStep(amplitude, mismatch, accepted))
-        if accepted:
-            experiment.force = [first, second]
-            for name in outputs:
-                experiment.responses[name] = [y1[name], y2[name]]
-            experiment.accepted = True
-            return experiment
+        experiment.steps.append(LinearityStep(level, mismatch, accepted))
+        return accepted, (first, second, y1, y2)
+
+    def keep(records) -> None:
+        first, second, y1, y2 = records
+        experiment.force = [first, second]
+        experiment.responses = {name: [y1[name], y2[name]] for name in outputs}
+        experiment.accepted = True
+
+    accepted, records = check(amplitude)
+    if accepted:
+        # steps 2-3: while the response stays linear, apply the scaled signal again; keep
+        # the largest amplitude that was still linear
+        for _ in range(max_steps - 1):
+            keep(records)
+            amplitude *= gain
+            accepted, records = check(amplitude)
+            if not accepted:
+                return experiment
+        keep(records)
+        return experiment
+    # step 4: not linear: bring the amplitude back within the margin until it is
+    for _ in range(max_steps - 1):
         amplitude *= shrink
+        accepted, records = check(amplitude)
+        if accepted:
+            keep(records)
+            return experiment
     return experiment
 
 
@@ -139,6 +162,9 @@ class WienerModel:
         """
         z = np.concatenate([self.linear_.simulate(u) for u in inputs])
         y = np.concatenate([np.asarray(o, dtype=float) for o in outputs])
+        if not np.all(np.isfinite(z)):
+            raise ValueError("the linear block's output is not finite (unstable block)")
+        self.z_range_ = (float(z.min()), float(z.max()))
         self.nonlinearity_ = tune(z[:, None], y)
         return self
 

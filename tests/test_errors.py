@@ -320,3 +320,12 @@ def test_zero_reported_energies_do_not_crash_the_audit(seed_copy, tmp_path):
     findings = assess(load_campaign(seed_copy)).findings
     assert any(f.check == "efficiency-not-positive-strut" and f.gear == "left-main"
                for f in findings)
+
+
+def test_an_unknown_held_out_run_is_an_input_error(physics_campaign, tmp_path):
+    edit_spec(physics_campaign, "  effects: [rebound-orifice, seal-friction]",
+              "  effects: [rebound-orifice, seal-friction]\n"
+              "  identification: {held_out: [D3OO]}")
+    result = run_report(physics_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "model.identification.held_out[0]",
+                       "unknown run 'D3OO'", f"campaign.yaml:{line_of(physics_campaign, 'D3OO')}")

@@ -70,3 +70,27 @@ def test_excitation_is_zero_mean_unit_rms_and_reproducible():
     assert np.array_equal(r, excitation(2000, 1000.0, 30.0, seed=3))
     records = best_linear_records(_wiener_plant(np.tanh), ["y"], 500, 100.0, amplitude=1.0)
     assert len(records.force) == 2 and records.accepted
+
+
+def test_small_signal_method_grows_the_amplitude_while_the_plant_stays_linear():
+    # f(z) = z + z^3/100: linear within 2 % up to |z| of about 1; starting small, the
+    # method doubles the amplitude while the K-check passes and keeps the last linear one
+    plant = _wiener_plant(lambda z: z + z ** 3 / 100.0)
+    experiment = small_signal_records(plant, ["y"], 1000, 100.0, amplitude=0.05, gain=2.0,
+                                      tolerance=0.02, bandwidth=10.0)
+    decisions = [s.accepted for s in experiment.steps]
+    assert decisions[0] and not decisions[-1] and experiment.accepted
+    kept = max(s.amplitude for s in experiment.steps if s.accepted)
+    assert kept > 0.05 and np.allclose(experiment.force[0], kept * excitation(1000, 100.0, 10.0, 0))
+
+
+def test_a_gain_that_is_not_determined_is_scaled_by_the_norm_of_b():
+    # a differentiator-like block: Σb = 0, so the static gain is 0 and cannot normalise it
+    rng = np.random.default_rng(2)
+    u = rng.standard_normal(500)
+    y = lfilter([1.0, -1.0], [1.0, -0.5], u)
+    model = ARX(1, 2).fit(u, y)
+    assert not model.gain_determined
+    scaled = model.normalised()
+    assert np.linalg.norm(scaled.b_) == pytest.approx(1.0)
+    assert np.isnan(scaled.static_gain_) and np.all(np.isfinite(scaled.simulate(u)))
