@@ -496,9 +496,10 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
         logs = []
         for n in free:
             value = math.log10(_positive(n, start_values[n]))
-            if not bounds[n][0] <= value <= bounds[n][1]:
+            low, high = bounds[n]
+            if not low - 1e-9 <= value <= high + 1e-9:
                 raise ValueError(f"start {n}={start_values[n]} lies outside its range")
-            logs.append(value)
+            logs.append(min(max(value, low), high))   # a grid end point, up to rounding
         evaluate(logs)
 
     if refine:

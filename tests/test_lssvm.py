@@ -303,3 +303,21 @@ def test_white_noise_passes_and_coloured_residuals_fail():
     cross = residual_analysis(leaking, u)
     assert not cross.cross_correlation_ok[cross.cross_lags == 2][0]
     assert cross.cross_correlation_ok[cross.cross_lags == -2][0]
+
+
+def test_refinement_may_start_from_a_grid_end_point():
+    # a cost falling towards the upper σ² bound: its best grid point is the bound itself,
+    # which after the log10 round trip can sit a rounding error outside the range
+    from certkit.lssvm import tune
+
+    def cost(gamma, sigma2):
+        return 1.0 / sigma2 + (math.log10(gamma) - 2.0) ** 2
+
+    scale = 0.7849569384544595  # found by search: 10**log10(10·scale) rounds above 10·scale
+    assert math.log10(10 ** np.linspace(math.log10(1e-3 * scale), math.log10(10 * scale), 5)[-1]) \
+        > math.log10(10 * scale)
+    ranges = {"gamma": (1e0, 1e4), "sigma2": (1e-3 * scale, 10 * scale)}
+    coarse = tune(cost, grid=5, refine=False, **ranges)
+    assert coarse.sigma2 == pytest.approx(10 * scale)
+    refined = tune(cost, grid=5, start=(coarse.gamma, coarse.sigma2), max_refine=10, **ranges)
+    assert refined.cost <= coarse.cost
