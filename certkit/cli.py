@@ -38,6 +38,12 @@ def _fail_input(error: CertkitInputError) -> None:
     raise typer.Exit(2)
 
 
+def _fail(spec: Path, message: str) -> None:
+    """A bad-input outcome that is not a spec problem (a failed simulation, no data)."""
+    err.print(Text.assemble(("error: ", "bold red"), f"{spec}: {message}"))
+    raise typer.Exit(2)
+
+
 def _version(value: bool) -> None:
     if value:
         out.print(f"certkit {__version__}")
@@ -139,8 +145,7 @@ def report(spec: SpecArgument,
                     status.stop()
                 if isinstance(error, CertkitInputError):
                     _fail_input(error)
-                err.print(Text.assemble(("error: ", "bold red"), f"{spec}: {error}"))
-                raise typer.Exit(2) from None
+                _fail(spec, str(error))
         try:
             render_report(assessment, output, progress, evidence)
         except CertkitInputError as error:
@@ -178,9 +183,7 @@ def simulate(spec: SpecArgument,
     except CertkitInputError as error:
         _fail_input(error)
     except SimulationError as error:
-        err.print(Text.assemble(("error: ", "bold red"), f"{spec}: {error} (check the gear "
-                                                         f"parameters; nothing was written)"))
-        raise typer.Exit(2) from None
+        _fail(spec, f"{error} (check the gear parameters; nothing was written)")
     out.print(f"wrote {written} and {len(campaign.spec.runs)} data file(s) (synthetic)")
 
 
@@ -209,12 +212,9 @@ def calibrate(spec: SpecArgument,
     except CertkitInputError as error:
         _fail_input(error)
     except SimulationError as error:
-        err.print(Text.assemble(("error: ", "bold red"), f"{spec}: {error}"))
-        raise typer.Exit(2) from None
+        _fail(spec, str(error))
     if not result.gears:
-        err.print(Text.assemble(("error: ", "bold red"), f"{spec}: no run records a gear unit "
-                                                         "with time histories; nothing to fit"))
-        raise typer.Exit(2)
+        _fail(spec, "no run records a gear unit with time histories; nothing to fit")
     for item in result.gears:
         fit_ = item.fit
         table = Table(title=f"{item.gear_id}: runs {', '.join(item.runs)}; effects "
@@ -270,12 +270,9 @@ def identify(spec: SpecArgument,
     except CertkitInputError as error:
         _fail_input(error)
     except SimulationError as error:
-        err.print(Text.assemble(("error: ", "bold red"), f"{spec}: {error}"))
-        raise typer.Exit(2) from None
+        _fail(spec, str(error))
     if not result.gears:
-        err.print(Text.assemble(("error: ", "bold red"), f"{spec}: no gear unit has two drops "
-                                                         "with time histories; nothing to identify"))
-        raise typer.Exit(2)
+        _fail(spec, "no gear unit has two drops with time histories; nothing to identify")
     out.print(result.plant_note)
     for gear in result.gears:
         table = Table(title=f"{gear.gear_id}: free-run RMSE [mm]; trained on "
