@@ -1,0 +1,59 @@
+"""Phases of a drop: the same segmentation on simulated and noisy measured channels,
+checked against the simulator's own events."""
+
+import math
+
+import numpy as np
+import pytest
+
+from certkit.phases import PHASES, segment
+from certkit.simulation import simulate_reference
+
+from .test_drop_model import seed_gear
+
+G = 9.80665
+
+
+@pytest.fixture(scope="module")
+def drop():
+    return simulate_reference(seed_gear(), math.sqrt(2 * G * 0.3), duration=1.9, lead=0.1)
+
+
+def test_phases_cover_the_record_in_order(drop):
+    phases = segment(drop.time, drop.load, drop.stroke, 292.5 * G)
+    assert [p.name for p in phases] == list(PHASES)
+    assert phases[0].start == 0 and phases[-1].stop == drop.time.size
+    assert all(a.stop == b.start for a, b in zip(phases, phases[1:]))
+
+
+def test_events_match_the_simulators_own(drop):
+    phases = {p.name: p for p in segment(drop.time, drop.load, drop.stroke, 292.5 * G)}
+    contact = int(np.flatnonzero(drop.time >= 0.0)[0])          # the simulation's t = 0
+    assert 0 <= phases["tyre-only contact"].start - contact <= 2  # 2 % of W within 2 ms
+    # breakout: the first sample the stroke exceeds 0.5 mm, from the simulated stroke itself
+    breakout = int(np.flatnonzero(drop.stroke > 0.5e-3)[0])
+    assert phases["strut breakout"].start == breakout
+    assert phases["compression"].stop - 1 == int(np.argmax(drop.load))
+    top = int(np.argmax(drop.stroke))
+    assert phases["rebound"].start <= top < phases["rebound"].stop
+    assert np.all(np.diff(drop.stroke[top:phases["rebound"].stop]) <= 1e-6)  # extending
+
+
+def test_noise_moves_the_boundaries_by_a_few_samples_at_most(drop):
+    rng = np.random.default_rng(0)
+    clean = segment(drop.time, drop.load, drop.stroke, 292.5 * G)
+    noisy = segment(drop.time, drop.load + rng.normal(0, 20.0, drop.load.size),
+                    drop.stroke + rng.normal(0, 5e-5, drop.stroke.size), 292.5 * G)
+    assert [p.name for p in noisy] == [p.name for p in clean]
+    for a, b in zip(clean[:-2], noisy[:-2]):   # rebound's end is a shallow minimum
+        assert abs(a.start - b.start) <= 3, (a, b)
+
+
+def test_a_strut_that_never_breaks_out_has_no_strut_phases():
+    from dataclasses import replace
+
+    base = seed_gear()
+    stiff = replace(base, gas=replace(base.gas, precharge=8e6))
+    drop = simulate_reference(stiff, math.sqrt(2 * G * 0.1), duration=0.5, lead=0.1)
+    names = [p.name for p in segment(drop.time, drop.load, drop.stroke, 292.5 * G)]
+    assert names == ["free fall", "tyre-only contact"]
