@@ -425,11 +425,14 @@ def model_evidence(campaign: Campaign, identification: bool = True) -> ModelEvid
 
 
 def simulate_like_runs(campaign: Campaign, gear_id: str, configure=lambda model: model,
-                       run_ids: list[str] | None = None) -> dict:
+                       run_ids: list[str] | None = None, effects: list[str] | None = None
+                       ) -> dict:
     """Each run's channels as the (configured) drop model simulates them, aligned on the
     measured touchdown and sampled at the measured times: run id -> {"time", "load",
-    "stroke", "tyre"} (SI, time from the measured touchdown)."""
-    runs = _runs_for(campaign, gear_id, list(campaign.spec.model.effects), run_ids)
+    "stroke", "tyre"} (SI, time from the measured touchdown).  ``effects``: the optional
+    effects of the model (default: the spec's)."""
+    chosen = list(campaign.spec.model.effects if effects is None else effects)
+    runs = _runs_for(campaign, gear_id, chosen, run_ids)
     if not runs:
         return {}
     models = [configure(r.model) for r in runs]
