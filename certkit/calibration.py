@@ -440,3 +440,33 @@ def simulate_like_runs(campaign: Campaign, gear_id: str, configure=lambda model:
     simulated = _simulated(runs, models, batch_step(models, [r.velocity for r in runs], rate),
                            rate)
     return {r.run_id: dict(sim, time=r.time) for r, sim in zip(runs, simulated)}
+
+
+class RunResiduals:
+    """The normalised residuals of a gear unit's runs, for any drop models: the same rows
+    (runs × recorded channels × samples from the measured touchdown) the calibration fits.
+
+    ``evaluate(model_sets)`` takes one list of models per candidate (one model per run, in
+    :attr:`run_ids` order) and returns the residual vectors as rows, in one batched call.
+    """
+
+    def __init__(self, campaign: Campaign, gear_id: str, run_ids: list[str] | None = None,
+                 effects: list[str] | None = None):
+        chosen = list(campaign.spec.model.effects if effects is None else effects)
+        self.runs = _runs_for(campaign, gear_id, chosen, run_ids)
+        if not self.runs:
+            raise CertkitInputError.single(campaign.spec_path.name, None, "runs",
+                                           f"no run records gear unit {gear_id} with time "
+                                           "histories")
+        self.run_ids = [r.run_id for r in self.runs]
+        self.models = [r.model for r in self.runs]
+        self.rate = 1.0 / float(np.median(np.diff(self.runs[0].time)))
+
+    def evaluate(self, model_sets: list[list[DropModel]]) -> np.ndarray:
+        runs = [run for _ in model_sets for run in self.runs]
+        models = [m for models in model_sets for m in models]
+        step = batch_step(models, [r.velocity for r in runs], self.rate)
+        simulated = _simulated(runs, models, step, self.rate)
+        width = len(self.runs)
+        return np.array([_residual_vector(self.runs, simulated[i * width:(i + 1) * width])
+                         for i in range(len(model_sets))])
