@@ -135,3 +135,178 @@ def nominal_jacobian(residuals, calibration, relative: float = 1e-4) -> np.ndarr
     values = residuals.evaluate(sets)
     return np.column_stack([(values[2 * i] - values[2 * i + 1]) / (2 * h)
                             for i, h in enumerate(steps)])
+
+
+# --------------------------------------------------------------------------- refits
+@dataclass(frozen=True)
+class Refit:
+    """The nominal parameters and some candidate effects' strengths fitted together."""
+
+    effects: tuple[str, ...]
+    strengths: tuple[float, ...]
+    strength_errors: tuple[float, ...]
+    values: tuple[float, ...]          # nominal knobs, calibrated again
+    training_cost: float               # RMS normalised residual on the training runs
+    fit: object                        # certkit.fitting.FitResult
+
+    def apply(self, knobs, model: DropModel, candidates) -> DropModel:
+        for knob, value in zip(knobs, self.values):
+            model = knob.write(model, float(value))
+        for candidate, strength in zip(candidates, self.strengths):
+            model = candidate.add(model, float(strength))
+        return model
+
+
+def refit(residuals, calibration, candidates: list[Candidate],
+          max_strength: float = 20.0) -> Refit:
+    """Fit the calibration's knobs and the strengths (bounded to [0, ``max_strength``] of
+    each candidate's unit size) on the runs of ``residuals``."""
+    from .fitting import FitParameter, fit
+
+    knobs = calibration.knobs
+    parameters = [FitParameter(p.name, p.unit, float(v), p.lower, p.upper)
+                  for p, v in zip(calibration.fit.parameters, calibration.fit.estimate)]
+    parameters += [FitParameter(f"{c.name} strength", "1", c.probe, 0.0, max_strength)
+                   for c in candidates]
+
+    def configure(x) -> list[DropModel]:
+        models = []
+        for base in residuals.models:
+            model = base
+            for knob, value in zip(knobs, x[:len(knobs)]):
+                model = knob.write(model, float(value))
+            for candidate, strength in zip(candidates, x[len(knobs):]):
+                model = candidate.add(model, float(strength))
+            models.append(model)
+        return models
+
+    def many(matrix):
+        return residuals.evaluate([configure(x) for x in matrix])
+
+    result = fit(lambda x: many(np.asarray(x)[None, :])[0], parameters, residuals_many=many,
+                 max_evaluations=40, tolerance=1e-6)
+    k = len(knobs)
+    return Refit(tuple(c.name for c in candidates), tuple(map(float, result.estimate[k:])),
+                 tuple(map(float, result.standard_error[k:])),
+                 tuple(map(float, result.estimate[:k])), result.cost, result)
+
+
+# --------------------------------------------------------------------------- the diagnosis
+#: A candidate is considered only if it would remove at least this RMS (in noise units).
+RELEVANT = 0.3
+#: Refitted candidates whose training costs lie within this ratio and whose projected
+#: signatures are this alike cannot be told apart.
+TIE_COST, TIE_COSINE = 1.05, 0.9
+#: A candidate must cut the training cost by at least this share to be named.
+GAIN = 0.10
+LEADING = 3
+
+
+@dataclass
+class Diagnosis:
+    gear_id: str
+    training: tuple[str, ...]
+    held_out: tuple[str, ...]
+    answer: tuple[str, ...]        # the effect(s) named; empty: abstained
+    statement: str                 # the answer in words
+    steps: list                    # (Attribution, [Refit ...]) per greedy step
+    held_out_rmse: dict            # (label, run, channel) -> RMSE before/after [SI]
+
+
+def _held_out_rmse(campaign, gear_id, held, configure) -> dict:
+    from .calibration import simulate_like_runs
+
+    simulated = simulate_like_runs(campaign, gear_id, configure, list(held), effects=[])
+    out = {}
+    weight = campaign.gear_units[gear_id].static_weight.si
+    from .measures import touchdown_time
+
+    for run_id in held:
+        series = campaign.series[run_id]
+        gear = series.gears[gear_id]
+        t_contact, _ = touchdown_time(series.time, gear.load, weight)
+        after = series.time >= t_contact
+        for channel, measured in (("load", gear.load), ("stroke", gear.stroke),
+                                  ("tyre", gear.tyre)):
+            if measured is None:
+                continue
+            difference = simulated[run_id][channel] - measured[after]
+            out[(run_id, channel)] = float(np.sqrt(np.mean(difference ** 2)))
+    return out
+
+
+def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES) -> Diagnosis:
+    """Which effect(s) of the library explain the gap of ``gear_id``'s nominal model.
+
+    Scores every candidate on the training runs, refits the leading relevant ones with the
+    nominal parameters, names the one that cuts the training cost most (or abstains), then
+    looks for a second one the same way.  The held-out runs are only evaluated."""
+    from .calibration import RunResiduals, calibrate_gear
+    from .gap import default_split
+
+    training, held = split or default_split(campaign, gear_id)
+    calibration = calibrate_gear(campaign, gear_id, effects=[], run_ids=list(training))
+    residuals = RunResiduals(campaign, gear_id, list(training), effects=[])
+    chosen: list[Candidate] = []
+    current: Refit | None = None
+    cost = calibration.fit.cost
+    steps, statement = [], ""
+    names = {c.name: c for c in candidates}
+    for _ in range(2):
+        models = [(current.apply(calibration.knobs, m, chosen) if current else
+                   calibration.apply(m)) for m in residuals.models]
+        jacobian = nominal_jacobian(residuals, calibration) if current is None else \
+            _refit_jacobian(residuals, calibration, current, chosen)
+        remaining = [c for c in candidates if c not in chosen]
+        attribution = score_candidates(residuals, models, jacobian, remaining)
+        leading = [names[s.name] for s in attribution.scores[:LEADING]
+                   if s.explained >= RELEVANT]
+        fits = [refit(residuals, calibration, chosen + [c]) for c in leading]
+        steps.append((attribution, fits))
+        useful = sorted((f for f in fits if f.training_cost <= (1 - GAIN) * cost),
+                        key=lambda f: f.training_cost)
+        if not useful:
+            if not chosen:
+                statement = "No effect in the library explains the gap."
+            break
+        best = useful[0]
+        if len(useful) > 1:
+            other = useful[1]
+            a, b = best.effects[-1], other.effects[-1]
+            cosine = attribution.confusability.get((a, b), attribution.confusability.get((b, a), 0))
+            if other.training_cost <= TIE_COST * best.training_cost and cosine >= TIE_COSINE:
+                statement = (f"{a} and {b} cannot be told apart with these channels "
+                             f"(training costs {best.training_cost:.4g} and "
+                             f"{other.training_cost:.4g}; signature cosine {cosine:.2f}).")
+                break
+        chosen.append(names[best.effects[-1]])
+        current, cost = best, best.training_cost
+    answer = tuple(c.name for c in chosen)
+    if answer and not statement:
+        statement = "The gap is explained by " + " and ".join(answer) + "."
+    before = _held_out_rmse(campaign, gear_id, held, calibration.apply)
+    rmse = {("nominal",) + key: value for key, value in before.items()}
+    if current is not None:
+        after = _held_out_rmse(campaign, gear_id, held,
+                               lambda m: current.apply(calibration.knobs, m, chosen))
+        rmse.update({("with " + " and ".join(answer),) + key: value
+                     for key, value in after.items()})
+    return Diagnosis(gear_id, tuple(training), tuple(held), answer, statement, steps, rmse)
+
+
+def _refit_jacobian(residuals, calibration, current: Refit, chosen) -> np.ndarray:
+    """∂r/∂θ of the knobs and the chosen strengths at a refit (central differences)."""
+    values = np.array(list(current.values) + list(current.strengths), dtype=float)
+    k = len(calibration.knobs)
+    sets, steps = [], []
+    for index in range(values.size):
+        h = 1e-4 * max(abs(values[index]), 1e-3)
+        steps.append(h)
+        for sign in (+1, -1):
+            x = values.copy()
+            x[index] += sign * h
+            trial = Refit(current.effects, tuple(x[k:]), current.strength_errors, tuple(x[:k]),
+                          current.training_cost, current.fit)
+            sets.append([trial.apply(calibration.knobs, m, chosen) for m in residuals.models])
+    r = residuals.evaluate(sets)
+    return np.column_stack([(r[2 * i] - r[2 * i + 1]) / (2 * h) for i, h in enumerate(steps)])
