@@ -18,7 +18,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .drop_model import DropModel
-from .effects import GasHeatTransfer, LegFlexibility, ReboundOrifice, SealFriction, TyreHysteresis
+from .effects import (GasHeatTransfer, LegFlexibility, ReboundOrifice, SealFriction, SensorLag,
+                      TyreHysteresis)
 from .units import STANDARD_GRAVITY
 
 
@@ -51,6 +52,8 @@ CANDIDATES = (
                                  "at the axle",
               lambda m, phi: _with(m, LegFlexibility(0.5 * m.lower_mass, 3.0e6 / phi))
               if phi > 0 else m, probe=0.02),
+    Candidate("sensor lag", "a first-order lag of 2 ms on every recorded channel",
+              lambda m, phi: _with(m, SensorLag(0.002 * phi)), probe=0.1),
 )
 
 

@@ -251,6 +251,38 @@ class OilCompressibility(Term):
 
 
 @dataclass(frozen=True)
+class SensorLag(Term):
+    """A first-order lag of every recorded channel (time constant τ): the simplest form of
+    transducer and logger dynamics (physics.md §3 #12), as a model term.
+
+    It acts on the channels the simulation records, not on the mechanics (``pack`` writes
+    nothing); :func:`certkit.simulation.simulate_batch` and ``simulate_reference`` apply
+    it.  Exact discretisation of τ·ẏ + y = x for a piecewise-constant input.
+    """
+
+    time_constant: float  # τ [s]
+    name = "sensor lag"
+    fields = (("time_constant", "s", "time constant τ of the first-order lag"),)
+
+    def __post_init__(self):
+        if not self.time_constant >= 0:
+            raise ValueError("the sensor lag's time constant must not be negative")
+
+    def pack(self, p):
+        pass  # recorded channels only
+
+    def apply(self, step: float, signal: np.ndarray) -> np.ndarray:
+        """The lagged signal (last axis is time), starting at the signal's first value."""
+        from scipy.signal import lfilter
+
+        if self.time_constant == 0:
+            return np.asarray(signal, dtype=float)
+        a = np.exp(-step / self.time_constant)
+        signal = np.asarray(signal, dtype=float)
+        return lfilter([1 - a], [1, -a], signal, axis=-1, zi=(a * signal[..., :1]))[0]
+
+
+@dataclass(frozen=True)
 class SensorDynamics:
     """Transducer and logger dynamics on measured channels (physics.md §3 #12).
 

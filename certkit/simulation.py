@@ -22,6 +22,10 @@ from .drop_model import DropModel, orifice_coefficient
 from .units import STANDARD_GRAVITY
 
 
+#: The channels a logger records (what sensor effects act on).
+RECORDED = ("load", "stroke", "tyre", "acceleration", "displacement")
+
+
 class SimulationError(RuntimeError):
     """The integrator failed; the message names the run and the time it failed at."""
 
@@ -101,7 +105,7 @@ def simulate_reference(model: DropModel, contact_velocity: float, duration: floa
 
     t_lead, fall, fall_height = _free_fall(contact_velocity, lead, sample_rate)
     zeros = np.zeros(t_lead.size)
-    return SimulatedDrop(
+    drop = SimulatedDrop(
         time=np.concatenate([t_lead, solution.t]),
         load=np.concatenate([zeros, recorded[:, dyn.LOAD]]),
         stroke=np.concatenate([zeros, recorded[:, dyn.STROKE]]),
@@ -115,6 +119,11 @@ def simulate_reference(model: DropModel, contact_velocity: float, duration: floa
         strut_work=np.concatenate([zeros, y[dyn.STRUT_WORK]]),
         tyre_work=np.concatenate([zeros, y[dyn.TYRE_WORK]]),
     )
+    lag = model.effect("sensor lag")
+    if lag is not None:   # acts on the recorded channels, from the start of the record
+        for name in RECORDED:
+            setattr(drop, name, lag.apply(1.0 / sample_rate, getattr(drop, name)))
+    return drop
 
 
 @dataclass
@@ -254,13 +263,21 @@ def simulate_batch(models, contact_velocity, duration: float = 2.0,
     out, final = dyn.integrate_batch(parameters, initial, step, per_sample, samples,
                                      np.empty(0))
     fall = velocity ** 2 / (2 * STANDARD_GRAVITY)
-    return BatchDrops(
+    drops = BatchDrops(
         time=np.arange(samples) / sample_rate, load=out[:, :, dyn.LOAD],
         stroke=out[:, :, dyn.STROKE], tyre=out[:, :, dyn.TYRE],
         acceleration=out[:, :, dyn.ACCELERATION],
         displacement=out[:, :, dyn.DISPLACEMENT] - out[:, :1, dyn.DISPLACEMENT] + fall[:, None],
         mechanical=out[:, :, dyn.ENERGY] - out[:, :1, dyn.ENERGY],
         dissipated=final[:, dyn.DISSIPATED])
+    for index, model in enumerate(models):   # effects on the recorded channels
+        lag = model.effect("sensor lag")
+        if lag is not None:
+            for name in RECORDED:
+                values = getattr(drops, name)
+                values[index] = lag.apply(1.0 / sample_rate, values[index])
+    return drops
+
 
 
 @dataclass

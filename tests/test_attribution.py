@@ -90,3 +90,39 @@ def test_diagnosis_finds_two_effects_one_after_the_other(tmp_path_factory):
     diagnosis = _diagnosis(spec)
     assert set(diagnosis.answer) == {"tyre hysteresis", "rebound orifice"}, diagnosis.statement
     assert len(diagnosis.steps) == 2
+
+
+def test_a_logger_delay_is_diagnosed_as_sensor_lag(tmp_path_factory):
+    # truth: a 2nd-order 80 Hz Butterworth plus a 3 ms delay on the recorded channels; the
+    # candidate is a first-order lag, a different form (the check is not circular)
+    from .conftest import PHYSICS_SPEC, write_campaign
+
+    text = PHYSICS_SPEC.replace(
+        "  effects: [rebound-orifice, seal-friction]",
+        "  effects: [sensor-dynamics]\n  sensor: {cutoff: 80 Hz, order: 2, delay: 3 ms}")
+    root = tmp_path_factory.mktemp("diagnose-sensor")
+    spec = simulate_campaign(load_campaign(write_campaign(root / "truth", text)), root / "runs",
+                             seed=23)
+    diagnosis = _diagnosis(spec)
+    assert diagnosis.answer[:1] == ("sensor lag",), diagnosis.statement
+
+
+def test_sensor_lag_acts_alike_on_both_paths():
+    import math
+    from dataclasses import replace
+
+    import numpy as np
+
+    from certkit.effects import SensorLag
+    from certkit.simulation import simulate_batch, simulate_reference
+
+    from .test_drop_model import seed_gear
+
+    model = replace(seed_gear(), effects=seed_gear().effects + (SensorLag(0.003),))
+    velocity = math.sqrt(2 * 9.80665 * 0.3)
+    batch = simulate_batch(model, velocity, duration=0.4)
+    reference = simulate_reference(model, velocity, duration=0.4, lead=0.0)
+    assert np.max(np.abs(batch.load[0] - reference.load)) < 1e-3 * reference.load.max()
+    plain = simulate_reference(seed_gear(), velocity, duration=0.4, lead=0.0)
+    # a first-order lag smooths the contact spike: the recorded peak is lower
+    assert reference.load.max() < plain.load.max()
