@@ -299,6 +299,48 @@ def identify(spec: SpecArgument,
 
 
 @app.command()
+def gap(spec: SpecArgument,
+        gear: Annotated[list[str] | None, typer.Option(
+            "-g", "--gear", help="gear unit (repeat); default: every recorded one")] = None
+        ) -> None:
+    """Where the nominal model disagrees with the runs, and which effect explains it."""
+    from rich.table import Table
+
+    from .attribution import diagnose
+    from .campaign import load_campaign
+    from .gap import residual_map
+    from .simulation import SimulationError
+
+    try:
+        campaign = load_campaign(spec)
+        recorded = [g.id for g in campaign.spec.gear_units
+                    if sum(s is not None and g.id in s.gears for s in campaign.series.values()) >= 2]
+        chosen = [g for g in recorded if not gear or g in gear]
+        if not chosen:
+            _fail(spec, "no gear unit has two drops with time histories; nothing to diagnose")
+        for gear_id in chosen:
+            where = residual_map(campaign, gear_id)
+            which = diagnose(campaign, gear_id, (list(where.training), list(where.held_out)))
+            out.print(f"{gear_id}: trained on {', '.join(where.training)}, held out "
+                      f"{', '.join(where.held_out)}")
+            out.print(where.summary)
+            table = Table(title="candidate effects, first step (score test on the training runs)")
+            for column in ("effect", "LM statistic", "explained RMS [noise]"):
+                table.add_column(column, justify="left" if column == "effect" else "right")
+            for score in which.steps[0][0].scores:
+                table.add_row(score.name, f"{score.statistic:.4g}", f"{score.explained:.3g}")
+            out.print(table)
+            out.print(which.statement)
+            for (label, run, channel), value in sorted(which.held_out_rmse.items()):
+                unit, scale = ("N", 1.0) if channel == "load" else ("mm", 1e3)
+                out.print(f"  held-out {run} {channel}: RMSE {value * scale:.4g} {unit} ({label})")
+    except CertkitInputError as error:
+        _fail_input(error)
+    except SimulationError as error:
+        _fail(spec, str(error))
+
+
+@app.command()
 def schema() -> None:
     """Print the JSON Schema of the campaign spec (for editors and CI)."""
     from .spec import json_schema

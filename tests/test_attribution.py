@@ -126,3 +126,22 @@ def test_sensor_lag_acts_alike_on_both_paths():
     plain = simulate_reference(seed_gear(), velocity, duration=0.4, lead=0.0)
     # a first-order lag smooths the contact spike: the recorded peak is lower
     assert reference.load.max() < plain.load.max()
+
+
+def test_gap_command_on_the_example_names_effects_of_its_truth(physics_campaign):
+    from typer.testing import CliRunner
+
+    from certkit.cli import app
+
+    from .conftest import SEED
+
+    runner = CliRunner()
+    outcome = runner.invoke(app, ["gap", str(SEED), "-g", "right-main"])
+    assert outcome.exit_code == 0, outcome.output
+    # synthesise.py's truth for this gear has a rebound orifice, seal friction and tyre
+    # hysteresis, none of them in the nominal model; the diagnosis stops at two effects
+    statement = next(line for line in outcome.output.splitlines() if line.startswith("The gap"))
+    named = statement.removeprefix("The gap is explained by ").rstrip(".").split(" and ")
+    assert set(named) <= {"rebound orifice", "seal friction", "tyre hysteresis"} and named
+    outcome = runner.invoke(app, ["gap", str(physics_campaign)])
+    assert outcome.exit_code == 2 and "nothing to diagnose" in outcome.output
