@@ -119,25 +119,39 @@ def score_candidates(residuals, models: list[DropModel], nominal_jacobian: np.nd
     return Attribution(tuple(scores), confusability, sigma2)
 
 
-def nominal_jacobian(residuals, calibration, relative: float = 1e-4) -> np.ndarray:
-    """∂r/∂θ of a calibration's knobs at its estimate, by central differences in one batch."""
+def _central_jacobian(residuals, values, models_at, relative: float = 1e-4) -> np.ndarray:
+    """∂r/∂x at ``values`` by central differences, every stencil point in one batch;
+    ``models_at(x)`` gives the models (one per run) at parameter vector x."""
+    values = np.asarray(values, dtype=float)
     sets, steps = [], []
-    for index, (knob, value) in enumerate(zip(calibration.knobs, calibration.fit.estimate)):
-        h = relative * max(abs(float(value)), 1e-12)
+    for index in range(values.size):
+        h = relative * max(abs(values[index]), 1e-3)
         steps.append(h)
         for sign in (+1, -1):
-            values = np.array(calibration.fit.estimate, dtype=float)
-            values[index] += sign * h
-            models = []
-            for base in residuals.models:
-                model = base
-                for k, v in zip(calibration.knobs, values):
-                    model = k.write(model, float(v))
-                models.append(model)
-            sets.append(models)
-    values = residuals.evaluate(sets)
-    return np.column_stack([(values[2 * i] - values[2 * i + 1]) / (2 * h)
-                            for i, h in enumerate(steps)])
+            x = values.copy()
+            x[index] += sign * h
+            sets.append(models_at(x))
+    r = residuals.evaluate(sets)
+    return np.column_stack([(r[2 * i] - r[2 * i + 1]) / (2 * h) for i, h in enumerate(steps)])
+
+
+def _configured(residuals, knobs, candidates, x) -> list[DropModel]:
+    """The runs' models with the knobs at x[:k] and the candidates at strengths x[k:]."""
+    models = []
+    for base in residuals.models:
+        model = base
+        for knob, value in zip(knobs, x[:len(knobs)]):
+            model = knob.write(model, float(value))
+        for candidate, strength in zip(candidates, x[len(knobs):]):
+            model = candidate.add(model, float(strength))
+        models.append(model)
+    return models
+
+
+def nominal_jacobian(residuals, calibration) -> np.ndarray:
+    """∂r/∂θ of a calibration's knobs at its estimate."""
+    return _central_jacobian(residuals, calibration.fit.estimate,
+                             lambda x: _configured(residuals, calibration.knobs, [], x))
 
 
 # --------------------------------------------------------------------------- refits
@@ -172,19 +186,9 @@ def refit(residuals, calibration, candidates: list[Candidate],
     parameters += [FitParameter(f"{c.name} strength", "1", c.probe, 0.0, max_strength)
                    for c in candidates]
 
-    def configure(x) -> list[DropModel]:
-        models = []
-        for base in residuals.models:
-            model = base
-            for knob, value in zip(knobs, x[:len(knobs)]):
-                model = knob.write(model, float(value))
-            for candidate, strength in zip(candidates, x[len(knobs):]):
-                model = candidate.add(model, float(strength))
-            models.append(model)
-        return models
-
     def many(matrix):
-        return residuals.evaluate([configure(x) for x in matrix])
+        return residuals.evaluate([_configured(residuals, knobs, candidates, x)
+                                   for x in matrix])
 
     result = fit(lambda x: many(np.asarray(x)[None, :])[0], parameters, residuals_many=many,
                  max_evaluations=40, tolerance=1e-6)
@@ -217,23 +221,14 @@ class Diagnosis:
 
 
 def _held_out_rmse(campaign, gear_id, held, configure) -> dict:
-    from .calibration import simulate_like_runs
+    """RMSE from touchdown of every channel of the held-out runs: (run, channel) -> [SI]."""
+    from .calibration import aligned_records
 
-    simulated = simulate_like_runs(campaign, gear_id, configure, list(held), effects=[])
     out = {}
-    weight = campaign.gear_units[gear_id].static_weight.si
-    from .measures import touchdown_time
-
-    for run_id in held:
-        series = campaign.series[run_id]
-        gear = series.gears[gear_id]
-        t_contact, _ = touchdown_time(series.time, gear.load, weight)
-        after = series.time >= t_contact
-        for channel, measured in (("load", gear.load), ("stroke", gear.stroke),
-                                  ("tyre", gear.tyre)):
-            if measured is None:
-                continue
-            difference = simulated[run_id][channel] - measured[after]
+    for run_id, record in aligned_records(campaign, gear_id, configure, list(held),
+                                          effects=[]).items():
+        for channel, measured in record.measured.items():
+            difference = record.simulated[channel][record.after] - measured[record.after]
             out[(run_id, channel)] = float(np.sqrt(np.mean(difference ** 2)))
     return out
 
@@ -256,10 +251,12 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES) -> Diagn
     steps, statement = [], ""
     names = {c.name: c for c in candidates}
     for _ in range(2):
-        models = [(current.apply(calibration.knobs, m, chosen) if current else
-                   calibration.apply(m)) for m in residuals.models]
+        models = (_configured(residuals, calibration.knobs, chosen,
+                              list(current.values) + list(current.strengths))
+                  if current else [calibration.apply(m) for m in residuals.models])
         jacobian = nominal_jacobian(residuals, calibration) if current is None else \
-            _refit_jacobian(residuals, calibration, current, chosen)
+            _central_jacobian(residuals, list(current.values) + list(current.strengths),
+                              lambda x: _configured(residuals, calibration.knobs, chosen, x))
         remaining = [c for c in candidates if c not in chosen]
         attribution = score_candidates(residuals, models, jacobian, remaining)
         leading = [names[s.name] for s in attribution.scores[:LEADING]
@@ -295,21 +292,3 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES) -> Diagn
         rmse.update({("with " + " and ".join(answer),) + key: value
                      for key, value in after.items()})
     return Diagnosis(gear_id, tuple(training), tuple(held), answer, statement, steps, rmse)
-
-
-def _refit_jacobian(residuals, calibration, current: Refit, chosen) -> np.ndarray:
-    """∂r/∂θ of the knobs and the chosen strengths at a refit (central differences)."""
-    values = np.array(list(current.values) + list(current.strengths), dtype=float)
-    k = len(calibration.knobs)
-    sets, steps = [], []
-    for index in range(values.size):
-        h = 1e-4 * max(abs(values[index]), 1e-3)
-        steps.append(h)
-        for sign in (+1, -1):
-            x = values.copy()
-            x[index] += sign * h
-            trial = Refit(current.effects, tuple(x[k:]), current.strength_errors, tuple(x[:k]),
-                          current.training_cost, current.fit)
-            sets.append([trial.apply(calibration.knobs, m, chosen) for m in residuals.models])
-    r = residuals.evaluate(sets)
-    return np.column_stack([(r[2 * i] - r[2 * i + 1]) / (2 * h) for i, h in enumerate(steps)])

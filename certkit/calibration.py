@@ -35,7 +35,6 @@ from .simulation import batch_step, simulate_batch
 
 CHANNELS = ("load", "stroke", "tyre")
 CHANNEL_UNITS = {"load": "N", "stroke": "m", "tyre": "m"}
-CHANNEL_LABELS = {"load": "vertical load", "stroke": "strut stroke", "tyre": "tyre deflection"}
 
 
 # --------------------------------------------------------------------------- the knobs
@@ -380,50 +379,6 @@ def calibration_document(calibration: Calibration) -> dict:
     return {"effects": list(calibration.effects), "gear_units": gears}
 
 
-@dataclass(frozen=True)
-class ModelEvidence:
-    """What the report's governing-equation section shows: a calibration, or why none."""
-
-    calibration: Calibration | None
-    note: str
-    synthetic_runs: tuple[str, ...] = ()
-    identification: object | None = None   # certkit.identification.Identification
-
-
-def model_evidence(campaign: Campaign, identification: bool = True) -> ModelEvidence:
-    """Calibrate every recorded gear unit that the spec gives the model's parameters for
-    and identify its block-oriented models (``identification``); otherwise say plainly
-    why the section is empty."""
-    spec = campaign.spec
-    synthetic = tuple(r.id for r in spec.runs if r.data is not None and r.data.origin == "synthetic")
-    recorded = [g.id for g in spec.gear_units
-                if any(s is not None and g.id in s.gears for s in campaign.series.values())]
-    if not recorded:
-        return ModelEvidence(None, "No run has time histories, so the drop model cannot be "
-                                   "compared with or calibrated against the tests.", synthetic)
-    ready, missing = [], []
-    for gear_id in recorded:
-        run = next(r for r in spec.runs if gear_id in r.gear_units)
-        try:
-            drop_model_for(spec, run, gear_id, campaign.spec_path.name, campaign.lines)
-            ready.append(gear_id)
-        except CertkitInputError as error:
-            missing += [f"{p.key} ({p.message})" for p in error.problems]
-    if not ready:
-        return ModelEvidence(None, "The drop model cannot be built from the spec: "
-                                   + "; ".join(missing) + ".", synthetic)
-    note = "" if not missing else ("Not modelled (the drop model cannot be built from the "
-                                   "spec): " + "; ".join(missing) + ".")
-    from threadpoolctl import threadpool_limits
-
-    from .identification import identify
-
-    with threadpool_limits(limits=1):   # results independent of the machine's core count
-        calibration = calibrate(campaign, gears=ready)
-    return ModelEvidence(calibration, note, synthetic,
-                         identify(campaign, gears=ready) if identification else None)
-
-
 def simulate_like_runs(campaign: Campaign, gear_id: str, configure=lambda model: model,
                        run_ids: list[str] | None = None, effects: list[str] | None = None
                        ) -> dict:
@@ -470,3 +425,40 @@ class RunResiduals:
         width = len(self.runs)
         return np.array([_residual_vector(self.runs, simulated[i * width:(i + 1) * width])
                          for i in range(len(model_sets))])
+
+
+@dataclass(frozen=True)
+class AlignedRecord:
+    """A run's recorded channels beside the model's, over the whole record (SI).
+
+    The model is at rest in free fall before the measured touchdown (all channels 0);
+    ``after`` marks the samples from touchdown on."""
+
+    time: np.ndarray
+    after: np.ndarray
+    measured: dict
+    simulated: dict
+
+
+def aligned_records(campaign: Campaign, gear_id: str, configure=lambda model: model,
+                    run_ids: list[str] | None = None, effects: list[str] | None = None
+                    ) -> dict[str, AlignedRecord]:
+    """:func:`simulate_like_runs` over each run's whole record, beside its measured channels."""
+    simulated = simulate_like_runs(campaign, gear_id, configure, run_ids, effects)
+    weight = campaign.gear_units[gear_id].static_weight.si
+    records = {}
+    for run_id, channels in simulated.items():
+        series = campaign.series[run_id]
+        gear = series.gears[gear_id]
+        measured = {name: values for name, values in
+                    (("load", gear.load), ("stroke", gear.stroke), ("tyre", gear.tyre))
+                    if values is not None}
+        t_contact, _ = touchdown_time(series.time, gear.load, weight)
+        after = series.time >= t_contact
+        model = {}
+        for name in measured:
+            values = np.zeros(series.time.size)
+            values[after] = channels[name]
+            model[name] = values
+        records[run_id] = AlignedRecord(series.time, after, measured, model)
+    return records

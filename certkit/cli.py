@@ -134,13 +134,14 @@ def report(spec: SpecArgument,
         assessment = assess(campaign)
         evidence = None
         if model:  # the model's compiled kernel loads only when it is asked for
-            from .calibration import model_evidence
+            from .model_evidence import model_evidence
+            from .fitting import FitError
             from .simulation import SimulationError
 
             progress("calibrating the drop model")
             try:
                 evidence = model_evidence(campaign)
-            except (CertkitInputError, SimulationError) as error:
+            except (CertkitInputError, SimulationError, FitError) as error:
                 if status:
                     status.stop()
                 if isinstance(error, CertkitInputError):
@@ -202,8 +203,11 @@ def calibrate(spec: SpecArgument,
     """Fit the drop model's parameters to the measured runs, all drop heights jointly."""
     from rich.table import Table
 
-    from .calibration import CHANNEL_LABELS, calibrate as run_calibration, calibration_document
+    from .calibration import calibrate as run_calibration
+    from .calibration import calibration_document
+    from .rundata import CHANNEL_LABELS
     from .campaign import load_campaign
+    from .fitting import FitError
     from .simulation import SimulationError
 
     try:
@@ -211,7 +215,7 @@ def calibrate(spec: SpecArgument,
         result = run_calibration(campaign, knobs=parameter or None, gears=gear or None)
     except CertkitInputError as error:
         _fail_input(error)
-    except SimulationError as error:
+    except (SimulationError, FitError) as error:
         _fail(spec, str(error))
     if not result.gears:
         _fail(spec, "no run records a gear unit with time histories; nothing to fit")
@@ -262,6 +266,7 @@ def identify(spec: SpecArgument,
     from .campaign import load_campaign
     from .identification import OUTPUT_LABELS, identification_document
     from .identification import identify as run_identification
+    from .fitting import FitError
     from .simulation import SimulationError
 
     try:
@@ -269,7 +274,7 @@ def identify(spec: SpecArgument,
         result = run_identification(campaign)
     except CertkitInputError as error:
         _fail_input(error)
-    except SimulationError as error:
+    except (SimulationError, FitError) as error:
         _fail(spec, str(error))
     if not result.gears:
         _fail(spec, "no gear unit has two drops with time histories; nothing to identify")
@@ -309,6 +314,7 @@ def gap(spec: SpecArgument,
     from .attribution import diagnose
     from .campaign import load_campaign
     from .gap import residual_map
+    from .fitting import FitError
     from .simulation import SimulationError
 
     try:
@@ -336,7 +342,7 @@ def gap(spec: SpecArgument,
                 out.print(f"  held-out {run} {channel}: RMSE {value * scale:.4g} {unit} ({label})")
     except CertkitInputError as error:
         _fail_input(error)
-    except SimulationError as error:
+    except (SimulationError, FitError) as error:
         _fail(spec, str(error))
 
 

@@ -11,6 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .rundata import CHANNEL_LABELS  # noqa: E402
 from .units import convert  # noqa: E402
 
 _STYLE = {
@@ -114,7 +115,6 @@ def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | N
     return figures
 
 
-_CHANNEL_LABELS = {"load": "vertical load", "stroke": "strut stroke", "tyre": "tyre deflection"}
 
 
 def model_figure(gear_id: str, run_id: str, traces: list, units, window: float = 1.0) -> dict:
@@ -136,7 +136,7 @@ def model_figure(gear_id: str, run_id: str, traces: list, units, window: float =
                       label="measured")
             axes.plot(t_ms, scale * trace.nominal[shown], linestyle="--", label="nominal model")
             axes.plot(t_ms, scale * trace.calibrated[shown], label="calibrated model")
-            axes.set_ylabel(f"{_CHANNEL_LABELS[trace.channel]}\n[{unit}]")
+            axes.set_ylabel(f"{CHANNEL_LABELS[trace.channel]}\n[{unit}]")
         all_axes[0].legend(loc="upper right", frameon=False, ncol=3)
         all_axes[-1].set_xlabel("time from touchdown [ms]")
         figure.tight_layout()
@@ -146,7 +146,6 @@ def model_figure(gear_id: str, run_id: str, traces: list, units, window: float =
                            "gear unit.", "svg": _to_svg(figure)}
 
 
-_OUTPUT_LABELS = {"stroke": "strut stroke", "tyre": "tyre deflection"}
 
 
 def identification_figures(gear) -> list[dict]:
@@ -162,7 +161,7 @@ def identification_figures(gear) -> list[dict]:
                 if name == output:
                     axes.plot(grid, curve, label=model)
             axes.set_xlabel("vertical load [kN]")
-            axes.set_ylabel(f"{_OUTPUT_LABELS[output]} [mm]")
+            axes.set_ylabel(f"{CHANNEL_LABELS[output]} [mm]")
         all_axes[0].legend(loc="upper left", frameon=False, fontsize=6.5)
         figure.tight_layout()
         figures.append({"title": f"{gear.gear_id}: static nonlinearities",
@@ -183,7 +182,7 @@ def identification_figures(gear) -> list[dict]:
                             and score.run == gear.held_out[0]):
                         values = score.simulated if kind == "response" else score.simulated - measured
                         axes.plot(t_ms[:values.size], values, linewidth=0.9, label=score.model)
-                axes.set_ylabel(f"{_OUTPUT_LABELS[output]}{' error' if kind == 'error' else ''}"
+                axes.set_ylabel(f"{CHANNEL_LABELS[output]}{' error' if kind == 'error' else ''}"
                                 f"\n[mm]")
             all_axes[0].legend(loc="upper right", frameon=False, fontsize=6.0, ncol=2)
             all_axes[-1].set_xlabel("time from touchdown [ms]")

@@ -15,9 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .calibration import GearCalibration, calibrate_gear, simulate_like_runs
+from .calibration import GearCalibration, aligned_records, calibrate_gear
 from .campaign import Campaign
-from .measures import touchdown_time
 from .phases import segment
 from .residuals import Cell, band_shares, describe, largest, residual_cells
 
@@ -57,28 +56,18 @@ def residual_map(campaign: Campaign, gear_id: str,
     training, held = split or default_split(campaign, gear_id)
     calibration = calibrate_gear(campaign, gear_id, effects=[], run_ids=list(training))
     runs = list(training) + list(held)
-    simulated = simulate_like_runs(campaign, gear_id, calibration.apply, runs, effects=[])
+    records = aligned_records(campaign, gear_id, calibration.apply, runs, effects=[])
     weight = campaign.gear_units[gear_id].static_weight.si
     cells, bands = [], {}
     for run_id in runs:
-        series = campaign.series[run_id]
-        gear = series.gears[gear_id]
-        measured = {"load": gear.load, "stroke": gear.stroke, "tyre": gear.tyre}
-        measured = {k: v for k, v in measured.items() if v is not None}
-        t_contact, _ = touchdown_time(series.time, gear.load, weight)
-        after = series.time >= t_contact
-        model = {}
-        for channel in measured:   # the model is in free fall (all channels 0) before contact
-            values = np.zeros(series.time.size)
-            values[after] = simulated[run_id][channel]
-            model[channel] = values
-        phases = segment(series.time, gear.load,
-                         gear.stroke if gear.stroke is not None else gear.load * 0, weight)
-        cells += residual_cells(run_id, series.time, measured, model, phases)
-        step = float(np.median(np.diff(series.time)))
-        for channel in measured:
-            bands[(run_id, channel)] = band_shares(measured[channel][after] - model[channel][after],
-                                                   step)
+        record = records[run_id]
+        stroke = record.measured.get("stroke", np.zeros(record.time.size))
+        phases = segment(record.time, record.measured["load"], stroke, weight)
+        cells += residual_cells(run_id, record.time, record.measured, record.simulated, phases)
+        step = float(np.median(np.diff(record.time)))
+        for channel, measured in record.measured.items():
+            residual = measured[record.after] - record.simulated[channel][record.after]
+            bands[(run_id, channel)] = band_shares(residual, step)
     worst = largest([c for c in cells if c.run in training])
     units = {"load": (1.0, "N"), "stroke": (1e3, "mm"), "tyre": (1e3, "mm")}
     summary = describe(worst, *units[worst.channel]) if worst else "No residual to map."

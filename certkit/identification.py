@@ -31,13 +31,17 @@ from .hammerstein import HammersteinLSSVM
 from .lssvm import (NARX, LSSVMRegressor, fit_percent, kfold_cost, max_abs_error, nrmse,
                     residual_analysis, rmse, tune)
 from .measures import touchdown_index
+from .rundata import CHANNEL_LABELS
+from .units import STANDARD_GRAVITY
 from .wiener import (SmallSignalExperiment, WienerModel, best_linear_records, physics_plant,
                      small_signal_records)
 
 OUTPUTS = ("stroke", "tyre")
-OUTPUT_LABELS = {"stroke": "strut stroke", "tyre": "tyre deflection"}
+OUTPUT_LABELS = {name: CHANNEL_LABELS[name] for name in OUTPUTS}
 WINDOW = 1000           # samples from touchdown (1 s at 1 kHz, the paper's figures)
 PAPER_TRAINING = 200    # the paper: "the initial 200 data points" after touchdown
+WHITENESS_LAGS = 25     # residual correlation lags examined (identification.md §1.5)
+WHITENESS_CONFIDENCE = 0.99
 #: The seed paper's published RMSEs (right gear, 0-1 s; unit not stated, mm presumed).
 SEED_RMSE = {"stroke": {"governing equation": 9.7364, "Hammerstein": 0.88522,
                         "Wiener": 0.48805},
@@ -87,6 +91,7 @@ class GearIdentification:
 class Identification:
     gears: list
     plant_note: str
+
 
 
 def _drops(campaign: Campaign, gear_id: str) -> list[Drop]:
@@ -229,7 +234,8 @@ def _recorded_small_signal(campaign: Campaign, gear_id: str):
 def _whiteness(result, name, output, test, predicted):
     y = test.outputs[output]
     result.one_step.append((name, output, test.run, rmse(y, predicted)))
-    result.whiteness.append((name, output, residual_analysis(y - predicted, test.load)))
+    result.whiteness.append((name, output, residual_analysis(
+        y - predicted, test.load, max_lag=WHITENESS_LAGS, confidence=WHITENESS_CONFIDENCE)))
 
 
 def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None:
@@ -321,7 +327,7 @@ def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None
                 accepted = max(step.amplitude for step in experiment.steps if step.accepted)
                 if friction is not None and output == "stroke":
                     breakout = friction.constant + friction.pressure_factor * (
-                        plant_model.upper_mass * 9.80665)
+                        plant_model.upper_mass * STANDARD_GRAVITY)
                     if 3.0 * accepted < breakout:
                         result.notes.append(
                             f"strut stroke: the small-signal force accepted as linear "

@@ -89,7 +89,7 @@ def _value_row(value: Value, units) -> dict:
 def build_view(assessment: Assessment, record: dict, model=None) -> dict:
     """Plain data for the templates: every string already formatted.
 
-    ``model`` is the :class:`~certkit.calibration.ModelEvidence` of the governing-equation
+    ``model`` is the :class:`~certkit.model_evidence.ModelEvidence` of the governing-equation
     section (None: the section says the model was not run)."""
     campaign = assessment.campaign
     spec = campaign.spec
@@ -294,13 +294,10 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
         "audit": {name: getattr(spec.audit, name).text for name in type(spec.audit).model_fields},
         "provenance": record, "version": __version__,
         "model": _model_view(model, units),
-        "identification": _identification_view(model),
+        "identification": _identification_view(model, spec.model.identification),
     }
 
 
-#: The seed paper's governing-equation (EOM) RMSEs, right gear, 0-1 s (its §5 and Figs. 14-15;
-#: the unit is not stated, mm presumed from the figures).
-SEED_EOM_RMSE = {"stroke": 9.7364, "tyre": 11.3473}
 _PARAMETER_KINDS = {"Pa": "pressure", "N": "force"}
 
 
@@ -320,7 +317,8 @@ def _model_view(evidence, units) -> dict:
     if calibration is None:
         return {"available": False, "note": evidence.note, "synthetic": synthetic, "gears": [],
                 "effects": "—", "seed_rows": []}
-    from .calibration import CHANNEL_LABELS
+    from .identification import SEED_RMSE   # the paper's published RMSEs, one home
+    from .rundata import CHANNEL_LABELS
     from .figures import model_figure
 
     gears, seed_rows = [], []
@@ -356,14 +354,14 @@ def _model_view(evidence, units) -> dict:
                          "nominal": before, "calibrated": after,
                          "change": f"{change:+.1%}" if math.isfinite(change) else "—"})
         for trace in gear.traces:
-            if trace.channel in SEED_EOM_RMSE:
+            if trace.channel in SEED_RMSE:
                 first = trace.time <= 1.0
                 nominal = math.sqrt(float(((trace.nominal - trace.measured)[first] ** 2).mean()))
                 fitted = math.sqrt(float(((trace.calibrated - trace.measured)[first] ** 2).mean()))
                 seed_rows.append({
                     "gear": gear.gear_id, "run": trace.run,
                     "channel": CHANNEL_LABELS[trace.channel],
-                    "seed": _number(SEED_EOM_RMSE[trace.channel]),
+                    "seed": _number(SEED_RMSE[trace.channel]["governing equation"]),
                     "nominal": _number(nominal * 1e3), "calibrated": _number(fitted * 1e3)})
         figures = [model_figure(gear.gear_id, run, [t for t in gear.traces if t.run == run], units)
                    for run in gear.runs]
@@ -426,13 +424,22 @@ def _discussion(gear) -> list[str]:
     return sentences
 
 
-def _identification_view(evidence) -> dict:
-    """The identification section: RMSE tables beside the seed's, linear blocks, figures."""
+def _identification_view(evidence, settings) -> dict:
+    """The identification section: RMSE tables beside the seed's, linear blocks, figures.
+
+    ``settings``: the spec's ``model.identification``."""
+    from .identification import (PAPER_TRAINING, WHITENESS_CONFIDENCE, WHITENESS_LAGS,
+                                 WINDOW)
+
+    method = {"window": f"{WINDOW} samples", "paper_samples": PAPER_TRAINING,
+              "gain": settings.small_signal.gain.text,
+              "tolerance": settings.small_signal.tolerance.text,
+              "whiteness": f"{WHITENESS_CONFIDENCE:.0%} bounds, {WHITENESS_LAGS} lags"}
     identification = getattr(evidence, "identification", None)
     if identification is None or not identification.gears:
         return {"available": False, "gears": [], "plant_note": "",
                 "note": "Not run: it needs time histories of at least two drops of a gear unit "
-                        "whose drop model can be built from the spec."}
+                        "whose drop model can be built from the spec.", **method}
     from .figures import identification_figures
     from .identification import OUTPUT_LABELS, SEED_RMSE
 
@@ -490,7 +497,7 @@ def _identification_view(evidence) -> dict:
                                           for o, r in gear.hammerstein_ratio.items()),
                       "notes": list(gear.notes)})
     return {"available": True, "gears": gears, "plant_note": identification.plant_note,
-            "note": ""}
+            "note": "", **method}
 
 
 def _load_factor_view(assessment: Assessment) -> tuple[list[dict], str]:
@@ -751,7 +758,7 @@ def render_report(assessment: Assessment, out_dir: str | Path, progress=None,
     """Write report.html, report.pdf, results.json and tables/*.csv into ``out_dir``.
 
     ``model``: the governing-equation model evidence
-    (:func:`certkit.calibration.model_evidence`); without it the section says the model
+    (:func:`certkit.model_evidence.model_evidence`); without it the section says the model
     was not run.
 
     Everything is written into a temporary sibling folder and moved into place at

@@ -37,6 +37,10 @@ CLIP_RUN = 5                          # this many equal samples at a channel's m
 GAP_FACTOR = 1.5                      # a time step 1.5 x the nominal one is a gap
 
 
+#: The recorded channels of a gear unit, as reports and messages name them.
+CHANNEL_LABELS = {"load": "vertical load", "stroke": "strut stroke", "tyre": "tyre deflection"}
+
+
 @dataclass
 class GearSeries:
     """One gear unit's channels in SI (None where the run does not record it)."""

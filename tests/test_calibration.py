@@ -99,3 +99,18 @@ def test_unknown_parameter_and_missing_effect_are_input_errors(measured, physics
     # a campaign without time histories has nothing to calibrate against
     outcome = runner.invoke(app, ["calibrate", str(physics_campaign)])
     assert outcome.exit_code == 2 and "nothing to fit" in outcome.output
+
+
+def test_a_fit_that_meets_non_finite_residuals_is_reported_not_a_traceback(measured,
+                                                                           monkeypatch):
+    import certkit.calibration
+    from certkit.fitting import FitError
+
+    def failing(*args, **kwargs):
+        raise FitError("4 of 9 residuals are not finite at gas-precharge = 1.2e5 Pa")
+
+    monkeypatch.setattr(certkit.calibration, "calibrate", failing)
+    outcome = runner.invoke(app, ["calibrate", str(measured)])
+    assert outcome.exit_code == 2
+    assert "residuals are not finite at gas-precharge" in outcome.output
+    assert "Traceback" not in outcome.output

@@ -1,0 +1,58 @@
+"""The physics-model evidence of a report: the calibration of every gear unit whose drop
+model the spec allows, its identification, or plainly why there is none.
+
+Above :mod:`certkit.calibration` and :mod:`certkit.identification`, which it runs; the
+report only lays out what it returns.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from threadpoolctl import threadpool_limits
+
+from .calibration import Calibration, calibrate
+from .campaign import Campaign
+from .errors import CertkitInputError
+from .gear_model import drop_model_for
+from .identification import identify
+
+
+@dataclass(frozen=True)
+class ModelEvidence:
+    """What the report's governing-equation section shows: a calibration, or why none."""
+
+    calibration: Calibration | None
+    note: str
+    synthetic_runs: tuple[str, ...] = ()
+    identification: object | None = None   # certkit.identification.Identification
+
+
+def model_evidence(campaign: Campaign, identification: bool = True) -> ModelEvidence:
+    """Calibrate every recorded gear unit that the spec gives the model's parameters for
+    and identify its block-oriented models (``identification``); otherwise say plainly
+    why the section is empty."""
+    spec = campaign.spec
+    synthetic = tuple(r.id for r in spec.runs if r.data is not None and r.data.origin == "synthetic")
+    recorded = [g.id for g in spec.gear_units
+                if any(s is not None and g.id in s.gears for s in campaign.series.values())]
+    if not recorded:
+        return ModelEvidence(None, "No run has time histories, so the drop model cannot be "
+                                   "compared with or calibrated against the tests.", synthetic)
+    ready, missing = [], []
+    for gear_id in recorded:
+        run = next(r for r in spec.runs if gear_id in r.gear_units)
+        try:
+            drop_model_for(spec, run, gear_id, campaign.spec_path.name, campaign.lines)
+            ready.append(gear_id)
+        except CertkitInputError as error:
+            missing += [f"{p.key} ({p.message})" for p in error.problems]
+    if not ready:
+        return ModelEvidence(None, "The drop model cannot be built from the spec: "
+                                   + "; ".join(missing) + ".", synthetic)
+    note = "" if not missing else ("Not modelled (the drop model cannot be built from the "
+                                   "spec): " + "; ".join(missing) + ".")
+    with threadpool_limits(limits=1):   # results independent of the machine's core count
+        calibration = calibrate(campaign, gears=ready)
+    return ModelEvidence(calibration, note, synthetic,
+                         identify(campaign, gears=ready) if identification else None)
