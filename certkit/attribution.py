@@ -33,27 +33,24 @@ class Candidate:
     probe: float = 0.05                              # φ of the finite-difference signature
 
 
-def _with(model: DropModel, effect) -> DropModel:
-    others = tuple(e for e in model.effects if e.name != effect.name)
-    return replace(model, effects=others + (effect,))
-
 
 CANDIDATES = (
     Candidate("seal friction", "Coulomb friction of 5 % of the upper mass's weight",
-              lambda m, phi: _with(m, SealFriction(0.05 * m.upper_mass * STANDARD_GRAVITY * phi))),
+              lambda m, phi: m.with_effect(
+                  SealFriction(0.05 * m.upper_mass * STANDARD_GRAVITY * phi))),
     Candidate("rebound orifice", "rebound damping 3 times the compression orifice's",
-              lambda m, phi: _with(m, ReboundOrifice(3.0 * m.orifice.coefficient * phi))),
+              lambda m, phi: m.with_effect(ReboundOrifice(3.0 * m.orifice.coefficient * phi))),
     Candidate("tyre hysteresis", "a loop of 5 % of the static tyre curve",
-              lambda m, phi: _with(m, TyreHysteresis(0.05 * phi))),
+              lambda m, phi: m.with_effect(TyreHysteresis(0.05 * phi))),
     Candidate("heat transfer", "a thermal time constant of 1 s (γ = the polytropic n)",
-              lambda m, phi: _with(m, GasHeatTransfer(1.0 / phi, m.gas.exponent)) if phi > 0
+              lambda m, phi: m.with_effect(GasHeatTransfer(1.0 / phi, m.gas.exponent)) if phi > 0
               else m),
     Candidate("leg flexibility", "a leg compliance of 1/(3 kN/mm), half the unsprung mass "
                                  "at the axle",
-              lambda m, phi: _with(m, LegFlexibility(0.5 * m.lower_mass, 3.0e6 / phi))
+              lambda m, phi: m.with_effect(LegFlexibility(0.5 * m.lower_mass, 3.0e6 / phi))
               if phi > 0 else m, probe=0.02),
     Candidate("sensor lag", "a first-order lag of 2 ms on every recorded channel",
-              lambda m, phi: _with(m, SensorLag(0.002 * phi)), probe=0.1),
+              lambda m, phi: m.with_effect(SensorLag(0.002 * phi)), probe=0.1),
 )
 
 
@@ -74,6 +71,7 @@ class Attribution:
     scores: tuple          # Score, best first
     confusability: dict    # (name, name) -> |cos| of the projected signatures
     sigma2: float
+    profiles: dict | None = None   # name -> (best strength of STARTS, its profile cost)
 
 
 def score_candidates(residuals, models: list[DropModel], nominal_jacobian: np.ndarray,
@@ -174,24 +172,69 @@ class Refit:
         return model
 
 
+#: Strengths (in units of a candidate's unit size) at which every candidate is profiled,
+#: and from the best of which it is refitted: the effects are nonlinear in their strength
+#: (a thermal time constant, a leg stiffness), so one start at the probe can stall far
+#: from the optimum.
+STARTS = (0.05, 0.2, 0.8, 3.2, 12.8)
+MAX_STRENGTH = 20.0
+#: Relative tolerance of the refits (scipy's ftol, xtol, gtol): they compare candidates
+#: whose training costs differ by GAIN = 10 % or more, so 1e-4 is ample.
+REFIT_TOLERANCE = 1e-4
+
+
+def profiles(residuals, calibration, chosen: list[Candidate], candidates: list[Candidate],
+             current: Refit | None, jacobian: np.ndarray) -> dict:
+    """Each candidate's training cost at every strength of :data:`STARTS`, the knobs and
+    chosen strengths held where they are (the calibration, or the current refit), less
+    what re-tuning them absorbs to first order (the residual projected off ``jacobian``'s
+    columns, ∂r/∂ of the knobs and chosen strengths).  Returns
+    name -> (the best point: knobs, chosen strengths, its strength; its cost, an RMS
+    normalised residual comparable with :attr:`Refit.training_cost`).
+
+    The score test looks at an effect's first-order signature at zero strength; an effect
+    that is strongly nonlinear in its strength (a gas that exchanges heat fast) can point
+    the other way there and still explain the gap at a finite strength.  The profile sees
+    it, and gives every refit a starting point near its optimum."""
+    values = list(current.values) if current else list(calibration.fit.estimate)
+    strengths = list(current.strengths) if current else []
+    q, _ = np.linalg.qr(jacobian)
+    best = {}
+    for candidate in candidates:   # a batch each: a stiff candidate sets only its own step
+        points = [np.array(values + strengths + [s]) for s in STARTS]
+        vectors = residuals.evaluate([_configured(residuals, calibration.knobs,
+                                                  chosen + [candidate], x) for x in points])
+        for x, r in zip(points, vectors):
+            r = r - q @ (q.T @ r)
+            cost = float(np.sqrt(np.mean(r * r)))
+            if candidate.name not in best or cost < best[candidate.name][1]:
+                best[candidate.name] = (x, cost)
+    return best
+
+
 def refit(residuals, calibration, candidates: list[Candidate],
-          max_strength: float = 20.0) -> Refit:
+          max_strength: float = MAX_STRENGTH, start=None) -> Refit:
     """Fit the calibration's knobs and the strengths (bounded to [0, ``max_strength``] of
-    each candidate's unit size) on the runs of ``residuals``."""
+    each candidate's unit size) on the runs of ``residuals``, from ``start`` (knobs then
+    strengths; default: the calibration's estimate and every candidate at its probe)."""
     from .fitting import FitParameter, fit
 
     knobs = calibration.knobs
-    parameters = [FitParameter(p.name, p.unit, float(v), p.lower, p.upper)
-                  for p, v in zip(calibration.fit.parameters, calibration.fit.estimate)]
-    parameters += [FitParameter(f"{c.name} strength", "1", c.probe, 0.0, max_strength)
-                   for c in candidates]
+    if start is None:
+        start = list(calibration.fit.estimate) + [c.probe for c in candidates]
+    start = [float(v) for v in start]
+    parameters = [FitParameter(p.name, p.unit, min(max(v, p.lower), p.upper), p.lower, p.upper)
+                  for p, v in zip(calibration.fit.parameters, start)]
+    parameters += [FitParameter(f"{c.name} strength", "1", min(max(v, 0.0), max_strength), 0.0,
+                                max_strength)
+                   for c, v in zip(candidates, start[len(knobs):])]
 
     def many(matrix):
         return residuals.evaluate([_configured(residuals, knobs, candidates, x)
                                    for x in matrix])
 
     result = fit(lambda x: many(np.asarray(x)[None, :])[0], parameters, residuals_many=many,
-                 max_evaluations=40, tolerance=1e-6)
+                 max_evaluations=40, tolerance=REFIT_TOLERANCE)
     k = len(knobs)
     return Refit(tuple(c.name for c in candidates), tuple(map(float, result.estimate[k:])),
                  tuple(map(float, result.standard_error[k:])),
@@ -206,7 +249,9 @@ RELEVANT = 0.3
 TIE_COST, TIE_COSINE = 1.05, 0.9
 #: A candidate must cut the training cost by at least this share to be named.
 GAIN = 0.10
-LEADING = 3
+#: How many relevant candidates are refitted at each step (those with the best profiles):
+#: two, so that the tie rule can compare the best pair.
+LEADING = 2
 
 
 @dataclass
@@ -218,6 +263,17 @@ class Diagnosis:
     statement: str                 # the answer in words
     steps: list                    # (Attribution, [Refit ...]) per greedy step
     held_out_rmse: dict            # (label, run, channel) -> RMSE before/after [SI]
+    calibration: object = None     # certkit.calibration.GearCalibration, nominal, training runs
+    refit: Refit | None = None     # the named effects' refit (None: abstained)
+    chosen: tuple = ()             # the named effects' Candidates, in the refit's order
+    step_costs: tuple = ()         # training cost each step had to beat (before its refits)
+
+    def configure(self, model: DropModel) -> DropModel:
+        """``model`` (nominal, of this gear, any run) as the diagnosis leaves it: the
+        calibrated nominal parameters, or the refit with the named effects."""
+        if self.refit is None:
+            return self.calibration.apply(model)
+        return self.refit.apply(self.calibration.knobs, model, self.chosen)
 
 
 def _held_out_rmse(campaign, gear_id, held, configure) -> dict:
@@ -233,24 +289,34 @@ def _held_out_rmse(campaign, gear_id, held, configure) -> dict:
     return out
 
 
-def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES) -> Diagnosis:
+def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
+             calibration=None) -> Diagnosis:
     """Which effect(s) of the library explain the gap of ``gear_id``'s nominal model.
 
-    Scores every candidate on the training runs, refits the leading relevant ones with the
-    nominal parameters, names the one that cuts the training cost most (or abstains), then
-    looks for a second one the same way.  The held-out runs are only evaluated."""
-    from .calibration import RunResiduals, calibrate_gear
-    from .gap import default_split
+    Scores every candidate on the training runs and profiles it (:func:`profiles`);
+    refits the :data:`LEADING` relevant ones with the best profiles (relevant: among the
+    :data:`LEADING` best scores and explaining at least :data:`RELEVANT` noise RMS, or a
+    profile that already cuts the cost by :data:`GAIN`) with the nominal parameters;
+    names the one that cuts the training cost most (or abstains), then looks for a
+    second one the same way.  The held-out runs are only evaluated.
 
-    training, held = split or default_split(campaign, gear_id)
-    calibration = calibrate_gear(campaign, gear_id, effects=[], run_ids=list(training))
+    ``split``: (training, held-out) run ids (default: :func:`certkit.holdout.split_for`);
+    ``calibration``: the nominal model already calibrated on the training runs (saves
+    doing it again)."""
+    from .calibration import RunResiduals, calibrate_gear
+    from .holdout import split_for
+
+    training, held = split or split_for(campaign, gear_id)[:2]
+    if calibration is None:
+        calibration = calibrate_gear(campaign, gear_id, effects=[], run_ids=list(training))
     residuals = RunResiduals(campaign, gear_id, list(training), effects=[])
     chosen: list[Candidate] = []
     current: Refit | None = None
     cost = calibration.fit.cost
-    steps, statement = [], ""
+    steps, statement, step_costs = [], "", []
     names = {c.name: c for c in candidates}
     for _ in range(2):
+        step_costs.append(cost)
         models = (_configured(residuals, calibration.knobs, chosen,
                               list(current.values) + list(current.strengths))
                   if current else [calibration.apply(m) for m in residuals.models])
@@ -259,9 +325,14 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES) -> Diagn
                               lambda x: _configured(residuals, calibration.knobs, chosen, x))
         remaining = [c for c in candidates if c not in chosen]
         attribution = score_candidates(residuals, models, jacobian, remaining)
-        leading = [names[s.name] for s in attribution.scores[:LEADING]
-                   if s.explained >= RELEVANT]
-        fits = [refit(residuals, calibration, chosen + [c]) for c in leading]
+        profile = profiles(residuals, calibration, chosen, remaining, current, jacobian)
+        attribution = replace(attribution, profiles={n: (float(x[-1]), c)
+                                                     for n, (x, c) in profile.items()})
+        relevant = {s.name for s in attribution.scores[:LEADING] if s.explained >= RELEVANT}
+        relevant |= {n for n in profile if profile[n][1] <= (1 - GAIN) * cost}
+        leading = sorted(relevant, key=lambda n: (profile[n][1], n))[:LEADING]
+        fits = [refit(residuals, calibration, chosen + [names[n]], start=profile[n][0])
+                for n in leading]
         steps.append((attribution, fits))
         useful = sorted((f for f in fits if f.training_cost <= (1 - GAIN) * cost),
                         key=lambda f: f.training_cost)
@@ -275,9 +346,12 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES) -> Diagn
             a, b = best.effects[-1], other.effects[-1]
             cosine = attribution.confusability.get((a, b), attribution.confusability.get((b, a), 0))
             if other.training_cost <= TIE_COST * best.training_cost and cosine >= TIE_COSINE:
-                statement = (f"{a} and {b} cannot be told apart with these channels "
-                             f"(training costs {best.training_cost:.4g} and "
-                             f"{other.training_cost:.4g}; signature cosine {cosine:.2f}).")
+                tie = (f"{a} and {b} cannot be told apart with these channels "
+                       f"(training costs {best.training_cost:.4g} and "
+                       f"{other.training_cost:.4g}; signature cosine {cosine:.2f}).")
+                statement = (tie if not chosen else
+                             f"The gap is explained by {' and '.join(c.name for c in chosen)}; "
+                             f"as a second effect, {tie}")
                 break
         chosen.append(names[best.effects[-1]])
         current, cost = best, best.training_cost
@@ -291,4 +365,5 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES) -> Diagn
                                lambda m: current.apply(calibration.knobs, m, chosen))
         rmse.update({("with " + " and ".join(answer),) + key: value
                      for key, value in after.items()})
-    return Diagnosis(gear_id, tuple(training), tuple(held), answer, statement, steps, rmse)
+    return Diagnosis(gear_id, tuple(training), tuple(held), answer, statement, steps, rmse,
+                     calibration, current, tuple(chosen), tuple(step_costs))

@@ -10,6 +10,7 @@ from pathlib import Path
 from pydantic import ValidationError
 
 from . import requirement_sets
+from .blind_record import BlindCheckRecord, BlindRecordError, read_blind_check
 from .errors import CertkitInputError, Problem, key_path
 from .rundata import RunSeries, read_run
 from .spec import CampaignSpec, GearUnit
@@ -39,6 +40,7 @@ class Campaign:
     lines: LineMap
     series: dict[str, RunSeries | None]
     inputs: list[InputFile]
+    blind_check: BlindCheckRecord | None = None   # model.gap.blind_check, read and checked
 
     @property
     def gear_units(self) -> dict[str, GearUnit]:
@@ -133,7 +135,8 @@ def _cross_references(spec: CampaignSpec, display: str, lines: LineMap) -> list[
                     add(("runs", index, section, "gears", gear_id),
                         f"gear unit {gear_id!r} is not among this run's gear_units "
                         f"({', '.join(run.gear_units)})")
-    references = [(("model", "identification", "held_out"), spec.model.identification.held_out)]
+    references = [(("model", "identification", "held_out"), spec.model.identification.held_out),
+                  (("model", "gap", "held_out"), spec.model.gap.held_out)]
     if spec.model.calibration is not None:
         references.append((("model", "calibration", "runs"), spec.model.calibration.runs))
     for location, chosen in references:
@@ -145,7 +148,7 @@ def _cross_references(spec: CampaignSpec, display: str, lines: LineMap) -> list[
 
 
 def _resolve_data_path(root: Path, relative: str, display: str, location: tuple,
-                       lines: LineMap) -> Path:
+                       lines: LineMap, what: str = "data file") -> Path:
     def fail(message: str) -> CertkitInputError:
         return CertkitInputError.single(display, line_of(lines, location), key_path(location),
                                         message)
@@ -154,16 +157,35 @@ def _resolve_data_path(root: Path, relative: str, display: str, location: tuple,
     try:
         candidate = given.resolve(strict=False)
     except (OSError, RuntimeError, ValueError) as error:
-        raise fail(f"data file {relative!r} cannot be resolved: {error}") from None
+        raise fail(f"{what} {relative!r} cannot be resolved: {error}") from None
     if given.is_symlink() and not given.exists():
-        raise fail(f"data file {relative!r} is a broken link")
+        raise fail(f"{what} {relative!r} is a broken link")
     if not candidate.is_relative_to(root):
-        raise fail(f"data file {relative!r} is outside the campaign folder {root}")
+        raise fail(f"{what} {relative!r} is outside the campaign folder {root}")
     if candidate.is_dir():
-        raise fail(f"data file {relative!r} is a folder, not a file")
+        raise fail(f"{what} {relative!r} is a folder, not a file")
     if not candidate.is_file():
-        raise fail(f"data file {relative!r} not found (looked for {candidate})")
+        raise fail(f"{what} {relative!r} not found (looked for {candidate})")
     return candidate
+
+
+def _blind_check(spec: CampaignSpec, root: Path, display: str, lines: LineMap
+                 ) -> tuple[BlindCheckRecord | None, Path | None]:
+    """The blind-check record the spec names (model.gap.blind_check), read and checked."""
+    relative = spec.model.gap.blind_check
+    if relative is None:
+        return None, None
+    location = ("model", "gap", "blind_check")
+    path = _resolve_data_path(root, relative, display, location, lines,
+                              what="blind-check record")
+    try:
+        return read_blind_check(path), path
+    except BlindRecordError as error:
+        line = line_of(lines, location)
+        raise CertkitInputError([
+            Problem(display, line, key_path(location),
+                    f"{relative}{': ' + key if key else ''}: {message}")
+            for key, message in error.problems]) from None
 
 
 def load_campaign(path: str | Path) -> Campaign:
@@ -221,6 +243,16 @@ def load_campaign(path: str | Path) -> Campaign:
         name = data_path.relative_to(root).as_posix()
         if name not in {item.name for item in inputs}:
             inputs.append(InputFile(name, _sha256(data_path), data_path.stat().st_size, data_path))
+    try:
+        blind_check, blind_path = _blind_check(spec, root, display, lines)
+    except CertkitInputError as error:
+        errors.extend(error.problems)
+        blind_check, blind_path = None, None
+    if blind_path is not None:
+        name = blind_path.relative_to(root).as_posix()
+        if name not in {item.name for item in inputs}:
+            inputs.append(InputFile(name, _sha256(blind_path), blind_path.stat().st_size,
+                                    blind_path))
     if errors:
         raise CertkitInputError(errors)
-    return Campaign(spec, spec_path, root, lines, series, inputs)
+    return Campaign(spec, spec_path, root, lines, series, inputs, blind_check)

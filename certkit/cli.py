@@ -165,6 +165,58 @@ def report(spec: SpecArgument,
         raise typer.Exit(1)
 
 
+def _numbers(text: str, key: str, kind=float) -> tuple:
+    try:
+        values = tuple(kind(v) for v in text.split(",") if v.strip())
+    except ValueError:
+        values = ()
+    if not values:
+        err.print(Text.assemble(("error: ", "bold red"),
+                                f"--{key}: expected comma-separated numbers, found {text!r}"))
+        raise typer.Exit(2)
+    return values
+
+
+def _blind_check(spec: Path, gear: str | None, output: Path, workers, scheduler, seeds: str,
+                 ratios: str) -> None:
+    from rich.table import Table
+
+    from .blind_check import Settings, blind_check, write_blind_check
+    from .fitting import FitError
+    from .outputs import staged_folder
+    from .simulation import SimulationError
+
+    settings = Settings(ratios=_numbers(ratios, "ratios"), seeds=_numbers(seeds, "seeds", int))
+    try:
+        def progress(outcome):
+            named = ", ".join(outcome["named"]) or "(none)"
+            err.print(f"{outcome['id']}: named {named}")
+
+        document = blind_check(spec, gear, settings, workers=workers, scheduler=scheduler,
+                               progress=progress)
+    except CertkitInputError as error:
+        _fail_input(error)
+    except (SimulationError, FitError) as error:
+        _fail(spec, str(error))
+    try:
+        own = {"blind-check.json", "blind-check-cases.csv"}
+        with staged_folder(output, [spec], own) as folder:
+            write_blind_check(document, folder)
+    except CertkitInputError as error:
+        _fail_input(error)
+    table = Table(title=f"blind check of the gap diagnosis ({len(document['cases'])} cases)")
+    for column in ("metric", "measured", "cases", "target", "met"):
+        table.add_column(column, justify="left" if column == "metric" else "right")
+    for name, metric in document["metrics"].items():
+        value = "n/a" if metric["value"] is None else f"{100 * metric['value']:.0f} %"
+        target = "" if metric["target"] is None else \
+            f"{metric['direction']} {100 * metric['target']:.0f} %"
+        met = {True: "yes", False: "NO", None: ""}[metric["met"]]
+        table.add_row(name.replace("_", " "), value, str(metric["cases"]), target, met)
+    out.print(table)
+    out.print(f"written: {output}")
+
+
 @app.command()
 def simulate(spec: SpecArgument,
              output: Annotated[Path, typer.Option("-o", "--output", help="output folder")],
@@ -306,30 +358,53 @@ def identify(spec: SpecArgument,
 @app.command()
 def gap(spec: SpecArgument,
         gear: Annotated[list[str] | None, typer.Option(
-            "-g", "--gear", help="gear unit (repeat); default: every recorded one")] = None
+            "-g", "--gear", help="gear unit (repeat); default: every recorded one")] = None,
+        blind: Annotated[bool, typer.Option(
+            "--blind-check", help="check the diagnosis blind on synthetic campaigns simulated "
+                                  "from SPEC with withheld effects, and score it")] = False,
+        output: Annotated[Path, typer.Option(
+            "-o", "--output", help="blind check: the folder for blind-check.json and "
+                                   "blind-check-cases.csv")] = Path("blind-check"),
+        workers: Annotated[int | None, typer.Option(
+            help="blind check: local worker processes (default: one per core)")] = None,
+        scheduler: Annotated[str | None, typer.Option(
+            help="blind check: a dask.distributed scheduler address to run the cases on "
+                 "(needs certkit\\[cluster])")] = None,
+        seeds: Annotated[str, typer.Option(
+            help="blind check: seeds of the single-effect cases, comma-separated")] = "1,2,3",
+        ratios: Annotated[str, typer.Option(
+            help="blind check: effect sizes, multiples of the load noise RMS")] = "1,2,5",
         ) -> None:
     """Where the nominal model disagrees with the runs, and which effect explains it."""
     from rich.table import Table
 
-    from .attribution import diagnose
+    if blind:
+        _blind_check(spec, gear[0] if gear else None, output, workers, scheduler, seeds, ratios)
+        return
+
     from .campaign import load_campaign
-    from .gap import residual_map
     from .fitting import FitError
+    from .gap import gap_diagnosis
     from .simulation import SimulationError
 
     try:
         campaign = load_campaign(spec)
         recorded = [g.id for g in campaign.spec.gear_units
-                    if sum(s is not None and g.id in s.gears for s in campaign.series.values()) >= 2]
-        chosen = [g for g in recorded if not gear or g in gear]
-        if not chosen:
-            _fail(spec, "no gear unit has two drops with time histories; nothing to diagnose")
-        for gear_id in chosen:
-            where = residual_map(campaign, gear_id)
-            which = diagnose(campaign, gear_id, (list(where.training), list(where.held_out)))
-            out.print(f"{gear_id}: trained on {', '.join(where.training)}, held out "
-                      f"{', '.join(where.held_out)}")
-            out.print(where.summary)
+                    if any(s is not None and g.id in s.gears for s in campaign.series.values())]
+        unknown = [g for g in gear or [] if g not in recorded]
+        if unknown:
+            _fail(spec, f"--gear {', '.join(unknown)}: no drop records it; recorded: "
+                        f"{', '.join(recorded) or 'none'}")
+        if not recorded:
+            _fail(spec, "no run has time histories; the gap diagnosis compares the model "
+                        "with recorded drops")
+        for gear_id in [g for g in recorded if not gear or g in gear]:
+            result = gap_diagnosis(campaign, gear_id)
+            which = result.diagnosis
+            out.print(f"{gear_id}: trained on {', '.join(result.training)}, held out "
+                      f"{', '.join(result.held_out)}"
+                      f" ({'declared in model.gap.held_out' if result.declared else 'default'})")
+            out.print(result.before.summary)
             table = Table(title="candidate effects, first step (score test on the training runs)")
             for column in ("effect", "LM statistic", "explained RMS [noise]"):
                 table.add_column(column, justify="left" if column == "effect" else "right")
@@ -337,9 +412,17 @@ def gap(spec: SpecArgument,
                 table.add_row(score.name, f"{score.statistic:.4g}", f"{score.explained:.3g}")
             out.print(table)
             out.print(which.statement)
-            for (label, run, channel), value in sorted(which.held_out_rmse.items()):
-                unit, scale = ("N", 1.0) if channel == "load" else ("mm", 1e3)
-                out.print(f"  held-out {run} {channel}: RMSE {value * scale:.4g} {unit} ({label})")
+            table = Table(title="held-out RMSE, nominal model → with the named effects")
+            for column in ("run", "channel", "phase", "before", "after", "shrink"):
+                table.add_column(column, justify="left" if column in ("run", "channel", "phase")
+                                 else "right")
+            for row in result.held_out_errors:
+                unit, scale = ("N", 1.0) if row.channel == "load" else ("mm", 1e3)
+                after = "" if row.after is None else f"{row.after * scale:.4g} {unit}"
+                shrink = "" if row.shrink is None else f"{100 * row.shrink:.0f} %"
+                table.add_row(row.run, row.channel, row.phase,
+                              f"{row.before * scale:.4g} {unit}", after, shrink)
+            out.print(table)
     except CertkitInputError as error:
         _fail_input(error)
     except (SimulationError, FitError) as error:

@@ -246,6 +246,11 @@ class DropModel:
         """The optional effect called ``name``, or None when it is off."""
         return next((e for e in self.effects if e.name == name), None)
 
+    def with_effect(self, effect) -> "DropModel":
+        """This model with ``effect`` on, replacing an effect of the same name."""
+        others = tuple(e for e in self.effects if e.name != effect.name)
+        return replace(self, effects=others + (effect,))
+
     def pack(self) -> np.ndarray:
         """The parameter vector of the compiled equations of motion (:mod:`certkit.dynamics`)."""
         p = np.zeros(dyn.SLOTS)

@@ -293,7 +293,7 @@ class SensorDynamics:
     """
 
     cutoff: float          # [Hz]
-    order: int = 2
+    order: int = 2         # 0: no low-pass, a pure delay
     delay: float = 0.0     # [s]
     name = "sensor dynamics"
 
@@ -307,8 +307,10 @@ class SensorDynamics:
         from scipy.signal import butter, lfilter, lfilter_zi
 
         step = float(np.mean(np.diff(time)))
-        b, a = butter(self.order, self.cutoff, fs=1.0 / step)
-        filtered = lfilter(b, a, signal, zi=lfilter_zi(b, a) * signal[0])[0]
+        filtered = np.asarray(signal, dtype=float)
+        if self.order:                      # order 0: no low-pass, a pure delay
+            b, a = butter(self.order, self.cutoff, fs=1.0 / step)
+            filtered = lfilter(b, a, filtered, zi=lfilter_zi(b, a) * filtered[0])[0]
         if self.delay:
             filtered = np.interp(time - self.delay, time, filtered, left=filtered[0])
         return filtered

@@ -196,3 +196,120 @@ def identification_figures(gear) -> list[dict]:
                            "record); none was fitted or tuned on this run.",
                 "svg": _to_svg(figure)})
     return figures
+
+
+def gap_heatmap(gap, title: str, caption: str, vmax: float | None = None) -> dict:
+    """Residual RMS over the channel's RMS (%) per channel × phase (rows) and run (columns)
+    of a :class:`certkit.gap.GapMap`; one colour scale up to ``vmax`` (a fraction; default:
+    the largest cell) so that two maps drawn with the same ``vmax`` compare."""
+    from .phases import PHASES
+
+    runs = list(gap.training) + list(gap.held_out)
+    by_key = {(c.run, c.channel, c.phase): c.normalised for c in gap.cells}
+    channels = [ch for ch in ("load", "stroke", "tyre") if any(k[1] == ch for k in by_key)]
+    rows = [(ch, ph) for ch in channels for ph in PHASES
+            if any((run, ch, ph) in by_key for run in runs)]
+    values = np.array([[by_key.get((run, ch, ph), np.nan) for run in runs] for ch, ph in rows],
+                      dtype=float)
+    finite = values[np.isfinite(values)]
+    top = vmax if vmax is not None else (float(finite.max()) if finite.size else 1.0)
+    top = top if top > 0 else 1.0
+    with plt.rc_context(dict(_STYLE, **{"axes.grid": False})):
+        figure, axes = plt.subplots(figsize=(_WIDTH, 0.2 * len(rows) + 1.1))
+        mesh = axes.pcolormesh(np.ma.masked_invalid(100.0 * values), cmap="Blues", vmin=0.0,
+                               vmax=100.0 * top, edgecolors="white", linewidth=0.5)
+        for i in range(len(rows)):
+            for j in range(len(runs)):
+                value = values[i, j]
+                text = "—" if not np.isfinite(value) else f"{100.0 * value:.3g}"
+                axes.text(j + 0.5, i + 0.5, text, ha="center", va="center", fontsize=6.5,
+                          color="white" if np.isfinite(value) and value > 0.6 * top else "black")
+        axes.set_xticks(np.arange(len(runs)) + 0.5,
+                        [f"{run}\n(held out)" if run in gap.held_out else f"{run}\n(training)"
+                         for run in runs])
+        axes.set_yticks(np.arange(len(rows)) + 0.5,
+                        [f"{CHANNEL_LABELS[ch]} · {ph}" for ch, ph in rows], fontsize=6.5)
+        axes.invert_yaxis()
+        axes.xaxis.tick_top()
+        bar = figure.colorbar(mesh, ax=axes, fraction=0.05, pad=0.02)
+        bar.set_label("residual RMS / channel RMS [%]")
+        figure.tight_layout()
+        return {"title": title, "caption": caption, "svg": _to_svg(figure)}
+
+
+def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: str | None,
+                units, window: float) -> dict:
+    """A held-out run's channels against the calibrated nominal model and (``after``) the
+    model with the named effects, from just before touchdown to ``window`` s after it, with
+    the measured run's phase boundaries drawn and named.
+
+    ``before``, ``after``: :class:`certkit.calibration.AlignedRecord`; ``phases``: the
+    measured run's :class:`certkit.phases.Phase` list."""
+    touchdown = float(before.time[before.after][0])
+    t = before.time - touchdown
+    shown = np.flatnonzero((t >= -_LEAD) & (t <= window))
+    t_ms = t[shown] * 1e3
+    channels = list(before.measured)
+    boundaries = [(p.name, float(t[p.start]) * 1e3) for p in phases[1:]
+                  if -_LEAD <= t[p.start] <= window]
+    with plt.rc_context(_STYLE):
+        figure, all_axes = plt.subplots(len(channels), 1,
+                                        figsize=(_WIDTH, 1.15 * len(channels) + 0.9), sharex=True)
+        all_axes = np.atleast_1d(all_axes)
+        for axes, channel in zip(all_axes, channels):
+            kind, si = ("force", "N") if channel == "load" else ("length", "m")
+            unit = getattr(units, kind)
+            scale = convert(1.0, si, unit)
+            axes.plot(t_ms, scale * before.measured[channel][shown], color="0.55",
+                      linewidth=1.6, label="measured")
+            axes.plot(t_ms, scale * before.simulated[channel][shown], linestyle="--",
+                      label="calibrated nominal model")
+            if after is not None:
+                axes.plot(t_ms, scale * after.simulated[channel][shown],
+                          label=f"with {label_after}")
+            for _, at in boundaries:
+                axes.axvline(at, color="0.3", linestyle=":", linewidth=0.7)
+            axes.set_ylabel(f"{CHANNEL_LABELS[channel]}\n[{unit}]")
+        for name, at in boundaries:
+            all_axes[0].text(at, 1.03, name, transform=all_axes[0].get_xaxis_transform(),
+                             rotation=90, ha="center", va="bottom", fontsize=6.0)
+        all_axes[0].legend(loc="upper right", frameon=False, fontsize=6.5)
+        all_axes[-1].set_xlabel("time from touchdown [ms]")
+        figure.tight_layout()
+        return {"title": f"{gear_id}, held-out run {run_id}: measured and model, with the "
+                         f"drop's phases",
+                "caption": "Grey: the run's channels; dashed: the nominal model calibrated on "
+                           "the training runs; solid: refitted with the named effect(s), when "
+                           "one was named. Dotted lines: the measured run's phase boundaries "
+                           "(certkit.phases), each labelled with the phase it starts. Neither "
+                           "model was fitted or tuned on this run.",
+                "svg": _to_svg(figure)}
+
+
+def blind_curve(points, target_top1: float | None, target_shrink: float | None) -> dict:
+    """The blind check's detectability curve: top-1 accuracy and median held-out shrink of
+    the single-effect cases against effect size / noise, with the targets drawn."""
+    ratios = [p.ratio for p in points]
+    with plt.rc_context(_STYLE):
+        figure, axes = plt.subplots(figsize=(_WIDTH * 0.7, _HEIGHT))
+        for key, label, marker in (("top1", "top-1 accuracy", "o"),
+                                   ("median_shrink", "median held-out load shrink", "s")):
+            values = [getattr(p, key) for p in points]
+            axes.plot(ratios, [100.0 * v if v is not None else np.nan for v in values],
+                      marker=marker, label=label)
+        for target, style in ((target_top1, "--"), (target_shrink, ":")):
+            if target is not None:
+                axes.axhline(100.0 * target, color="grey", linestyle=style, linewidth=0.8)
+        axes.set_xscale("log")
+        axes.set_xticks(ratios, [f"{r:g}" for r in ratios])
+        axes.minorticks_off()
+        axes.set_ylim(0, 105)
+        axes.set_xlabel("effect size / load noise RMS")
+        axes.set_ylabel("[%]")
+        axes.legend(loc="lower right", fontsize=7)
+        figure.tight_layout()
+        return {"title": "Blind check: what the diagnosis gets right against effect size",
+                "caption": "Single-effect cases at each size; dashed: the top-1 target, "
+                           "dotted: the shrink target (both from issue 5, judged at sizes "
+                           "of 2 and more).",
+                "svg": _to_svg(figure)}

@@ -1,13 +1,14 @@
 """The physics-model evidence of a report: the calibration of every gear unit whose drop
-model the spec allows, its identification, or plainly why there is none.
+model the spec allows, its identification and its sim-to-real gap diagnosis, or plainly why
+there is none.
 
-Above :mod:`certkit.calibration` and :mod:`certkit.identification`, which it runs; the
-report only lays out what it returns.
+Above :mod:`certkit.calibration`, :mod:`certkit.identification` and :mod:`certkit.gap`,
+which it runs; the report only lays out what it returns.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from threadpoolctl import threadpool_limits
 
@@ -26,12 +27,15 @@ class ModelEvidence:
     note: str
     synthetic_runs: tuple[str, ...] = ()
     identification: object | None = None   # certkit.identification.Identification
+    gap: dict = field(default_factory=dict)  # gear id -> certkit.gap.GapDiagnosis
+    gap_notes: tuple[str, ...] = ()          # gear units not diagnosed, and why, in words
 
 
-def model_evidence(campaign: Campaign, identification: bool = True) -> ModelEvidence:
-    """Calibrate every recorded gear unit that the spec gives the model's parameters for
-    and identify its block-oriented models (``identification``); otherwise say plainly
-    why the section is empty."""
+def model_evidence(campaign: Campaign, identification: bool = True,
+                   gap: bool = True) -> ModelEvidence:
+    """Calibrate every recorded gear unit that the spec gives the model's parameters for,
+    identify its block-oriented models (``identification``) and diagnose its sim-to-real
+    gap (``gap``); otherwise say plainly why a section is empty."""
     spec = campaign.spec
     synthetic = tuple(r.id for r in spec.runs if r.data is not None and r.data.origin == "synthetic")
     recorded = [g.id for g in spec.gear_units
@@ -54,5 +58,22 @@ def model_evidence(campaign: Campaign, identification: bool = True) -> ModelEvid
                                    "spec): " + "; ".join(missing) + ".")
     with threadpool_limits(limits=1):   # results independent of the machine's core count
         calibration = calibrate(campaign, gears=ready)
+        diagnoses, notes = _gap(campaign, ready) if gap else ({}, ())
     return ModelEvidence(calibration, note, synthetic,
-                         identify(campaign, gears=ready) if identification else None)
+                         identify(campaign, gears=ready) if identification else None,
+                         diagnoses, notes)
+
+
+def _gap(campaign: Campaign, gears: list[str]) -> tuple[dict, tuple[str, ...]]:
+    """The gap diagnosis of each gear unit; a unit whose drops allow none (one drop height,
+    no training or held-out run left) gets a note saying why instead."""
+    from .gap import gap_diagnosis
+
+    diagnoses, notes = {}, []
+    for gear_id in gears:
+        try:
+            diagnoses[gear_id] = gap_diagnosis(campaign, gear_id)
+        except CertkitInputError as error:
+            notes.append(f"{gear_id}: not diagnosed. " + " ".join(
+                p.message[:1].upper() + p.message[1:] for p in error.problems))
+    return diagnoses, tuple(notes)

@@ -52,10 +52,10 @@ def fonts_dir() -> Path:
 
 
 # --------------------------------------------------------------------------- formatting
-def _number(value: float) -> str:
+def _number(value: float, digits: int = SIGNIFICANT) -> str:
     if value == 0:
         return "0"
-    text = f"{value:.{SIGNIFICANT}g}"
+    text = f"{value:.{digits}g}"
     if "e" in text:
         mantissa, exponent = text.split("e")
         return f"{mantissa}×10^{int(exponent)}"
@@ -295,6 +295,7 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
         "provenance": record, "version": __version__,
         "model": _model_view(model, units),
         "identification": _identification_view(model, spec.model.identification),
+        "gap": _gap_view(model, campaign, units),
     }
 
 
@@ -500,6 +501,356 @@ def _identification_view(evidence, settings) -> dict:
             "note": "", **method}
 
 
+# --------------------------------------------------------------------------- the gap section
+def _percent(fraction: float | None, digits: int = 1, signed: bool = False) -> str:
+    if fraction is None or not math.isfinite(fraction):
+        return "—"
+    return f"{100.0 * fraction:{'+' if signed else ''}.{digits}f} %"
+
+
+def _short(value: float | None, kind: str, units, digits: int = 4) -> str:
+    """A residual statistic in display units to ``digits`` significant figures (more would
+    be noise)."""
+    if value is None:
+        return "—"
+    return _number(convert(value, SI_UNITS[kind], getattr(units, kind)), digits)
+
+
+def _channel_kind(channel: str) -> str:
+    return "force" if channel == "load" else "length"
+
+
+def _gap_method(units) -> dict:
+    """The method in words, every threshold taken from the code that applies it."""
+    from .attribution import CANDIDATES, GAIN, LEADING, RELEVANT, STARTS, TIE_COSINE, TIE_COST
+    from .holdout import MIDDLE_FROM
+    from .phases import BREAKOUT_TRAVEL, BREAKOUT_WINDOW
+    from .residuals import BANDS, MAX_LAG
+
+    bands = ", ".join(f"{name} ({low:g}-{high:g} Hz)" if math.isfinite(high)
+                      else f"{name}" for name, low, high in BANDS)
+    return {
+        "split": (f"The nominal drop model (no optional effects) is calibrated on the training "
+                  f"runs only. The held-out runs are used for nothing but the errors reported "
+                  f"as held out: by default every drop at the highest drop height (the "
+                  f"certification case is extrapolation), and the middle height's drops too "
+                  f"when there are {MIDDLE_FROM} heights or more; the spec's model.gap.held_out "
+                  f"overrides the default."),
+        "where": (f"Where: the residual (measured − model) of each channel is cut by the "
+                  f"measured run's phases: free fall; tyre-only contact from touchdown; strut "
+                  f"breakout, the first {_with_unit(BREAKOUT_WINDOW, 'time', units)} after the "
+                  f"stroke exceeds {_with_unit(BREAKOUT_TRAVEL, 'length', units)}; compression "
+                  f"to peak load; rebound to the end of extension; settling. Per channel, "
+                  f"phase and run: RMS, bias (mean of measured − model) and timing lag (the "
+                  f"cross-correlation peak within ±{_with_unit(MAX_LAG, 'time', units)}; "
+                  f"positive: the model is late). The residual's energy from touchdown is split "
+                  f"into bands: {bands}."),
+        "which": (f"Which: each candidate effect is a one-parameter family that nests the "
+                  f"nominal model (strength 0: the effect is absent). Its score "
+                  f"(Lagrange-multiplier) statistic LM is computed on the training runs after "
+                  f"projecting out what re-tuning the nominal parameters can absorb, and "
+                  f"converted into the RMS of the residual it would remove, √(LM/N), in units "
+                  f"of the noise σ. Because the test looks only at zero strength, each "
+                  f"candidate is also profiled: its training cost at the strengths "
+                  f"{', '.join(f'{v:g}' for v in STARTS)}, with what re-tuning the nominal "
+                  f"parameters absorbs projected out (an effect strongly nonlinear in its "
+                  f"strength can point the wrong way at zero and still explain the gap). "
+                  f"A candidate is relevant when it is among the {LEADING} best scores and "
+                  f"would remove at least {RELEVANT:g} σ, or when its profile already cuts the "
+                  f"training cost by {_percent(GAIN, 0)}; the {LEADING} relevant ones with the "
+                  f"best profiles are refitted together with the nominal parameters on the "
+                  f"training runs, each from its profile's best strength. The refit that cuts the "
+                  f"training cost (RMS of the residuals divided by each channel's range) most, "
+                  f"by at least {_percent(GAIN, 0)}, is named. When the two best refits' training costs "
+                  f"lie within a ratio of {TIE_COST:g} and the cosine of their projected "
+                  f"signatures is at least {TIE_COSINE:g}, the two cannot be told apart and "
+                  f"the diagnosis says so instead of naming one. A second effect is then looked "
+                  f"for the same way. The held-out errors are computed after the choice and "
+                  f"play no part in it."),
+        "candidates": [{"name": c.name, "unit_size": c.unit_size} for c in CANDIDATES],
+    }
+
+
+def _gap_cells(before, after, units) -> list[dict]:
+    from .rundata import CHANNEL_LABELS
+
+    later = {(c.run, c.channel, c.phase): c for c in after.cells} if after else {}
+    rows = []
+    for cell in before.cells:
+        kind = _channel_kind(cell.channel)
+        remaining = later.get((cell.run, cell.channel, cell.phase))
+        rows.append({
+            "run": cell.run, "role": "held out" if cell.run in before.held_out else "training",
+            "channel": CHANNEL_LABELS[cell.channel], "phase": cell.phase,
+            "samples": str(cell.samples), "unit": getattr(units, kind),
+            "rms": _short(cell.rms, kind, units), "bias": _short(cell.bias, kind, units),
+            "lag": _short(cell.lag, "time", units, 3),
+            "normalised": _percent(cell.normalised),
+            "rms_after": _short(remaining.rms, kind, units) if remaining else "—",
+            "normalised_after": _percent(remaining.normalised) if remaining else "—"})
+    return rows
+
+
+def _gap_largest(gap_map, units) -> str:
+    """The largest disagreement (training runs) in words, in display units, with its bands."""
+    from .residuals import BANDS, describe
+
+    cell = gap_map.largest
+    if cell is None:
+        return "No residual to map."
+    unit = getattr(units, _channel_kind(cell.channel))
+    text = describe(cell, convert(1.0, "N" if cell.channel == "load" else "m", unit), unit)
+    shares = gap_map.bands.get((cell.run, cell.channel))
+    if shares:
+        parts = [f"{_percent(shares[name], 0)} in the {name} band"
+                 + (f" ({low:g}-{high:g} Hz)" if math.isfinite(high) else "")
+                 for name, low, high in BANDS]
+        text += (f" Of the {cell.channel} residual's energy in run {cell.run} from touchdown, "
+                 + ", ".join(parts[:-1]) + " and " + parts[-1] + ".")
+    return text
+
+
+def _gap_steps(gap, units) -> list[dict]:
+    from .attribution import CANDIDATES, GAIN, LEADING, RELEVANT, TIE_COSINE, TIE_COST
+    from .rundata import CHANNEL_LABELS
+
+    diagnosis = gap.diagnosis
+    sizes = {c.name: c.unit_size for c in CANDIDATES}
+    steps = []
+    for index, (attribution, fits) in enumerate(diagnosis.steps):
+        beat = diagnosis.step_costs[index]
+        refitted = {f.effects[-1] for f in fits}
+        scores = []
+        for score in attribution.scores:
+            profile = (attribution.profiles or {}).get(score.name)
+            if score.name in refitted:
+                status = "refitted"
+            elif score.direction < 0 and not (profile and profile[1] <= (1 - GAIN) * beat):
+                status = "explains the residual only reversed: not counted"
+            elif score.direction == 0 and not profile:
+                status = "does not change the residual"
+            elif score.explained < RELEVANT and not (profile and profile[1] <= (1 - GAIN) * beat):
+                status = (f"below {RELEVANT:g} σ, and its profile cuts the training cost by "
+                          f"less than {_percent(GAIN, 0)}: not relevant")
+            else:
+                status = f"relevant, not among the {LEADING} best profiles"
+            scores.append({"effect": score.name, "statistic": f"{score.statistic:.4g}",
+                           "explained": f"{score.explained:.3g}", "status": status,
+                           "profile": "—" if not profile else
+                           f"{profile[1]:.4g} at strength {profile[0]:g}"})
+        pair = ""
+        if len(attribution.scores) >= 2:
+            a, b = attribution.scores[0].name, attribution.scores[1].name
+            cosine = attribution.confusability.get((a, b), attribution.confusability.get((b, a)))
+            if cosine is not None:
+                pair = (f"Confusability of the leading pair, {a} and {b}: the cosine of their "
+                        f"projected signatures is {cosine:.3f} (at {TIE_COSINE:g} or more, with "
+                        f"refitted training costs within a ratio of {TIE_COST:g}, they count as "
+                        f"indistinguishable with these channels).")
+        named = tuple(diagnosis.answer[:index + 1])
+        refits = []
+        for fit in fits:
+            strengths = "; ".join(
+                f"{name}: {value:.4g} ± "
+                f"{(f'{error:.2g}' if math.isfinite(error) else 'not determined')} "
+                f"(strength 1: {sizes.get(name, 'as defined by the candidate')})"
+                for name, value, error in zip(fit.effects, fit.strengths, fit.strength_errors))
+            if fit.effects == named and len(named) == index + 1:
+                outcome = "named"
+            elif fit.training_cost > (1 - GAIN) * beat:
+                outcome = f"cuts the training cost by less than {_percent(GAIN, 0)}: not named"
+            else:
+                outcome = (f"cuts the training cost by {_percent(GAIN, 0)} or more; not named "
+                           f"(see the statement)")
+            checks = gap.refit_held_out.get((index, fit.effects), {})
+            held = "; ".join(f"{run} {CHANNEL_LABELS[channel]} "
+                             f"{_short(value, _channel_kind(channel), units)} "
+                             f"{getattr(units, _channel_kind(channel))}"
+                             for (run, channel), value in checks.items())
+            refits.append({"effects": " + ".join(fit.effects), "strengths": strengths,
+                           "cost": f"{fit.training_cost:.4g}",
+                           "change": _percent(fit.training_cost / beat - 1, signed=True)
+                           if beat else "—",
+                           "outcome": outcome, "held_out": held or "—"})
+        title = ("Step 1: candidates against the calibrated nominal model" if index == 0 else
+                 f"Step {index + 1}: candidates against the model with "
+                 f"{' and '.join(diagnosis.answer[:index])}")
+        steps.append({"title": title, "beat": f"{beat:.4g}", "scores": scores, "pair": pair,
+                      "refits": refits,
+                      "no_refit": "" if refits else
+                      f"No candidate would remove {RELEVANT:g} σ or more: none was refitted."})
+    return steps
+
+
+def _gap_shrink(gap, units) -> list[dict]:
+    from .rundata import CHANNEL_LABELS
+
+    rows = []
+    for error in gap.held_out_errors:
+        kind = _channel_kind(error.channel)
+        shrink = error.shrink
+        rows.append({"run": error.run, "channel": CHANNEL_LABELS[error.channel],
+                     "phase": error.phase, "unit": getattr(units, kind),
+                     "samples": str(error.samples), "before": _short(error.before, kind, units),
+                     "after": _short(error.after, kind, units),
+                     "shrink": "—" if shrink is None else
+                     _percent(shrink) + (" (worse)" if shrink < 0 else "")})
+    return rows
+
+
+def _blind_view(campaign) -> dict:
+    """The blind check's record (model.gap.blind_check) in words and tables, or how to make
+    one."""
+    from .blind_record import METRICS
+
+    command = f"certkit gap --blind-check {campaign.spec_path.name} -o DIR"
+    record = campaign.blind_check
+    if record is None:
+        return {"recorded": False, "command": command,
+                "absent": "The blind check has not been recorded for this campaign, so this "
+                          "report gives no measured evidence of how often the diagnosis names "
+                          "the right effect. To record it, run the command below and name the "
+                          "JSON file it writes in the spec's model.gap.blind_check."}
+    from .blind_check import template_fingerprint
+    from .figures import blind_curve
+
+    now = template_fingerprint(campaign)
+    name = campaign.spec.model.gap.blind_check
+    resolved = (campaign.root / name).resolve()
+    item = next((i for i in campaign.inputs if i.path == resolved), None)
+    metrics, short = [], []
+    keys = [k for k in METRICS if k in record.metrics] + [k for k in record.metrics
+                                                          if k not in METRICS]
+    for key in keys:
+        metric = record.metrics[key]
+        label, definition = METRICS.get(key, (key.replace("_", " "), "as recorded"))
+        value = "not measured" if metric.value is None else _percent(metric.value)
+        judged = metric.judged
+        target = "no target" if metric.target is None else \
+            f"{metric.direction} {_percent(metric.target)}"
+        verdict = {True: "met", False: "NOT met", None: "—"}[judged]
+        if judged is False:
+            short.append(f"{label} {value} against a target of {target}")
+        counted = (f"{metric.count} of {metric.cases} cases" if metric.count is not None
+                   else f"{metric.cases} cases")
+        if metric.interval:
+            low, high = metric.interval
+            counted += f" (95 % interval {_percent(low)}–{_percent(high)})"
+        metrics.append({"label": label, "definition": definition, "value": value,
+                        "cases": counted, "target": target, "verdict": verdict,
+                        "css": {True: "pass", False: "fail", None: ""}[judged]})
+    if short:
+        verdict = ("Short of target: " + "; ".join(short) + ". The diagnosis falls short there, "
+                   "and its answers for this campaign should be weighed with that in mind.")
+    elif any(m.judged is not None for m in record.metrics.values()):
+        verdict = "Every metric with a target meets it."
+    else:
+        verdict = "No metric of the record has a target."
+    def plain(value, depth=0) -> str:
+        if isinstance(value, dict):
+            return "; ".join(f"{k}: {plain(v, depth + 1)}" for k, v in value.items())
+        if isinstance(value, list):
+            return (" + " if depth else ", ").join(plain(v, depth + 1) for v in value)
+        return f"{value:g}" if isinstance(value, float) else str(value)
+
+    settings = [(key.replace("_", " "), plain(value)) for key, value in record.settings.items()]
+    confusion = record.confusion
+    curve_figure = None
+    if record.curve:
+        targets = [record.metrics[k].target if k in record.metrics else None
+                   for k in ("top1", "median_shrink")]
+        curve_figure = blind_curve(record.curve, *targets)
+        curve_figure = dict(curve_figure, svg=Markup(curve_figure["svg"]))
+    return {
+        "recorded": True, "command": record.command, "file": name,
+        "sha256": item.sha256 if item else "",
+        "template": (f"Run by certkit {record.certkit} on gear unit {record.template.gear} of "
+                     f"{record.template.spec} (content fingerprint {record.template.sha256}"
+                     + ("; it matches this campaign's spec)." if record.template.sha256 == now
+                        else f"; this campaign's spec now has {now}: the record was made "
+                             f"from another version of it).")),
+        "settings": settings, "metrics": metrics, "verdict": verdict,
+        "curve_figure": curve_figure,
+        "curve": [{"ratio": f"{point.ratio:g}", "cases": str(point.cases),
+                   "top1": _percent(point.top1), "shrink": _percent(point.median_shrink)}
+                  for point in record.curve],
+        "confusion": {"named": list(confusion.named),
+                      "rows": [{"truth": truth, "cells": [str(n) for n in row]}
+                               for truth, row in zip(confusion.truths, confusion.counts)]},
+        "cases": str(len(record.cases)) if record.cases else "not listed"}
+
+
+def _gap_view(evidence, campaign, units) -> dict:
+    """The sim-to-real gap section: per gear unit where, which and how far; the blind check."""
+    method = _gap_method(units)
+    blind = _blind_view(campaign)
+    if evidence is None or evidence.calibration is None:
+        note = ("The gap diagnosis was not run for this report (the drop model was not run)."
+                if evidence is None else evidence.note)
+        return {"available": False, "note": note, "notes": [], "gears": [], "blind": blind,
+                "time_unit": units.time, **method}
+    from .figures import gap_heatmap, gap_overlay
+
+    gears = []
+    for gear_id, gap in evidence.gap.items():
+        diagnosis = gap.diagnosis
+        answer = " and ".join(diagnosis.answer)
+        finite = [c.normalised for c in gap.before.cells if math.isfinite(c.normalised)]
+        top = max(finite) if finite else None
+        figures = [gap_heatmap(
+            gap.before, f"{gear_id}: residual map of the calibrated nominal model",
+            "Residual RMS over the channel's RMS over the whole run, per channel and phase "
+            "(rows) and run (columns), in %. Training runs were fitted; held-out runs were "
+            "not.", top)]
+        for run_id in gap.held_out:
+            figures.append(gap_overlay(
+                gear_id, run_id, gap.before.records[run_id],
+                gap.after.records[run_id] if gap.after else None, gap.before.phases[run_id],
+                answer or None, units, window=_overlay_window(gap.before, run_id)))
+        remaining = None
+        if gap.after is not None:
+            remaining = gap_heatmap(
+                gap.after, f"{gear_id}: residual map remaining with {answer}",
+                "The same statistics with the named effect(s) refitted on the training runs; "
+                "the same colour scale as the map before, so the two compare.", top)
+        figures = [dict(f, svg=Markup(f["svg"])) for f in figures]
+        gears.append({
+            "id": gear_id, "training": ", ".join(gap.training),
+            "held_out": ", ".join(gap.held_out),
+            "split": ("declared in the spec (model.gap.held_out)" if gap.declared else
+                      "the default (every drop at the highest drop height held out)"),
+            "calibration_cost": f"{gap.before.calibration.fit.cost:.4g}",
+            "largest": _gap_largest(gap.before, units),
+            "heatmap": figures[0], "overlays": figures[1:],
+            "cells": _gap_cells(gap.before, gap.after, units),
+            "steps": _gap_steps(gap, units), "statement": diagnosis.statement,
+            "shrink": _gap_shrink(gap, units),
+            "remaining": dict(remaining, svg=Markup(remaining["svg"])) if remaining else None,
+            "remaining_largest": _lower_first(f"With {answer} refitted, ",
+                                              _gap_largest(gap.after, units))
+            if gap.after else "",
+            "remaining_note": "" if gap.after else
+            "No effect was named, so nothing was added and the residual map above is what "
+            "remains."})
+    notes = list(evidence.gap_notes) or ([] if gears else ["No gear unit was diagnosed."])
+    return {"available": True, "note": evidence.note, "notes": notes,
+            "gears": gears, "blind": blind, "time_unit": units.time, **method}
+
+
+def _lower_first(prefix: str, sentence: str) -> str:
+    return prefix + sentence[:1].lower() + sentence[1:]
+
+
+def _overlay_window(gap_map, run_id: str) -> float:
+    """From touchdown to twice the start of the last phase drawn (at least 0.25 s): every
+    phase boundary of the run is in view."""
+    record = gap_map.records[run_id]
+    touchdown = float(record.time[record.after][0])
+    last = max((float(record.time[p.start]) - touchdown for p in gap_map.phases[run_id]),
+               default=0.0)
+    return min(float(record.time[-1]) - touchdown, max(0.25, 2.0 * last))
+
+
 def _load_factor_view(assessment: Assessment) -> tuple[list[dict], str]:
     """Every load factor of each run side by side, and what a stated one turned out to be."""
     rows = []
@@ -547,6 +898,23 @@ def _finite(value):
     return value
 
 
+def _gap_results(model, campaign) -> dict:
+    """results.json's gap part: per gear unit where, which and how far (SI), the thresholds
+    applied, the units not diagnosed and why, and the blind check's metrics."""
+    from .gap import THRESHOLDS, gap_document
+
+    record = campaign.blind_check
+    blind = None
+    if record is not None:
+        blind = {"file": campaign.spec.model.gap.blind_check, "command": record.command,
+                 "template": record.template.model_dump(),
+                 "metrics": {key: dict(metric.model_dump(), met=metric.judged)
+                             for key, metric in record.metrics.items()}}
+    return {"thresholds": THRESHOLDS, "notes": list(model.gap_notes),
+            "gear_units": [gap_document(g) for g in model.gap.values()],
+            "blind_check": blind}
+
+
 def results_document(assessment: Assessment, record: dict, model=None) -> dict:
     """Every computed number with its SI unit, source and inputs."""
     spec = assessment.campaign.spec
@@ -558,7 +926,8 @@ def results_document(assessment: Assessment, record: dict, model=None) -> dict:
         model_part = {"note": model.note, "synthetic_runs": list(model.synthetic_runs),
                       "calibration": (calibration_document(model.calibration)
                                       if model.calibration is not None else None),
-                      "identification": identification_document(model.identification)}
+                      "identification": identification_document(model.identification),
+                      "gap": _gap_results(model, assessment.campaign)}
     return _finite({
         "format": "certkit-results/1",
         "campaign": {"id": spec.campaign.id, "title": spec.campaign.title,
@@ -612,6 +981,29 @@ def write_tables(assessment: Assessment, folder: Path, model=None) -> None:
                [[g.gear_id, x.model, x.protocol, x.output, x.run, x.rmse, x.nrmse, x.fit,
                  x.max_error] for g in (identification.gears if identification else ())
                 for x in g.scores])
+    gaps = list(model.gap.values()) if model is not None else []
+    if gaps:
+        from .calibration import CHANNEL_UNITS
+    rows = []
+    for gap in gaps:
+        later = ({(c.run, c.channel, c.phase): c for c in gap.after.cells}
+                 if gap.after is not None else {})
+        for c in gap.before.cells:
+            a = later.get((c.run, c.channel, c.phase))
+            rows.append([gap.gear_id, c.run, "held out" if c.run in gap.held_out else "training",
+                         c.channel, c.phase, c.samples, CHANNEL_UNITS[c.channel], c.scale,
+                         c.rms, c.bias, c.lag, a.rms if a else None, a.bias if a else None,
+                         a.lag if a else None])
+    _write_csv(folder / "gap.csv",
+               ["gear", "run", "role", "channel", "phase", "samples", "unit", "channel_rms",
+                "rms_before", "bias_before", "lag_before_s", "rms_after", "bias_after",
+                "lag_after_s"], rows)
+    _write_csv(folder / "gap_shrink.csv",
+               ["gear", "run", "channel", "phase", "samples", "unit", "rmse_before",
+                "rmse_after", "shrink_percent"],
+               [[gap.gear_id, e.run, e.channel, e.phase, e.samples, CHANNEL_UNITS[e.channel],
+                 e.before, e.after, None if e.shrink is None else 100.0 * e.shrink]
+                for gap in gaps for e in gap.held_out_errors])
     _write_csv(folder / "verdicts.csv",
                ["id", "requirement_set", "criterion", "clause", "run", "gear", "verdict", "value",
                 "limit", "margin", "unit", "comparison", "to_confirm", "reason"],
@@ -748,7 +1140,8 @@ def _write_outputs(assessment: Assessment, folder: Path, progress, model) -> Non
 
 
 #: What render_report writes; an existing folder holding anything else is not replaced.
-TABLES = ("verdicts", "findings", "values", "comparisons", "model", "identification")
+TABLES = ("verdicts", "findings", "values", "comparisons", "model", "identification", "gap",
+          "gap_shrink")
 REPORT_FILES = {"report.html", "report.pdf", "results.json"} | {f"tables/{name}.csv"
                                                                 for name in TABLES}
 

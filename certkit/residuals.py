@@ -57,8 +57,8 @@ def timing_lag(measured: np.ndarray, simulated: np.ndarray, step: float,
         left, mid, right = values[best - 1], values[best], values[best + 1]
         curvature = left - 2 * mid + right
         if curvature < 0:
-            shift += 0.5 * (left - right) / curvature
-    return shift * step
+            shift += float(0.5 * (left - right) / curvature)
+    return float(shift * step)
 
 
 def band_shares(residual: np.ndarray, step: float) -> dict[str, float]:

@@ -490,6 +490,19 @@ class IdentificationSpec(_Model):
                     "RMSE is at or below this")
 
 
+class GapSpec(_Model):
+    """Sim-to-real gap diagnosis (`certkit gap`, the report's gap section)."""
+
+    held_out: list[Identifier] = Field(
+        [], description="runs kept out of calibration, scoring and refits, only evaluated "
+                        "(default: every drop at the highest drop height, and the middle "
+                        "height's when there are four heights or more)")
+    blind_check: Text | None = Field(
+        None, description="the JSON file written by `certkit gap --blind-check`, relative to "
+                          "this spec file and inside its folder; the report summarises it and "
+                          "hashes it with the other inputs")
+
+
 class ModelSettings(_Model):
     """The physics model used to simulate and calibrate: which optional effects are on."""
 
@@ -497,6 +510,7 @@ class ModelSettings(_Model):
     sensor: SensorSpec | None = None
     calibration: CalibrationSpec | None = None
     identification: IdentificationSpec = IdentificationSpec()
+    gap: GapSpec = GapSpec()
 
 
 class ReportSettings(_Model):

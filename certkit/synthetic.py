@@ -10,6 +10,7 @@ fixed: the same inputs give the same bytes.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -18,6 +19,7 @@ import yaml
 
 from .campaign import Campaign
 from .clauses import ideal_impact_velocity
+from .drop_model import DropModel
 from .effects import SensorDynamics
 from .errors import CertkitInputError
 from .gear_model import drop_model_for
@@ -41,6 +43,12 @@ class SensorModel:
     displacement_step: float = 1.0e-5
 
 
+    #: Error of the zero offsets written into the spec (uniform in ±this): the offsets a
+    #: test engineer reads before a drop are themselves measured, so zeroing is imperfect.
+    load_zero_error: float = 0.0
+    travel_zero_error: float = 0.0
+
+
 NO_SENSOR_EFFECTS = SensorModel(0, 0, 0, 0, 0, 0, 0, 0, 0, 0)
 
 
@@ -61,15 +69,23 @@ def _decimals(step: float) -> int:
 
 def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
                       sensors: SensorModel = SensorModel(), duration: float = 2.0,
-                      lead: float = 0.1, effects: list[str] | None = None) -> Path:
+                      lead: float = 0.1, effects: list[str] | None = None,
+                      truth: Callable[[str, DropModel], DropModel] | None = None,
+                      recorder: SensorDynamics | None = None, note: str | None = None) -> Path:
     """Simulate every run of ``campaign`` and write a synthetic campaign into ``out_dir``.
 
     Writes ``out_dir/campaign.yaml`` (the original spec with each run's ``data`` pointing at
     the simulated file) and ``out_dir/data/<run>.csv``.  Returns the new spec's path.
+
+    ``truth(gear_id, model)`` turns the spec's model of a gear unit (with ``effects``) into
+    the one simulated; ``recorder`` replaces the spec's sensor dynamics; ``note`` replaces
+    the assumption the spec gains (which otherwise names the effects simulated).
     """
     spec = campaign.spec
     rate = spec.instrumentation.sampling_rate.si if spec.instrumentation else 1000.0
     raw = yaml.safe_load(campaign.spec_path.read_text(encoding="utf-8"))
+    # the new campaign has no blind-check record of its own (the file is not copied)
+    (raw.get("model") or {}).get("gap", {}).pop("blind_check", None)
     files = {"campaign.yaml"} | {f"data/{run.id}.csv" for run in spec.runs}
     inputs = [item.path for item in campaign.inputs]
     with staged_folder(out_dir, inputs, files) as staging:
@@ -80,11 +96,14 @@ def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
             models = {gear_id: drop_model_for(spec, run, gear_id, str(campaign.spec_path.name),
                                               campaign.lines, effects)
                       for gear_id in run.gear_units}
+            if truth is not None:
+                models = {gear_id: truth(gear_id, model) for gear_id, model in models.items()}
             drops = {gear_id: simulate_reference(model, velocity, duration, rate, lead, run=run.id)
                      for gear_id, model in models.items()}
             first = next(iter(drops.values()))
             time = first.time
-            recorded = _recorder(campaign, effects, time)
+            recorded = (_recorder(campaign, effects, time) if recorder is None
+                        else lambda signal, sensor=recorder: sensor.apply(time, signal))
             columns = {"t_s": (time, 1.0, 6)}
             mapping = {}
             for gear_id, drop in drops.items():
@@ -94,6 +113,10 @@ def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
                                                 sensors.travel_step, sensors.travel_offset, rng)
                 tyre, tyre_bias = _measured(recorded(drop.tyre), sensors.travel_noise,
                                             sensors.travel_step, sensors.travel_offset, rng)
+                if sensors.load_zero_error or sensors.travel_zero_error:
+                    load_bias += rng.uniform(-1, 1) * sensors.load_zero_error
+                    stroke_bias += rng.uniform(-1, 1) * sensors.travel_zero_error
+                    tyre_bias += rng.uniform(-1, 1) * sensors.travel_zero_error
                 columns[f"{gear_id}_load_N"] = (load, 1.0, _decimals(sensors.load_step))
                 columns[f"{gear_id}_stroke_mm"] = (stroke, 1e3, _decimals(sensors.travel_step * 1e3))
                 columns[f"{gear_id}_tyre_mm"] = (tyre, 1e3, _decimals(sensors.travel_step * 1e3))
@@ -123,7 +146,7 @@ def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
                 "drop_mass_acceleration": {"column": "acc_ms2", "unit": "m/s^2",
                                            "reference": "kinematic"},
                 "drop_mass_displacement": {"column": "x_mm", "unit": "mm"}}
-        note = (f"Synthetic time histories simulated by certkit (drop model of each gear unit, "
+        note = note or (f"Synthetic time histories simulated by certkit (drop model of each gear unit, "
                 f"effects: {', '.join(effects if effects is not None else spec.model.effects) or 'none'}; "
                 f"seed {seed}); sensor noise, quantisation and zero offsets added.")
         raw.setdefault("assumptions", []).append(note)

@@ -144,4 +144,4 @@ def test_gap_command_on_the_example_names_effects_of_its_truth(physics_campaign)
     named = statement.removeprefix("The gap is explained by ").rstrip(".").split(" and ")
     assert set(named) <= {"rebound orifice", "seal friction", "tyre hysteresis"} and named
     outcome = runner.invoke(app, ["gap", str(physics_campaign)])
-    assert outcome.exit_code == 2 and "nothing to diagnose" in outcome.output
+    assert outcome.exit_code == 2 and "no run has time histories" in outcome.output

@@ -1,12 +1,29 @@
-"""Where the gap lies: the residual map of a nominal model against runs whose truth has
-an effect the model leaves out."""
+"""The gap diagnosis end to end: the training/held-out split and the input it refuses, the
+residual map, the held-out error per channel and phase before and after the named effects,
+the map that remains, and the blind check's record as a campaign input."""
 
+import csv
+import hashlib
+import json
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
 import pytest
 
-from certkit import load_campaign
-from certkit.gap import default_split, residual_map
-from certkit.phases import PHASES
+from certkit import assess, load_campaign, render_report
+from certkit import report as report_module
+from certkit.calibration import AlignedRecord
+from certkit.errors import CertkitInputError
+from certkit.gap import WHOLE, default_split, gap_diagnosis, gap_document, held_out_errors
+from certkit.holdout import split_for
+from certkit.phases import PHASES, Phase
 from certkit.synthetic import simulate_campaign
+
+BLIND = Path(__file__).parent / "data" / "blind_check.json"
+# synthetic truth below: the spec's gear with these effects, none of them in the nominal model
+TRUTH = {"rebound orifice", "seal friction", "tyre hysteresis"}
 
 
 @pytest.fixture(scope="module")
@@ -23,13 +40,86 @@ def with_hysteresis(tmp_path_factory):
                              seed=11)
 
 
+@pytest.fixture(scope="module")
+def diagnosed(with_hysteresis):
+    """The whole diagnosis of the synthetic campaign's gear (about 10 s), shared."""
+    return gap_diagnosis(load_campaign(with_hysteresis), "left-main")
+
+
+def variant(spec: Path, name: str, gap: str | None = None, heights: dict | None = None,
+            extra: str = "") -> Path:
+    """A copy of the generated spec beside it (same data files) with a model.gap block,
+    changed drop heights or an extra run."""
+    text = spec.read_text(encoding="utf-8")
+    if gap is not None:
+        assert "\ninstrumentation:\n" in text
+        text = text.replace("\ninstrumentation:\n", f"\n  gap: {gap}\ninstrumentation:\n", 1)
+    for old, new in (heights or {}).items():
+        assert f"drop_height: {old}" in text
+        text = text.replace(f"drop_height: {old}", f"drop_height: {new}")
+    if extra:
+        text = text.replace("\nassumptions:\n", f"\n{extra}assumptions:\n", 1)
+    target = spec.parent / name
+    target.write_text(text, encoding="utf-8")
+    return target
+
+
+# --------------------------------------------------------------------------- the split
 def test_default_split_holds_out_the_highest_drop(with_hysteresis):
     assert default_split(load_campaign(with_hysteresis), "left-main") == (["D200", "D250"],
                                                                           ["D300"])
 
 
-def test_residual_map_covers_every_channel_phase_and_run(with_hysteresis):
-    gap = residual_map(load_campaign(with_hysteresis), "left-main")
+def test_a_declared_held_out_run_replaces_the_default(with_hysteresis):
+    spec = variant(with_hysteresis, "declared.yaml", gap="{held_out: [D250]}")
+    assert split_for(load_campaign(spec), "left-main") == (["D200", "D300"], ["D250"], True)
+    assert split_for(load_campaign(with_hysteresis), "left-main") == (["D200", "D250"],
+                                                                      ["D300"], False)
+
+
+def test_an_unknown_gap_held_out_run_is_an_input_error_naming_the_key(with_hysteresis):
+    spec = variant(with_hysteresis, "unknown.yaml", gap="{held_out: [D3OO]}")
+    with pytest.raises(CertkitInputError) as error:
+        load_campaign(spec)
+    problem = error.value.problems[0]
+    assert problem.key == "model.gap.held_out[0]" and "unknown run 'D3OO'" in problem.message
+    line = next(n for n, text in enumerate(spec.read_text().splitlines(), 1) if "D3OO" in text)
+    assert problem.line == line
+
+
+def test_drops_at_one_height_are_refused_with_what_the_diagnosis_needs(with_hysteresis):
+    spec = variant(with_hysteresis, "one-height.yaml",
+                   heights={"200 mm": "300 mm", "250 mm": "300 mm"})
+    with pytest.raises(CertkitInputError) as error:
+        split_for(load_campaign(spec), "left-main")
+    message = str(error.value)
+    assert "one drop height only (D200 (300 mm), D250 (300 mm), D300 (300 mm))" in message
+    assert "at two drop heights or more" in message and "holds out the highest" in message
+
+
+def test_holding_out_every_drop_leaves_no_training_run(with_hysteresis):
+    spec = variant(with_hysteresis, "all-held.yaml", gap="{held_out: [D200, D250, D300]}")
+    with pytest.raises(CertkitInputError) as error:
+        split_for(load_campaign(spec), "left-main")
+    problem = error.value.problems[0]
+    assert problem.key == "model.gap.held_out" and problem.line is not None
+    assert "no training run is left" in problem.message
+
+
+def test_a_held_out_run_without_this_gears_data_leaves_none_held_out(with_hysteresis):
+    run = ("- id: D350\n  test_type: limit\n  gear_units: [left-main]\n  drop_height: 350 mm\n"
+           "  drop_mass: 292.5 kg\n  lift: {method: none}\n")
+    spec = variant(with_hysteresis, "no-data.yaml", gap="{held_out: [D350]}", extra=run)
+    with pytest.raises(CertkitInputError) as error:
+        split_for(load_campaign(spec), "left-main")
+    problem = error.value.problems[0]
+    assert problem.key == "model.gap.held_out"
+    assert "no held-out run is" in problem.message and "D350" in problem.message
+
+
+# --------------------------------------------------------------------------- where
+def test_residual_map_covers_every_channel_phase_and_run(diagnosed):
+    gap = diagnosed.before
     assert gap.training == ("D200", "D250") and gap.held_out == ("D300",)
     keys = {(c.run, c.channel, c.phase) for c in gap.cells}
     for run in ("D200", "D250", "D300"):
@@ -44,3 +134,181 @@ def test_residual_map_covers_every_channel_phase_and_run(with_hysteresis):
     assert gap.largest.run in gap.training and "largest disagreement" in gap.summary
     for shares in gap.bands.values():
         assert sum(shares.values()) == pytest.approx(1.0)
+
+
+# --------------------------------------------------------------------------- how far
+def test_held_out_errors_per_phase_on_a_record_worked_by_hand():
+    time = np.arange(8) * 1e-3
+    measured = np.array([0, 0, 10, 10, 10, 10, 0, 0], dtype=float)
+    nominal = np.array([0, 0, 6, 6, 14, 14, 0, 0], dtype=float)      # residual ±4
+    refitted = np.array([0, 0, 9, 9, 12, 12, 0, 0], dtype=float)     # residual 1, then −2
+    after = time >= 2e-3
+    phases = {"D9": [Phase("free fall", 0, 2), Phase("compression", 2, 4),
+                     Phase("rebound", 4, 6), Phase("settling", 6, 8)]}
+    before = {"D9": AlignedRecord(time, after, {"load": measured}, {"load": nominal})}
+    later = {"D9": AlignedRecord(time, after, {"load": measured}, {"load": refitted})}
+    rows = {r.phase: r for r in held_out_errors(before, later, phases)}
+    # from touchdown (6 samples): residuals 4, 4, −4, −4, 0, 0 and 1, 1, −2, −2, 0, 0
+    assert rows[WHOLE].samples == 6
+    assert rows[WHOLE].before == pytest.approx(math.sqrt(64 / 6))
+    assert rows[WHOLE].after == pytest.approx(math.sqrt(10 / 6))
+    assert rows[WHOLE].shrink == pytest.approx(1 - math.sqrt(10 / 64))
+    assert (rows["compression"].before, rows["compression"].after) == (4.0, 1.0)
+    assert rows["compression"].shrink == pytest.approx(0.75)
+    assert (rows["rebound"].before, rows["rebound"].after) == (4.0, 2.0)
+    assert rows["rebound"].shrink == pytest.approx(0.5)
+    # no error to shrink: no shrink, rather than 0/0
+    assert rows["settling"].before == 0.0 and rows["settling"].shrink is None
+    # without a named effect there is no "after"
+    alone = held_out_errors(before, None, phases)
+    assert all(r.after is None and r.shrink is None for r in alone)
+
+
+def test_the_diagnosis_names_effects_of_the_truth_and_maps_what_remains(diagnosed):
+    assert diagnosed.diagnosis.answer and set(diagnosed.diagnosis.answer) <= TRUTH
+    assert not diagnosed.declared and diagnosed.held_out == ("D300",)
+    after = diagnosed.after
+    assert after is not None
+    assert {(c.run, c.channel, c.phase) for c in after.cells} == \
+        {(c.run, c.channel, c.phase) for c in diagnosed.before.cells}
+
+    def energy(cells, runs):
+        return sum(c.samples * (c.rms / c.scale) ** 2 for c in cells if c.run in runs)
+
+    # the named effects were fitted on the training runs: their residual must fall there
+    assert energy(after.cells, after.training) < 0.5 * energy(diagnosed.before.cells,
+                                                              after.training)
+
+
+def test_held_out_shrink_per_channel_and_phase(diagnosed):
+    rows = diagnosed.held_out_errors
+    assert {r.run for r in rows} == {"D300"}
+    for row in rows:
+        assert row.after is not None
+        if row.before > 0:
+            assert 100 * row.shrink == pytest.approx(100 * (1 - row.after / row.before))
+    label = "with " + " and ".join(diagnosed.diagnosis.answer)
+    for channel in ("load", "stroke", "tyre"):
+        whole = next(r for r in rows if r.channel == channel and r.phase == WHOLE)
+        # the same error computed by the diagnosis itself (attribution, another code path)
+        assert whole.before == pytest.approx(
+            diagnosed.diagnosis.held_out_rmse[("nominal", "D300", channel)], rel=1e-12)
+        assert whole.after == pytest.approx(
+            diagnosed.diagnosis.held_out_rmse[(label, "D300", channel)], rel=1e-12)
+        # the phases after touchdown partition the record from touchdown, so their mean
+        # squares, weighted by samples, make up the whole-record error
+        parts = [r for r in rows if r.channel == channel and r.phase not in (WHOLE, "free fall")]
+        assert sum(r.samples for r in parts) == whole.samples
+        for attribute in ("before", "after"):
+            combined = math.sqrt(sum(r.samples * getattr(r, attribute) ** 2 for r in parts)
+                                 / whole.samples)
+            assert combined == pytest.approx(getattr(whole, attribute), rel=1e-9)
+    load = next(r for r in rows if r.channel == "load" and r.phase == WHOLE)
+    assert load.after < 0.5 * load.before, load
+
+
+def test_the_gap_results_are_plain_json_and_csv(diagnosed, with_hysteresis, tmp_path):
+    from certkit.calibration import Calibration
+    from certkit.model_evidence import ModelEvidence
+
+    document = gap_document(diagnosed)
+    text = json.dumps(document, allow_nan=False)
+    assert json.loads(text)["answer"] == list(diagnosed.diagnosis.answer)
+    evidence = ModelEvidence(Calibration((), ()), "", gap={"left-main": diagnosed})
+    campaign = load_campaign(with_hysteresis)
+    report_module.write_tables(assess(campaign), tmp_path / "tables", evidence)
+    with (tmp_path / "tables" / "gap.csv").open(encoding="utf-8") as handle:
+        cells = list(csv.DictReader(handle))
+    assert len(cells) == len(diagnosed.before.cells)
+    with (tmp_path / "tables" / "gap_shrink.csv").open(encoding="utf-8") as handle:
+        shrink = list(csv.DictReader(handle))
+    assert len(shrink) == len(diagnosed.held_out_errors)
+    for row in shrink:
+        before, after = float(row["rmse_before"]), float(row["rmse_after"])
+        if before > 0:
+            assert float(row["shrink_percent"]) == pytest.approx(100 * (1 - after / before))
+        assert row["unit"] == ("N" if row["channel"] == "load" else "m")
+
+
+def test_the_gap_section_lays_out_the_diagnosis(diagnosed, with_hysteresis):
+    from certkit.calibration import Calibration
+    from certkit.model_evidence import ModelEvidence
+    from certkit.provenance import provenance
+
+    campaign = load_campaign(with_hysteresis)
+    evidence = ModelEvidence(Calibration((), ()), "", gap={"left-main": diagnosed},
+                             gap_notes=("right-main: not diagnosed. Example note.",))
+    html = report_module.render_html(report_module.build_view(
+        assess(campaign), provenance(campaign.inputs), evidence))
+    section = html[html.index('<section id="gap">'):html.index('<section id="methods">')]
+    assert "11. Sim-to-real gap" in section and "12. Methods" in html
+    assert "13. Provenance" in html
+    assert diagnosed.diagnosis.statement in section
+    assert "right-main: not diagnosed. Example note." in section
+    # the map before, the held-out overlay, the map that remains
+    assert section.count("<svg") == 3
+    assert "the default (every drop at the highest drop height held out)" in section
+    # thresholds are the code's, not typed into the template
+    from certkit.attribution import RELEVANT
+    assert f"would remove at least {RELEVANT:g} σ" in section
+    # no blind check recorded for this campaign: the section says how to make one
+    assert "has not been recorded for this campaign" in section
+    assert f"certkit gap --blind-check {with_hysteresis.name} -o DIR" in section
+
+
+# --------------------------------------------------------------------------- blind check
+def _with_blind_check(spec: Path, record: Path, name: str) -> Path:
+    folder = spec.parent / "blind"
+    folder.mkdir(exist_ok=True)
+    shutil.copyfile(record, folder / record.name)
+    return variant(spec, name, gap=f"{{blind_check: blind/{record.name}}}")
+
+
+def test_the_blind_check_record_is_a_hashed_input(with_hysteresis):
+    campaign = load_campaign(_with_blind_check(with_hysteresis, BLIND, "blind.yaml"))
+    item = next(i for i in campaign.inputs if i.name == "blind/blind_check.json")
+    assert item.sha256 == hashlib.sha256(BLIND.read_bytes()).hexdigest()
+    assert campaign.blind_check.metrics["top1"].judged is False   # 0.80 < 0.85
+
+
+@pytest.mark.parametrize("change, words", [
+    (lambda r: r["metrics"]["top1"].update(met=True), "metrics.top1: met is true"),
+    (lambda r: r.update(kind="something else"), "kind: expected 'certkit blind check'"),
+    (lambda r: r["confusion"]["counts"].pop(), "confusion: counts must have one row per truth"),
+    (lambda r: r["metrics"]["harm_rate"].pop("cases"), "metrics.harm_rate.cases: field required"),
+])
+def test_a_bad_blind_check_record_is_an_input_error_naming_the_key(with_hysteresis, tmp_path,
+                                                                   change, words):
+    record = json.loads(BLIND.read_text(encoding="utf-8"))
+    change(record)
+    bad = tmp_path / "bad_check.json"
+    bad.write_text(json.dumps(record), encoding="utf-8")
+    spec = _with_blind_check(with_hysteresis, bad, "bad-blind.yaml")
+    with pytest.raises(CertkitInputError) as error:
+        load_campaign(spec)
+    problem = error.value.problems[0]
+    assert problem.key == "model.gap.blind_check" and problem.line is not None
+    assert words in problem.message.replace("Field required", "field required"), problem.message
+
+
+def test_the_report_summarises_the_blind_check_and_says_what_falls_short(with_hysteresis,
+                                                                         tmp_path):
+    spec = _with_blind_check(with_hysteresis, BLIND, "blind-report.yaml")
+    out = tmp_path / "out"
+    render_report(assess(load_campaign(spec)), out)
+    html = (out / "report.html").read_text(encoding="utf-8")
+    section = html[html.index("How far the diagnosis can be trusted"):
+                   html.index('<section id="methods">')]
+    # the record's fractions as percentages: 24 of 30 = 80.0 % against at least 85 %
+    assert "80.0 %" in section and "24 of 30 cases" in section and "at least 85.0 %" in section
+    assert "NOT met" in section and section.count(">met<") == 3
+    assert ("Short of target: top-1 accuracy 80.0 % against a target of at least 85.0 %"
+            in section)
+    assert "harm rate" in section and "3.0 %" in section and "at most 10.0 %" in section
+    # the curve and the confusion matrix: the 5× row and the one case named "cannot tell apart"
+    assert "90.0 %" in section and "cannot tell apart" in section
+    # the gap diagnosis itself was not run (no model): said, not hidden
+    assert "The gap diagnosis was not run for this report" in html
+    record = json.loads((out / "results.json").read_text(encoding="utf-8"))["provenance"]
+    names = {i["file"]: i["sha256"] for i in record["inputs"]}
+    assert names["blind/blind_check.json"] == hashlib.sha256(BLIND.read_bytes()).hexdigest()

@@ -71,7 +71,9 @@ def test_html_is_self_contained(seed_outputs):
     # no stylesheet, script, image or font is fetched from anywhere
     assert not re.search(r"<(link|script|img)\b", html)
     assert not re.search(r"""(src|href)\s*=\s*["'](?!#)""", html)
-    assert "url(" not in html
+    # url(#id) references an element of the page itself (an SVG clip path); nothing else
+    assert not re.search(r"url\((?!#)", html)
+    assert "url(#" not in html.split("<svg")[0]     # the CSS has none at all
 
 
 def test_report_states_the_impact_load_factor_definition(seed_outputs):
@@ -145,7 +147,8 @@ def test_same_inputs_give_identical_bytes_across_processes(timeseries_campaign, 
 
 @pytest.mark.slow
 def test_model_section_is_reproducible_and_says_the_data_are_synthetic(tmp_path):
-    # the example campaign: calibration and identification of both gears, in two processes
+    # the example campaign: calibration, identification and gap diagnosis of both gears, in
+    # two processes
     _render_in_fresh_process(SEED, tmp_path / "a")
     _render_in_fresh_process(SEED, tmp_path / "b")
     assert _digests(tmp_path / "a") == _digests(tmp_path / "b")
@@ -165,3 +168,24 @@ def test_model_section_is_reproducible_and_says_the_data_are_synthetic(tmp_path)
     assert len(rows) == 1 + 2 * 3 * 3  # header + 2 gears x 3 runs x 3 channels
     identification = results["model"]["identification"]["gear_units"]
     assert [g["held_out"] for g in identification] == [["D300"], ["D300"]]
+    # the gap section: both gears diagnosed on the default split, numbered after
+    # identification, before methods and provenance
+    assert "11. Sim-to-real gap" in html and html.count('class="gap-gear"') == 2
+    assert html.index("10. Identification") < html.index("11. Sim-to-real gap") \
+        < html.index("12. Methods") < html.index("13. Provenance")
+    # the example names its blind-check record, made from this very spec
+    assert "has not been recorded for this campaign" not in html
+    assert "it matches this campaign's spec" in html
+    assert "Blind check: what the diagnosis gets right against effect size" in html
+    gaps = results["model"]["gap"]["gear_units"]
+    assert [(g["gear_unit"], g["training"], g["held_out"]) for g in gaps] == [
+        ("left-main", ["D200", "D250"], ["D300"]), ("right-main", ["D200", "D250"], ["D300"])]
+    # synthesise.py's truth has a rebound orifice, seal friction and tyre hysteresis
+    for gap in gaps:
+        assert gap["answer"] and set(gap["answer"]) <= {"rebound orifice", "seal friction",
+                                                        "tyre hysteresis"}
+    cells = (tmp_path / "a" / "tables" / "gap.csv").read_text(encoding="utf-8").splitlines()
+    assert len(cells) == 1 + 2 * 3 * 3 * 6  # header + gears x runs x channels x phases
+    shrink = (tmp_path / "a" / "tables" / "gap_shrink.csv").read_text(encoding="utf-8")
+    # held-out D300 of each gear: 3 channels x (whole record + 6 phases)
+    assert len(shrink.splitlines()) == 1 + 2 * 3 * 7

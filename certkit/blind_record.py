@@ -1,0 +1,156 @@
+"""The record of a blind check of the gap diagnosis, as a campaign input.
+
+`certkit gap --blind-check` runs the diagnosis on synthetic campaigns whose withheld effect
+is known and writes what it measured as JSON (``kind: "certkit blind check"``).  A campaign
+names that file in ``model.gap.blind_check``; it is then an input like a data file (hashed,
+attached to the PDF) and the report's gap section summarises it.  This module is the
+record's schema: one place that reads and checks it.
+
+Fractions are fractions here (0.9, not 90 %); the report shows them as percentages.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+KIND = "certkit blind check"
+
+#: Metric key -> (label, definition in words), in the order the report shows them.
+METRICS = {
+    "top1": ("top-1 accuracy",
+             "share of the single-effect cases (effect/noise ≥ 2) whose first named effect is "
+             "the withheld one"),
+    "false_attribution": ("false attribution",
+                          "share of the no-effect cases in which an effect was named"),
+    "set_precision": ("set precision",
+                      "on the two-effect cases, share of the named effects that are among the "
+                      "withheld ones"),
+    "set_recall": ("set recall",
+                   "on the two-effect cases, share of the withheld effects that were named"),
+    "median_shrink": ("median held-out shrink",
+                      "median over the cases with effects (effect/noise ≥ 2) of the held-out "
+                      "load RMSE shrink 1 − RMSE(with the named effects)/RMSE(nominal); "
+                      "an abstention shrinks 0"),
+    "harm_rate": ("harm rate",
+                  "share of the cases in which the named effect made the held-out error worse"),
+    "median_gap_closed": ("median share of the gap closed",
+                          "as the shrink, on the part of the held-out load RMSE above the "
+                          "known sensor noise, √(RMSE² − σ²): the part a model can remove"),
+}
+
+
+class _Record(BaseModel):
+    # written by another program, possibly a newer certkit: extra keys are ignored, the
+    # documented ones must be present and of the right type
+    model_config = ConfigDict(extra="ignore", frozen=True, strict=True, allow_inf_nan=False)
+
+
+class Template(_Record):
+    spec: str
+    sha256: str
+    gear: str
+
+
+class Metric(_Record):
+    value: float | None
+    count: int | None = Field(ge=0)
+    cases: int = Field(ge=0)
+    target: float | None
+    direction: Literal["at least", "at most"] | None
+    met: bool | None
+    interval: list[float] | None = None   # 95 % Wilson interval of count/cases
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        if (self.target is None) != (self.direction is None):
+            raise ValueError("target and direction go together (both or neither)")
+        if self.met is not None and self.met != self.judged:
+            raise ValueError(f"met is {str(self.met).lower()}, but the value {self.value} is "
+                             f"{'not ' if self.met else ''}{self.direction} the target "
+                             f"{self.target}")
+        return self
+
+    @property
+    def judged(self) -> bool | None:
+        """Whether the value meets its target (None: no target, or no value)."""
+        if self.target is None or self.value is None:
+            return None
+        return (self.value >= self.target if self.direction == "at least"
+                else self.value <= self.target)
+
+
+class CurvePoint(_Record):
+    ratio: float = Field(gt=0)
+    cases: int = Field(ge=0)
+    top1: float | None
+    median_shrink: float | None
+
+
+class Confusion(_Record):
+    truths: list[str]
+    named: list[str]
+    counts: list[list[int]]
+
+    @model_validator(mode="after")
+    def _shape(self):
+        if len(self.counts) != len(self.truths) or any(len(row) != len(self.named)
+                                                       for row in self.counts):
+            raise ValueError(f"counts must have one row per truth ({len(self.truths)}) and "
+                             f"one column per answer ({len(self.named)})")
+        return self
+
+
+class BlindCheckRecord(_Record):
+    kind: Literal["certkit blind check"]
+    certkit: str
+    template: Template
+    command: str
+    settings: dict[str, Any]
+    metrics: dict[str, Metric]
+    curve: list[CurvePoint]
+    confusion: Confusion
+    cases: list[dict[str, Any]] = []
+
+
+class BlindRecordError(ValueError):
+    """The file is not a readable blind-check record; ``problems``: (key, message)."""
+
+    def __init__(self, problems: list[tuple[str, str]]):
+        self.problems = problems
+        super().__init__("; ".join(f"{k}: {m}" if k else m for k, m in problems))
+
+
+def read_blind_check(path: Path) -> BlindCheckRecord:
+    """Read and check a blind-check record.
+
+    Raises
+    ------
+    BlindRecordError
+        Naming each key that is missing or wrong.
+    """
+    try:
+        raw = json.loads(Path(path).read_text(encoding="utf-8"))
+    except UnicodeDecodeError as error:
+        raise BlindRecordError([("", f"not UTF-8 text ({error.reason})")]) from None
+    except json.JSONDecodeError as error:
+        raise BlindRecordError([("", f"not JSON: {error.msg} at line {error.lineno}, "
+                                     f"column {error.colno}")]) from None
+    if not isinstance(raw, dict) or raw.get("kind") != KIND:
+        found = raw.get("kind") if isinstance(raw, dict) else type(raw).__name__
+        raise BlindRecordError([("kind", f"expected {KIND!r} (a file written by "
+                                         f"`certkit gap --blind-check`), got {found!r}")])
+    try:
+        return BlindCheckRecord.model_validate(raw)
+    except ValidationError as error:
+        problems = []
+        for item in error.errors():
+            key = ".".join(str(part) for part in item["loc"])
+            message = item["msg"]
+            if message.startswith("Value error, "):
+                message = message.removeprefix("Value error, ")
+            problems.append((key, message[0].lower() + message[1:]))
+        raise BlindRecordError(problems) from None
