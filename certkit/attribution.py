@@ -72,6 +72,7 @@ class Attribution:
     confusability: dict    # (name, name) -> |cos| of the projected signatures
     sigma2: float
     profiles: dict | None = None   # name -> (best strength of STARTS, its profile cost)
+    relevant: tuple = ()           # the names that qualified for a refit (see diagnose)
 
 
 def score_candidates(residuals, models: list[DropModel], nominal_jacobian: np.ndarray,
@@ -331,6 +332,7 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
         relevant = {s.name for s in attribution.scores[:LEADING] if s.explained >= RELEVANT}
         relevant |= {n for n in profile if profile[n][1] <= (1 - GAIN) * cost}
         leading = sorted(relevant, key=lambda n: (profile[n][1], n))[:LEADING]
+        attribution = replace(attribution, relevant=tuple(sorted(relevant)))
         fits = [refit(residuals, calibration, chosen + [names[n]], start=profile[n][0])
                 for n in leading]
         steps.append((attribution, fits))

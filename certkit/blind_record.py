@@ -11,6 +11,7 @@ Fractions are fractions here (0.9, not 90 %); the report shows them as percentag
 
 from __future__ import annotations
 
+import hashlib
 import json
 from pathlib import Path
 from typing import Any, Literal
@@ -24,23 +25,60 @@ METRICS = {
     "top1": ("top-1 accuracy",
              "share of the single-effect cases (effect/noise ≥ 2) whose first named effect is "
              "the withheld one"),
+    "exact": ("exact answer",
+              "share of the same cases whose answer is the withheld effect and nothing else"),
     "false_attribution": ("false attribution",
-                          "share of the no-effect cases in which an effect was named"),
+                          "share of the no-effect cases that did not end in an abstention "
+                          "(an effect named, a tie declared, or a failure)"),
     "set_precision": ("set precision",
                       "on the two-effect cases, share of the named effects that are among the "
                       "withheld ones"),
     "set_recall": ("set recall",
                    "on the two-effect cases, share of the withheld effects that were named"),
     "median_shrink": ("median held-out shrink",
-                      "median over the cases with effects (effect/noise ≥ 2) of the held-out "
-                      "load RMSE shrink 1 − RMSE(with the named effects)/RMSE(nominal); "
-                      "an abstention shrinks 0"),
-    "harm_rate": ("harm rate",
-                  "share of the cases in which the named effect made the held-out error worse"),
+                      "median over the single-effect cases (effect/noise ≥ 2) of the held-out "
+                      "load RMSE shrink 1 − RMSE(with the named effects)/RMSE(nominal), "
+                      "against the noisy measurement; an abstention shrinks 0"),
     "median_gap_closed": ("median share of the gap closed",
-                          "as the shrink, on the part of the held-out load RMSE above the "
-                          "known sensor noise, √(RMSE² − σ²): the part a model can remove"),
+                          "as the shrink, with the held-out load RMSE taken against the "
+                          "noise-free truth: the part of the error a model can remove"),
+    "median_shrink_pairs": ("median held-out shrink, two-effect cases",
+                            "as the median shrink, over the two-effect cases"),
+    "harm_rate": ("harm rate",
+                  "of the cases in which an effect was named, the share in which it made the "
+                  "held-out load error worse"),
+    "harm_any_channel": ("harm on any channel",
+                         "as the harm rate, counting a case when the held-out error of any "
+                         "channel (load, stroke, tyre) grew"),
 }
+
+
+#: The modules whose code decides a blind check's outcome (simulation, data, diagnosis).
+DIAGNOSIS_CODE = ("attribution.py", "blind_check.py", "calibration.py", "drop_model.py",
+                  "dynamics.py", "effects.py", "fitting.py", "holdout.py", "measures.py",
+                  "phases.py", "residuals.py", "rundata.py", "simulation.py", "synthetic.py")
+
+
+def template_fingerprint(campaign) -> str:
+    """SHA-256 of the spec's content (canonical JSON of the validated spec) without
+    ``model.gap.blind_check``: the same before and after the spec names its blind-check
+    record, different after any change to the spec."""
+    content = campaign.spec.model_dump(mode="json")
+    gap = (content.get("model") or {}).get("gap")
+    if isinstance(gap, dict):
+        gap.pop("blind_check", None)
+    text = json.dumps(content, sort_keys=True, ensure_ascii=False, separators=(",", ":"))
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def code_fingerprint() -> str:
+    """SHA-256 over the source of :data:`DIAGNOSIS_CODE`: a record made by other code (other
+    thresholds, another simulator) says so in the report."""
+    digest = hashlib.sha256()
+    folder = Path(__file__).parent
+    for name in DIAGNOSIS_CODE:
+        digest.update(name.encode("utf-8") + b"\0" + (folder / name).read_bytes())
+    return digest.hexdigest()
 
 
 class _Record(BaseModel):
@@ -53,6 +91,7 @@ class Template(_Record):
     spec: str
     sha256: str
     gear: str
+    code: str | None = None     # code_fingerprint() of the certkit that made it
 
 
 class Metric(_Record):

@@ -181,7 +181,7 @@ def _blind_check(spec: Path, gear: str | None, output: Path, workers, scheduler,
                  ratios: str) -> None:
     from rich.table import Table
 
-    from .blind_check import Settings, blind_check, write_blind_check
+    from .blind_check import BlindCheckError, Settings, blind_check, write_blind_check
     from .fitting import FitError
     from .outputs import staged_folder
     from .simulation import SimulationError
@@ -196,7 +196,7 @@ def _blind_check(spec: Path, gear: str | None, output: Path, workers, scheduler,
                                progress=progress)
     except CertkitInputError as error:
         _fail_input(error)
-    except (SimulationError, FitError) as error:
+    except (SimulationError, FitError, BlindCheckError) as error:
         _fail(spec, str(error))
     try:
         own = {"blind-check.json", "blind-check-cases.csv"}
@@ -371,7 +371,7 @@ def gap(spec: SpecArgument,
             help="blind check: a dask.distributed scheduler address to run the cases on "
                  "(needs certkit\\[cluster])")] = None,
         seeds: Annotated[str, typer.Option(
-            help="blind check: seeds of the single-effect cases, comma-separated")] = "1,2,3",
+            help="blind check: seeds of the single-effect cases, comma-separated")] = "21,22,23",
         ratios: Annotated[str, typer.Option(
             help="blind check: effect sizes, multiples of the load noise RMS")] = "1,2,5",
         ) -> None:

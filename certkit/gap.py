@@ -15,7 +15,9 @@ explains it and how far it shrinks once that effect is added (issue 5).
    with the shrink 1 − after/before; and the residual map that remains with the named
    effects, on every run.
 
-:func:`gap_diagnosis` does all four; the CLI, the report and the blind check call it.
+:func:`gap_diagnosis` does all four; the CLI and the report call it.  The blind check
+(:mod:`certkit.blind_check`) calls :func:`certkit.attribution.diagnose`, the choice and
+its held-out errors, which is what it scores.
 Data flow: this module uses :mod:`certkit.attribution` and :mod:`certkit.holdout`, never
 the reverse.
 """

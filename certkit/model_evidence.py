@@ -67,7 +67,9 @@ def model_evidence(campaign: Campaign, identification: bool = True,
 def _gap(campaign: Campaign, gears: list[str]) -> tuple[dict, tuple[str, ...]]:
     """The gap diagnosis of each gear unit; a unit whose drops allow none (one drop height,
     no training or held-out run left) gets a note saying why instead."""
+    from .fitting import FitError
     from .gap import gap_diagnosis
+    from .simulation import SimulationError
 
     diagnoses, notes = {}, []
     for gear_id in gears:
@@ -76,4 +78,7 @@ def _gap(campaign: Campaign, gears: list[str]) -> tuple[dict, tuple[str, ...]]:
         except CertkitInputError as error:
             notes.append(f"{gear_id}: not diagnosed. " + " ".join(
                 p.message[:1].upper() + p.message[1:] for p in error.problems))
+        except (FitError, SimulationError) as error:
+            # one gear's failed refit must not take the compliance report down with it
+            notes.append(f"{gear_id}: not diagnosed: the diagnosis failed ({error}).")
     return diagnoses, tuple(notes)

@@ -625,15 +625,15 @@ def _gap_steps(gap, units) -> list[dict]:
             profile = (attribution.profiles or {}).get(score.name)
             if score.name in refitted:
                 status = "refitted"
-            elif score.direction < 0 and not (profile and profile[1] <= (1 - GAIN) * beat):
-                status = "explains the residual only reversed: not counted"
-            elif score.direction == 0 and not profile:
-                status = "does not change the residual"
-            elif score.explained < RELEVANT and not (profile and profile[1] <= (1 - GAIN) * beat):
-                status = (f"below {RELEVANT:g} σ, and its profile cuts the training cost by "
-                          f"less than {_percent(GAIN, 0)}: not relevant")
-            else:
+            elif score.name in attribution.relevant:
                 status = f"relevant, not among the {LEADING} best profiles"
+            elif score.direction < 0:
+                status = ("its score points the other way and its profile cuts the training "
+                          f"cost by less than {_percent(GAIN, 0)}: not relevant")
+            else:
+                status = (f"not among the {LEADING} best scores with {RELEVANT:g} σ or more, "
+                          f"and its profile cuts the training cost by less than "
+                          f"{_percent(GAIN, 0)}: not relevant")
             scores.append({"effect": score.name, "statistic": f"{score.statistic:.4g}",
                            "explained": f"{score.explained:.3g}", "status": status,
                            "profile": "—" if not profile else
@@ -711,10 +711,10 @@ def _blind_view(campaign) -> dict:
                           "report gives no measured evidence of how often the diagnosis names "
                           "the right effect. To record it, run the command below and name the "
                           "JSON file it writes in the spec's model.gap.blind_check."}
-    from .blind_check import template_fingerprint
+    from .blind_record import code_fingerprint, template_fingerprint
     from .figures import blind_curve
 
-    now = template_fingerprint(campaign)
+    now, code = template_fingerprint(campaign), code_fingerprint()
     name = campaign.spec.model.gap.blind_check
     resolved = (campaign.root / name).resolve()
     item = next((i for i in campaign.inputs if i.path == resolved), None)
@@ -768,7 +768,12 @@ def _blind_view(campaign) -> dict:
                      f"{record.template.spec} (content fingerprint {record.template.sha256}"
                      + ("; it matches this campaign's spec)." if record.template.sha256 == now
                         else f"; this campaign's spec now has {now}: the record was made "
-                             f"from another version of it).")),
+                             f"from another version of it).")
+                     + (" Its diagnosis code (fingerprint of the simulation and diagnosis "
+                        "modules) is this certkit's." if record.template.code == code
+                        else " It was made by other diagnosis code than this certkit's "
+                             "(other thresholds or simulation), so it describes that code: "
+                             "run the command again.")),
         "settings": settings, "metrics": metrics, "verdict": verdict,
         "curve_figure": curve_figure,
         "curve": [{"ratio": f"{point.ratio:g}", "cases": str(point.cases),
