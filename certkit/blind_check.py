@@ -55,7 +55,8 @@ class SizingError(ValueError):
 
 @dataclass(frozen=True)
 class Truth:
-    """An effect as the truth generator has it, at a size s > 0 (s = 1: ``unit_size``)."""
+    """An effect as the truth generator has it, at a size s > 0 (the functions below say
+    what s scales)."""
 
     candidate: str        # the library candidate a right diagnosis names
     form: str             # the truth's form, and how it differs from the candidate
@@ -104,9 +105,9 @@ TRUTHS: dict[str, Truth] = {truth.candidate: truth for truth in (
     Truth("leg flexibility", "a leg mode with 35 % of the unsprung mass at the axle and 5 % "
                              "damping (the candidate: 50 %, undamped)", (0.02, 5.0),
           mechanics=_leg),
-    Truth("sensor lag", "a 2nd-order Butterworth low-pass plus a pure delay of a fifth of "
-                        "its low-frequency group delay on every channel, sized by what "
-                        "remains after the best time shift (the candidate: a first-order lag)",
+    Truth("sensor lag", "a 2nd-order Butterworth low-pass (cut-off 300 Hz/s) plus a pure "
+                        "delay (0.1 ms·s) on every channel, sized by what remains with the "
+                        "touchdowns aligned (the candidate: a first-order lag)",
           (0.7, 20.0), sensor=lambda s: SensorDynamics(300.0 / s, 2, 0.0001 * s)),
 )}
 
