@@ -430,6 +430,46 @@ def gap(spec: SpecArgument,
 
 
 @app.command()
+def audit(spec: SpecArgument,
+          format: Annotated[str, typer.Option(
+              "--format", help="the table on standard output (or -o): md, csv or json")] = "md",
+          output: Annotated[Path | None, typer.Option(
+              "-o", "--output", help="write the table to this file instead")] = None,
+          junit: Annotated[Path | None, typer.Option(
+              "--junit", help="also write JUnit XML here (a test case per row)")] = None
+          ) -> None:
+    """One row per criterion per run and per data-quality finding; exit 0 when every
+    criterion passes and no finding is an error, 1 otherwise, 2 on bad input."""
+    from .audit import audit_rows, passed, to_csv, to_json, to_junit, to_markdown
+    from .campaign import load_campaign
+    from .compliance import assess
+    from .outputs import write_text_atomically
+
+    writers = {"md": None, "csv": to_csv, "json": to_json}
+    if format not in writers:
+        err.print(Text.assemble(("error: ", "bold red"),
+                                f"--format: expected md, csv or json, found {format!r}"))
+        raise typer.Exit(2)
+    try:
+        campaign = load_campaign(spec)
+    except CertkitInputError as error:
+        _fail_input(error)
+    rows = audit_rows(assess(campaign))
+    title = f"{campaign.spec.campaign.id} ({spec.name})"
+    text = to_markdown(rows, title) if format == "md" else writers[format](rows)
+    try:
+        if junit is not None:
+            write_text_atomically(junit, to_junit(rows, title))
+        if output is not None:
+            write_text_atomically(output, text)
+    except OSError as error:
+        _fail(spec, f"cannot write the audit: {error}")
+    if output is None:
+        sys.stdout.write(text)
+    raise typer.Exit(0 if passed(rows) else 1)
+
+
+@app.command()
 def schema() -> None:
     """Print the JSON Schema of the campaign spec (for editors and CI)."""
     from .spec import json_schema

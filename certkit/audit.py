@@ -1,0 +1,139 @@
+"""Audit tables for CI: one row per criterion verdict and per data-quality finding, with a
+stable id, as JUnit XML, Markdown, CSV or JSON (issue 6, first part).
+
+A row's id is the verdict's (requirement clause, run and gear: ``CFR23.725a-limit-drop-
+height/D300``) or the finding's (``QA/<check>/<run>/<gear>``), so the same criterion keeps
+its id from one run of the audit to the next.  Values are SI, as in results.json.
+
+Exit status of an audit (:func:`passed`): every criterion PASS and no data-quality error.
+A criterion NOT SHOWN is not a pass: compliance that is not shown must not turn CI green.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from dataclasses import asdict, dataclass
+from xml.etree import ElementTree
+
+from .compliance import Assessment
+
+PASS = "PASS"
+
+
+@dataclass(frozen=True)
+class AuditRow:
+    id: str
+    kind: str                 # "criterion" or "finding"
+    clause: str               # criterion: the requirement clause; finding: the check
+    title: str
+    run: str | None
+    gear: str | None
+    value: float | None       # SI
+    limit: float | None       # SI
+    margin: float | None      # SI: value − limit in the passing direction
+    unit: str
+    outcome: str              # criterion: PASS / FAIL / NOT SHOWN; finding: its severity
+    message: str
+
+    @property
+    def failed(self) -> bool:
+        return (self.outcome != PASS) if self.kind == "criterion" else self.outcome == "error"
+
+
+def _number(value):
+    return None if value is None or not math.isfinite(value) else float(value)
+
+
+def audit_rows(assessment: Assessment) -> list[AuditRow]:
+    """The criteria (in the report's order), then the findings."""
+    rows = [AuditRow(v.id, "criterion", v.clause, v.title, v.run, v.gear, _number(v.value),
+                     _number(v.limit), _number(v.margin), v.unit, v.verdict, v.reason)
+            for v in assessment.verdicts]
+    rows += [AuditRow(f.id, "finding", f.check, f.check.replace("-", " "), f.run, f.gear, None,
+                      None, None, "", f.severity, f.message)
+             for f in assessment.findings]
+    return rows
+
+
+def passed(rows: list[AuditRow]) -> bool:
+    """True when every criterion passes and no finding is an error."""
+    return not any(row.failed for row in rows)
+
+
+def _text(value) -> str:
+    return "" if value is None else f"{value:.10g}" if isinstance(value, float) else str(value)
+
+
+def to_json(rows: list[AuditRow]) -> str:
+    return json.dumps([asdict(row) for row in rows], indent=1, ensure_ascii=False,
+                      sort_keys=True) + "\n"
+
+
+COLUMNS = ("id", "kind", "clause", "title", "run", "gear", "value", "limit", "margin", "unit",
+           "outcome", "message")
+
+
+def to_csv(rows: list[AuditRow]) -> str:
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(COLUMNS)
+    for row in rows:
+        writer.writerow([_text(getattr(row, column)) for column in COLUMNS])
+    return buffer.getvalue()
+
+
+def to_markdown(rows: list[AuditRow], title: str) -> str:
+    """A summary fit for a CI job page: the counts, then every row that does not pass,
+    then the full table."""
+    def cell(value) -> str:
+        return _text(value).replace("|", "\\|").replace("\n", " ")
+
+    failing = [row for row in rows if row.failed]
+    criteria = [row for row in rows if row.kind == "criterion"]
+    lines = [f"# Audit: {title}", "",
+             f"**{'PASS' if not failing else 'NOT PASSED'}**: "
+             f"{sum(r.outcome == PASS for r in criteria)} of {len(criteria)} criteria pass; "
+             f"{sum(r.kind == 'finding' and r.outcome == 'error' for r in rows)} data-quality "
+             f"error(s), {sum(r.kind == 'finding' and r.outcome == 'warning' for r in rows)} "
+             f"warning(s).", ""]
+    header = ["id", "outcome", "value", "limit", "margin", "unit", "message"]
+    for heading, chosen in (("Not passing", failing), ("All rows", rows)):
+        if not chosen:
+            continue
+        lines += [f"## {heading}", "", "| " + " | ".join(header) + " |",
+                  "|" + "---|" * len(header)]
+        lines += ["| " + " | ".join(cell(getattr(row, column)) for column in header) + " |"
+                  for row in chosen]
+        lines.append("")
+    return "\n".join(lines)
+
+
+def to_junit(rows: list[AuditRow], title: str) -> str:
+    """JUnit XML: a test suite of criteria and one of findings, a test case per row; a
+    criterion that does not PASS and a finding of severity error are failures."""
+    root = ElementTree.Element("testsuites", name=f"certkit audit: {title}")
+    for kind, name in (("criterion", "criteria"), ("finding", "data quality")):
+        chosen = [row for row in rows if row.kind == kind]
+        suite = ElementTree.SubElement(root, "testsuite", name=name, tests=str(len(chosen)),
+                                       failures=str(sum(row.failed for row in chosen)),
+                                       errors="0", skipped="0")
+        for row in chosen:
+            case = ElementTree.SubElement(suite, "testcase", name=row.id,
+                                          classname=f"{name}.{row.clause}")
+            def shown(value):
+                return "not available" if value is None else f"{_text(value)} {row.unit}"
+
+            detail = (f"{row.outcome}: value {shown(row.value)}, limit {shown(row.limit)}, "
+                      f"margin {shown(row.margin)}. {row.message}" if kind == "criterion"
+                      else f"{row.outcome}: {row.message}")
+            if row.failed:
+                failure = ElementTree.SubElement(case, "failure", type=row.outcome,
+                                                 message=detail[:200])
+                failure.text = detail
+            else:
+                ElementTree.SubElement(case, "system-out").text = detail
+    ElementTree.indent(root)
+    return ElementTree.tostring(root, encoding="unicode", xml_declaration=True) + "\n"
