@@ -5,7 +5,12 @@ A row's id is the verdict's (requirement clause, run and gear: ``CFR23.725a-limi
 height/D300``) or the finding's (``QA/<check>/<run>/<gear>``), so the same criterion keeps
 its id from one run of the audit to the next.  Values are SI, as in results.json.
 
-Exit status of an audit (:func:`passed`): every criterion PASS and no data-quality error.
+With a baseline (an earlier results.json, :mod:`certkit.baseline`), every number that
+drifted beyond the tolerance, every criterion added or removed and every verdict that
+changed is a row too.
+
+Exit status of an audit (:func:`passed`): every criterion PASS, no data-quality error and
+no change since the baseline.
 A criterion NOT SHOWN is not a pass: compliance that is not shown must not turn CI green.
 """
 
@@ -26,7 +31,7 @@ PASS = "PASS"
 @dataclass(frozen=True)
 class AuditRow:
     id: str
-    kind: str                 # "criterion" or "finding"
+    kind: str                 # "criterion", "finding" or "baseline" (a change since it)
     clause: str               # criterion: the requirement clause; finding: the check
     title: str
     run: str | None
@@ -40,7 +45,9 @@ class AuditRow:
 
     @property
     def failed(self) -> bool:
-        return (self.outcome != PASS) if self.kind == "criterion" else self.outcome == "error"
+        if self.kind == "criterion":
+            return self.outcome != PASS
+        return self.outcome in ("error", "changed")
 
 
 def _number(value):
@@ -56,6 +63,15 @@ def audit_rows(assessment: Assessment) -> list[AuditRow]:
                       None, None, "", f.severity, f.message)
              for f in assessment.findings]
     return rows
+
+
+def baseline_rows(changes) -> list[AuditRow]:
+    """A row per :class:`certkit.baseline.Change`; every one of them fails the audit."""
+    return [AuditRow(f"baseline/{c.path}", "baseline", c.kind, c.kind, None, None,
+                     c.before if isinstance(c.before, float) else None,
+                     None, None, "", "changed", f"{c.detail}: baseline {c.before!r}, now "
+                                                f"{c.after!r}")
+            for c in changes]
 
 
 def passed(rows: list[AuditRow]) -> bool:
@@ -98,7 +114,9 @@ def to_markdown(rows: list[AuditRow], title: str) -> str:
              f"{sum(r.outcome == PASS for r in criteria)} of {len(criteria)} criteria pass; "
              f"{sum(r.kind == 'finding' and r.outcome == 'error' for r in rows)} data-quality "
              f"error(s), {sum(r.kind == 'finding' and r.outcome == 'warning' for r in rows)} "
-             f"warning(s).", ""]
+             f"warning(s)"
+             + (f"; {sum(r.kind == 'baseline' for r in rows)} change(s) since the baseline"
+                if any(r.kind == "baseline" for r in rows) else "") + ".", ""]
     header = ["id", "outcome", "value", "limit", "margin", "unit", "message"]
     for heading, chosen in (("Not passing", failing), ("All rows", rows)):
         if not chosen:
@@ -115,8 +133,11 @@ def to_junit(rows: list[AuditRow], title: str) -> str:
     """JUnit XML: a test suite of criteria and one of findings, a test case per row; a
     criterion that does not PASS and a finding of severity error are failures."""
     root = ElementTree.Element("testsuites", name=f"certkit audit: {title}")
-    for kind, name in (("criterion", "criteria"), ("finding", "data quality")):
+    for kind, name in (("criterion", "criteria"), ("finding", "data quality"),
+                       ("baseline", "baseline")):
         chosen = [row for row in rows if row.kind == kind]
+        if kind == "baseline" and not chosen:
+            continue
         suite = ElementTree.SubElement(root, "testsuite", name=name, tests=str(len(chosen)),
                                        failures=str(sum(row.failed for row in chosen)),
                                        errors="0", skipped="0")

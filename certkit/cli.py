@@ -436,11 +436,19 @@ def audit(spec: SpecArgument,
           output: Annotated[Path | None, typer.Option(
               "-o", "--output", help="write the table to this file instead")] = None,
           junit: Annotated[Path | None, typer.Option(
-              "--junit", help="also write JUnit XML here (a test case per row)")] = None
+              "--junit", help="also write JUnit XML here (a test case per row)")] = None,
+          baseline: Annotated[Path | None, typer.Option(
+              "--baseline", help="an earlier results.json: report every number that "
+                                 "drifted, criterion added or removed, verdict changed")] = None,
+          tolerance: Annotated[float, typer.Option(
+              help="with --baseline: relative drift allowed before a number counts as "
+                   "changed")] = 1e-9,
           ) -> None:
-    """One row per criterion per run and per data-quality finding; exit 0 when every
-    criterion passes and no finding is an error, 1 otherwise, 2 on bad input."""
-    from .audit import audit_rows, passed, to_csv, to_json, to_junit, to_markdown
+    """One row per criterion per run and per data-quality finding (and per change since a
+    baseline); exit 0 when every criterion passes, no finding is an error and nothing
+    changed, 1 otherwise, 2 on bad input."""
+    from .audit import (audit_rows, baseline_rows, passed, to_csv, to_json, to_junit,
+                        to_markdown)
     from .campaign import load_campaign
     from .compliance import assess
     from .outputs import write_text_atomically
@@ -454,7 +462,21 @@ def audit(spec: SpecArgument,
         campaign = load_campaign(spec)
     except CertkitInputError as error:
         _fail_input(error)
-    rows = audit_rows(assess(campaign))
+    assessment = assess(campaign)
+    rows = audit_rows(assessment)
+    if baseline is not None:
+        from .baseline import compare, read_baseline
+        from .report import results_document
+
+        if not tolerance >= 0:
+            err.print(Text.assemble(("error: ", "bold red"),
+                                    f"--tolerance: expected a share ≥ 0, found {tolerance}"))
+            raise typer.Exit(2)
+        try:
+            earlier = read_baseline(baseline)
+        except CertkitInputError as error:
+            _fail_input(error)
+        rows += baseline_rows(compare(results_document(assessment, {}), earlier, tolerance))
     title = f"{campaign.spec.campaign.id} ({spec.name})"
     text = to_markdown(rows, title) if format == "md" else writers[format](rows)
     try:

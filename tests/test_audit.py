@@ -91,3 +91,75 @@ def test_rows_keep_the_assessments_order():
     rows = audit_rows(assessment)
     assert [r.id for r in rows] == [v.id for v in assessment.verdicts] + [
         f.id for f in assessment.findings]
+
+
+# --------------------------------------------------------------------------- baseline
+BASELINE = SEED.parent / "audit-baseline" / "results.json"
+
+
+def _current():
+    from certkit.report import results_document
+
+    return results_document(assess(load_campaign(SEED)), {})
+
+
+def test_a_one_percent_change_in_a_peak_load_is_caught():
+    from certkit.baseline import compare
+
+    current = _current()
+    baseline = json.loads(json.dumps(current))
+    gear = next(g for r in baseline["runs"] if r["id"] == "D300" for g in r["gears"]
+                if g["gear"] == "left-main")
+    peak = next(v for v in gear["values"] if v["key"] == "F_peak")
+    peak["value"] *= 1.01
+    changes = compare(current, baseline, tolerance=1e-6)
+    assert [(c.kind, c.path) for c in changes] == [("drifted", "runs/D300/left-main/F_peak")]
+    # now / baseline − 1 = 1/1.01 − 1
+    assert f"{100 * (1 / 1.01 - 1):+.4g} %" in changes[0].detail
+    # below the tolerance nothing is flagged
+    peak["value"] = peak["value"] / 1.01 * (1 + 1e-12)
+    assert compare(current, baseline, tolerance=1e-9) == []
+
+
+def test_verdicts_changed_added_and_removed_are_caught():
+    from certkit.baseline import compare
+
+    current = _current()
+    baseline = json.loads(json.dumps(current))
+    baseline["verdicts"][0]["verdict"] = "FAIL"                  # was PASS
+    dropped = baseline["verdicts"].pop(1)                         # now "added"
+    baseline["verdicts"].append(dict(dropped, id="OLD-criterion"))  # now "removed"
+    kinds = {(c.kind, c.path) for c in compare(current, baseline, 1e-9)}
+    first = current["verdicts"][0]["id"]
+    assert ("verdict changed", f"criterion {first}") in kinds
+    assert ("added", f"criterion {dropped['id']}") in kinds
+    assert ("removed", "criterion OLD-criterion") in kinds
+
+
+def test_the_example_matches_its_committed_baseline_and_a_tampered_one_fails(tmp_path):
+    """What the project's CI runs: the audit of the example against its committed baseline
+    (the example is not compliant, so the exit code is 1 either way; the rows tell)."""
+    result = runner.invoke(app, ["audit", str(SEED), "--baseline", str(BASELINE),
+                                 "--format", "json"])
+    assert result.exit_code == 1
+    assert [r for r in json.loads(result.output) if r["kind"] == "baseline"] == []
+    document = json.loads(BASELINE.read_text(encoding="utf-8"))
+    document["design"][0]["value"] *= 1.01
+    tampered = tmp_path / "results.json"
+    tampered.write_text(json.dumps(document), encoding="utf-8")
+    junit = tmp_path / "audit.xml"
+    result = runner.invoke(app, ["audit", str(SEED), "--baseline", str(tampered),
+                                 "--junit", str(junit)])
+    assert "1 change(s) since the baseline" in result.output
+    suites = {s.get("name"): s for s in ElementTree.parse(junit).getroot().iter("testsuite")}
+    assert suites["baseline"].get("failures") == "1"
+
+
+def test_a_baseline_that_is_not_a_results_file_exits_2(tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json", encoding="utf-8")
+    result = runner.invoke(app, ["audit", str(SEED), "--baseline", str(bad)])
+    assert result.exit_code == 2 and "not JSON" in result.output and "bad.json" in result.output
+    bad.write_text(json.dumps({"format": "something else"}), encoding="utf-8")
+    result = runner.invoke(app, ["audit", str(SEED), "--baseline", str(bad)])
+    assert result.exit_code == 2 and "certkit-results/1" in result.output

@@ -1,0 +1,110 @@
+"""What moved since a baseline: the numbers and verdicts of two results documents
+(results.json, ``format: certkit-results/1``) compared, so that a change to the spec, the
+data or certkit itself cannot silently move a certified number (issue 6).
+
+Every number is addressed by a stable path: ``design/<key>``, ``basis/<set>/<key>``,
+``runs/<run>/<key>``, ``runs/<run>/<gear>/<key>`` and ``verdicts/<id>/value|limit|margin``;
+verdicts by their id.  A number drifts when it differs from the baseline's by more than
+the relative tolerance (of the baseline's magnitude); numbers and criteria that appear or
+disappear, units and verdicts that change, are changes whatever the tolerance.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+from .errors import CertkitInputError
+
+FORMAT = "certkit-results/1"
+
+
+@dataclass(frozen=True)
+class Change:
+    kind: str          # "drifted", "added", "removed", "unit changed", "verdict changed"
+    path: str
+    before: object
+    after: object
+    detail: str
+
+
+def numbers(results: dict) -> dict[str, tuple[float | None, str]]:
+    """Every number of a results document: path -> (SI value or None, unit)."""
+    out = {}
+
+    def take(prefix: str, values: list) -> None:
+        for v in values:
+            out[f"{prefix}/{v['key']}"] = (v.get("value"), v.get("unit", ""))
+
+    take("design", results.get("design", []))
+    for basis in results.get("requirement_sets", []):
+        take(f"basis/{basis['id']}", basis.get("values", []))
+    for run in results.get("runs", []):
+        take(f"runs/{run['id']}", run.get("values", []))
+        for gear in run.get("gears", []):
+            take(f"runs/{run['id']}/{gear['gear']}", gear.get("values", []))
+    for verdict in results.get("verdicts", []):
+        for field in ("value", "limit", "margin"):
+            out[f"verdicts/{verdict['id']}/{field}"] = (verdict.get(field),
+                                                       verdict.get("unit", ""))
+    return out
+
+
+def verdicts(results: dict) -> dict[str, str]:
+    return {v["id"]: v["verdict"] for v in results.get("verdicts", [])}
+
+
+def compare(current: dict, baseline: dict, tolerance: float) -> list[Change]:
+    """The changes from ``baseline`` to ``current`` (both results documents), in path order."""
+    changes = []
+    now, then = numbers(current), numbers(baseline)
+    for path in sorted(set(now) | set(then)):
+        if path not in then:
+            changes.append(Change("added", path, None, now[path][0], "not in the baseline"))
+        elif path not in now:
+            changes.append(Change("removed", path, then[path][0], None, "only in the baseline"))
+        else:
+            (a, unit_a), (b, unit_b) = now[path], then[path]
+            if unit_a != unit_b:
+                changes.append(Change("unit changed", path, f"{b} {unit_b}", f"{a} {unit_a}",
+                                      "the unit changed"))
+            elif (a is None) != (b is None):
+                changes.append(Change("drifted", path, b, a, "a value appeared or vanished"))
+            elif a is not None and abs(a - b) > tolerance * abs(b) and a != b:
+                relative = (a - b) / abs(b) if b else math.inf
+                changes.append(Change("drifted", path, b, a,
+                                      f"{100 * relative:+.4g} % (tolerance "
+                                      f"{100 * tolerance:g} %)"))
+    old, new = verdicts(baseline), verdicts(current)
+    for key in sorted(set(old) | set(new)):
+        if key not in old:
+            changes.append(Change("added", f"criterion {key}", None, new[key],
+                                  "a criterion not in the baseline"))
+        elif key not in new:
+            changes.append(Change("removed", f"criterion {key}", old[key], None,
+                                  "a criterion only in the baseline"))
+        elif old[key] != new[key]:
+            changes.append(Change("verdict changed", f"criterion {key}", old[key], new[key],
+                                  f"{old[key]} → {new[key]}"))
+    return changes
+
+
+def read_baseline(path: str | Path) -> dict:
+    """A results document from ``path``; bad input names the file and what is wrong."""
+    path = Path(path)
+    try:
+        document = json.loads(path.read_text(encoding="utf-8"))
+    except OSError as error:
+        raise CertkitInputError.single(str(path), None, "--baseline",
+                                       f"cannot read the baseline: {error.strerror}") from error
+    except json.JSONDecodeError as error:
+        raise CertkitInputError.single(str(path), error.lineno, "--baseline",
+                                       f"not JSON: {error.msg}") from error
+    if not isinstance(document, dict) or document.get("format") != FORMAT:
+        found = document.get("format") if isinstance(document, dict) else type(document).__name__
+        raise CertkitInputError.single(str(path), None, "format",
+                                       f"expected a certkit results file ({FORMAT}), found "
+                                       f"{found!r}")
+    return document
