@@ -80,7 +80,9 @@ def passed(rows: list[AuditRow]) -> bool:
 
 
 def _text(value) -> str:
-    return "" if value is None else f"{value:.10g}" if isinstance(value, float) else str(value)
+    """A cell: floats in full (the shortest text that reads back as the same number), so
+    no table rounds a value silently."""
+    return "" if value is None else repr(value) if isinstance(value, float) else str(value)
 
 
 def to_json(rows: list[AuditRow]) -> str:

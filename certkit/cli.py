@@ -479,12 +479,21 @@ def audit(spec: SpecArgument,
         rows += baseline_rows(compare(results_document(assessment, {}), earlier, tolerance))
     title = f"{campaign.spec.campaign.id} ({spec.name})"
     text = to_markdown(rows, title) if format == "md" else writers[format](rows)
+    # both files or neither: the table first, then the JUnit; a failed second write takes
+    # back a first one that did not exist before
+    written = []
     try:
-        if junit is not None:
-            write_text_atomically(junit, to_junit(rows, title))
-        if output is not None:
-            write_text_atomically(output, text)
+        for path, content in ((output, text), (junit, None)):
+            if path is None:
+                continue
+            existed = path.exists()
+            write_text_atomically(path, content if content is not None
+                                  else to_junit(rows, title))
+            if not existed:
+                written.append(path)
     except OSError as error:
+        for path in written:
+            path.unlink(missing_ok=True)
         _fail(spec, f"cannot write the audit: {error}")
     if output is None:
         sys.stdout.write(text)

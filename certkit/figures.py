@@ -286,7 +286,8 @@ def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: s
                 "svg": _to_svg(figure)}
 
 
-def blind_curve(points, target_top1: float | None, target_shrink: float | None) -> dict:
+def blind_curve(points, target_top1: float | None, target_shrink: float | None,
+                scored_from: float | None = None) -> dict:
     """The blind check's detectability curve: top-1 accuracy and median held-out shrink of
     the single-effect cases against effect size / noise, with the targets drawn."""
     ratios = [p.ratio for p in points]
@@ -310,6 +311,7 @@ def blind_curve(points, target_top1: float | None, target_shrink: float | None) 
         figure.tight_layout()
         return {"title": "Blind check: what the diagnosis gets right against effect size",
                 "caption": "Single-effect cases at each size; dashed: the top-1 target, "
-                           "dotted: the shrink target (both from issue 5, judged at sizes "
-                           "of 2 and more).",
+                           "dotted: the shrink target (the record's targets"
+                           + (f", judged at sizes of {scored_from:g} and more)."
+                              if scored_from is not None else ")."),
                 "svg": _to_svg(figure)}

@@ -759,7 +759,8 @@ def _blind_view(campaign) -> dict:
     if record.curve:
         targets = [record.metrics[k].target if k in record.metrics else None
                    for k in ("top1", "median_shrink")]
-        curve_figure = blind_curve(record.curve, *targets)
+        curve_figure = blind_curve(record.curve, *targets,
+                                   scored_from=record.settings.get("scored_from"))
         curve_figure = dict(curve_figure, svg=Markup(curve_figure["svg"]))
     return {
         "recorded": True, "command": record.command, "file": name,

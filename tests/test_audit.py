@@ -163,3 +163,20 @@ def test_a_baseline_that_is_not_a_results_file_exits_2(tmp_path):
     bad.write_text(json.dumps({"format": "something else"}), encoding="utf-8")
     result = runner.invoke(app, ["audit", str(SEED), "--baseline", str(bad)])
     assert result.exit_code == 2 and "certkit-results/1" in result.output
+
+
+def test_a_failed_write_leaves_no_partial_output(tmp_path):
+    table = tmp_path / "audit.md"
+    junit = tmp_path / "missing-folder" / "audit.xml"      # cannot be written
+    result = runner.invoke(app, ["audit", str(SEED), "-o", str(table), "--junit", str(junit)])
+    assert result.exit_code == 2 and "cannot write the audit" in result.output
+    assert "Traceback" not in result.output and list(tmp_path.iterdir()) == []
+
+
+def test_table_values_are_not_rounded(tmp_path):
+    path = tmp_path / "a.csv"
+    runner.invoke(app, ["audit", str(SEED), "--format", "csv", "-o", str(path)])
+    rows = {r["id"]: r for r in csv.DictReader(io.StringIO(path.read_text(encoding="utf-8")))}
+    verdict = next(v for v in assess(load_campaign(SEED)).verdicts
+                   if v.id == "CFR23.725b-effective-weight/D300/left-main")
+    assert float(rows[verdict.id]["value"]) == verdict.value    # exactly, not to 10 digits
