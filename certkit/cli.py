@@ -501,6 +501,209 @@ def audit(spec: SpecArgument,
 
 
 @app.command()
+def archive(spec: SpecArgument,
+            output: Annotated[Path, typer.Option(
+                "-o", "--output", help="the bag to write: a new folder, or a .zip",
+                show_default=False)],
+            model: Annotated[bool, typer.Option(
+                "--model/--no-model", help="include the drop-model sections (calibration, "
+                                           "identification, gap) in the archived report")] = True,
+            ) -> None:
+    """Archive the campaign as a BagIt bag: spec, raw data, results, tables, report and the
+    software environment, with SHA-256 manifests; the same inputs give the same bytes."""
+    from .archive import archive_campaign
+    from .fitting import FitError
+    from .simulation import SimulationError
+
+    try:
+        archived = archive_campaign(spec, output, model=model,
+                                    progress=lambda m: err.print(m) if err.is_terminal else None)
+    except CertkitInputError as error:
+        _fail_input(error)
+    except (SimulationError, FitError) as error:
+        _fail(spec, str(error))
+    out.print(f"archived {archived.files} file(s), {archived.octets} bytes, as {output}")
+    out.print(f"bag hash (SHA-256 of tagmanifest-sha256.txt): {archived.bag_hash}")
+    out.print(f"campaign outcome: {archived.outcome}")
+
+
+@app.command()
+def verify(bag: Annotated[Path, typer.Argument(help="a bag folder or a .zip of one",
+                                               show_default=False)],
+           recompute: Annotated[bool, typer.Option(
+               "--recompute", help="also re-run the assessment from the archived inputs and "
+                                   "check the archived results.json reproduces")] = False,
+           tolerance: Annotated[float, typer.Option(
+               help="with --recompute: relative difference allowed between numbers")] = 1e-9,
+           ) -> None:
+    """Check an archive against its manifests: every added, removed or modified file is
+    named (exit 1); exit 0 when it is intact (and, with --recompute, reproduces)."""
+    from .archive import verify_archive
+    from .bag import BagError
+    from .fitting import FitError
+    from .simulation import SimulationError
+
+    if not tolerance >= 0:
+        err.print(Text.assemble(("error: ", "bold red"),
+                                f"--tolerance: expected a share ≥ 0, found {tolerance}"))
+        raise typer.Exit(2)
+    try:
+        result = verify_archive(bag, recompute_results=recompute, tolerance=tolerance)
+    except BagError as error:
+        err.print(Text.assemble(("error: ", "bold red"), str(error)))
+        raise typer.Exit(2)
+    except CertkitInputError as error:
+        _fail_input(error)
+    except (SimulationError, FitError) as error:
+        _fail(bag, f"the recomputation failed: {error}")
+    for change in result.changes:
+        out.print(f"{change.kind}: {change.path} ({change.detail})")
+    files = (result.info.get("Payload-Oxum") or ["?.?"])[0].split(".")[-1]
+    if result.intact:
+        out.print(f"{bag}: intact — {files} payload file(s) match manifest-sha256.txt")
+    else:
+        out.print(f"{bag}: NOT INTACT — {len(result.changes)} change(s) since it was archived")
+    for note in result.notes:
+        out.print(note)
+    recomputed = result.recomputed
+    if recomputed is not None:
+        for line in recomputed.differences:
+            out.print(f"not reproduced: {line}")
+        for line in recomputed.software:
+            out.print(f"software differs: {line}")
+        if recomputed.identical:
+            out.print("recomputed: results.json reproduced byte for byte")
+        elif recomputed.reproduced:
+            out.print(f"recomputed: every number of results.json reproduced within "
+                      f"{tolerance:g} (relative); the bytes differ")
+        else:
+            out.print(f"recomputed: {len(recomputed.differences)} value(s) of results.json "
+                      f"did not reproduce")
+    raise typer.Exit(0 if result.passed else 1)
+
+
+catalog_app = typer.Typer(no_args_is_help=True, help="An SQLite index of archived campaigns: "
+                                                     "add bags, list and search them.")
+app.add_typer(catalog_app, name="catalog")
+DEFAULT_CATALOG = Path.home() / ".local" / "share" / "certkit" / "catalog.sqlite"
+CatalogOption = Annotated[Path, typer.Option(
+    "--catalog", envvar="CERTKIT_CATALOG",
+    help="the catalog file (a lab shares one by setting CERTKIT_CATALOG)")]
+
+
+def _show_entries(entries, as_json: bool, catalog: Path) -> None:
+    if as_json:
+        sys.stdout.write(json.dumps([e.as_dict() for e in entries], indent=2,
+                                    ensure_ascii=False) + "\n")
+        return
+    if not entries:
+        out.print(f"no catalogued campaign matches (catalog {catalog})")
+        return
+    out.print(f"{len(entries)} archived campaign(s) in {catalog}:")
+    for e in entries:
+        tested = e.first_test_date if e.first_test_date == e.last_test_date else \
+            f"{e.first_test_date} to {e.last_test_date}"
+        out.print(Text.assemble("\n", (e.campaign_id, "bold"), f" — {e.aircraft}"))
+        out.print(f"  {e.title}")
+        out.print(f"  report {e.report_number} rev. {e.revision}, issued {e.issue_date}, "
+                  f"tested {tested}")
+        out.print(f"  {e.outcome}: {e.passed} pass, {e.failed} fail, {e.not_shown} not shown; "
+                  f"{e.dq_errors} data-quality error(s), {e.dq_warnings} warning(s)")
+        out.print(f"  bag {e.bag_hash} at {e.location} ({e.software})")
+
+
+@catalog_app.command("add")
+def catalog_add(bag: Annotated[list[Path], typer.Argument(help="bag folder(s) or .zip file(s)",
+                                                          show_default=False)],
+                catalog: CatalogOption = DEFAULT_CATALOG) -> None:
+    """Verify each bag and add it to the catalog (a bag already there is left as it is);
+    exit 1 when a bag is not intact (it is not added)."""
+    from .bag import BagError
+    from .catalog import CatalogRefusal, add
+
+    status = 0
+    for item in bag:
+        try:
+            entry, added = add(catalog, item)
+        except BagError as error:
+            err.print(Text.assemble(("error: ", "bold red"), str(error)))
+            raise typer.Exit(2)
+        except CertkitInputError as error:
+            _fail_input(error)
+        except CatalogRefusal as refusal:
+            err.print(Text.assemble(("error: ", "bold red"), str(refusal)))
+            for change in refusal.changes:
+                err.print(f"  {change.kind}: {change.path} ({change.detail})")
+            status = 1
+            continue
+        what = "added" if added else "already catalogued"
+        out.print(f"{what}: {entry.campaign_id} ({entry.aircraft}), bag {entry.bag_hash[:12]} "
+                  f"at {entry.location}")
+    raise typer.Exit(status)
+
+
+@catalog_app.command("list")
+def catalog_list(catalog: CatalogOption = DEFAULT_CATALOG,
+                 as_json: Annotated[bool, typer.Option("--json", help="print JSON")] = False,
+                 ) -> None:
+    """Every catalogued campaign, by aircraft."""
+    from .catalog import search as run_search
+
+    try:
+        _show_entries(run_search(catalog), as_json, catalog)
+    except CertkitInputError as error:
+        _fail_input(error)
+
+
+def _date_option(value: str | None, key: str) -> str | None:
+    import datetime as dt
+
+    if value is None:
+        return None
+    try:
+        return dt.date.fromisoformat(value).isoformat()
+    except ValueError:
+        err.print(Text.assemble(("error: ", "bold red"),
+                                f"--{key}: expected a date as YYYY-MM-DD, found {value!r}"))
+        raise typer.Exit(2)
+
+
+@catalog_app.command("search")
+def catalog_search(text: Annotated[str | None, typer.Argument(
+                       help="words in the campaign id, title, aircraft or report number",
+                       show_default=False)] = None,
+                   aircraft: Annotated[str | None, typer.Option(help="aircraft model contains")] = None,
+                   campaign: Annotated[str | None, typer.Option(help="campaign id contains")] = None,
+                   outcome: Annotated[str | None, typer.Option(
+                       help="campaign outcome, e.g. 'COMPLIANCE SHOWN'")] = None,
+                   since: Annotated[str | None, typer.Option(
+                       "--from", help="tested on or after (YYYY-MM-DD)")] = None,
+                   until: Annotated[str | None, typer.Option(
+                       "--to", help="tested on or before (YYYY-MM-DD)")] = None,
+                   verdict: Annotated[str | None, typer.Option(
+                       help="has a criterion with this verdict: PASS, FAIL or 'NOT SHOWN'")] = None,
+                   clause: Annotated[str | None, typer.Option(
+                       help="has a criterion whose clause or id contains this")] = None,
+                   catalog: CatalogOption = DEFAULT_CATALOG,
+                   as_json: Annotated[bool, typer.Option("--json", help="print JSON")] = False,
+                   ) -> None:
+    """Catalogued campaigns matching every filter given."""
+    from .catalog import search as run_search
+
+    if verdict is not None and verdict.upper() not in ("PASS", "FAIL", "NOT SHOWN"):
+        err.print(Text.assemble(("error: ", "bold red"),
+                                f"--verdict: expected PASS, FAIL or NOT SHOWN, found {verdict!r}"))
+        raise typer.Exit(2)
+    try:
+        entries = run_search(catalog, text, aircraft=aircraft, campaign=campaign,
+                             outcome=outcome, since=_date_option(since, "from"),
+                             until=_date_option(until, "to"), verdict=verdict, clause=clause)
+    except CertkitInputError as error:
+        _fail_input(error)
+    _show_entries(entries, as_json, catalog)
+
+
+@app.command()
 def schema() -> None:
     """Print the JSON Schema of the campaign spec (for editors and CI)."""
     from .spec import json_schema

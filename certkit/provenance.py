@@ -11,6 +11,8 @@ import subprocess
 from importlib import metadata
 from pathlib import Path
 
+from packaging.requirements import Requirement
+
 import certkit
 
 DEPENDENCIES = ("numpy", "numba", "scipy", "pandas", "pyarrow", "jinja2", "matplotlib", "weasyprint",
@@ -48,4 +50,43 @@ def provenance(inputs) -> dict:
         "dependencies": versions,
         "inputs": [{"file": item.name, "sha256": item.sha256, "bytes": item.size}
                    for item in inputs],
+    }
+
+
+def _requirement_names(distribution: str) -> list[str]:
+    """Names of the packages ``distribution`` needs here: no extras, markers evaluated
+    for this platform."""
+    try:
+        requires = metadata.requires(distribution) or []
+    except metadata.PackageNotFoundError:
+        return []
+    names = []
+    for text in requires:
+        requirement = Requirement(text)
+        if requirement.marker is None or requirement.marker.evaluate({"extra": ""}):
+            names.append(requirement.name)
+    return names
+
+
+def environment() -> dict:
+    """The software certkit runs on: its version and commit, Python, the platform, and
+    every package it depends on, directly or not, with its version."""
+    packages, pending = {}, _requirement_names("certkit") or list(DEPENDENCIES)
+    while pending:
+        name = pending.pop()
+        key = name.lower().replace("_", "-")
+        if key in packages:
+            continue
+        try:
+            packages[key] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            packages[key] = "not installed"
+            continue
+        pending.extend(_requirement_names(name))
+    return {
+        "certkit_version": certkit.__version__,
+        "certkit_commit": _git_commit(),
+        "python": f"{platform.python_implementation()} {platform.python_version()}",
+        "platform": f"{platform.system()} {platform.machine()}",
+        "packages": dict(sorted(packages.items())),
     }

@@ -1,0 +1,254 @@
+"""BagIt bags (RFC 8493, version 1.0): written byte for byte the same from the same
+payload, checked file by file, read safely from a zip.
+
+A bag is a folder holding ``bagit.txt``, ``bag-info.txt``, ``manifest-sha256.txt`` (a
+SHA-256 line per payload file under ``data/``) and ``tagmanifest-sha256.txt`` (the same
+for the three tag files).  The manifests use ``sha256sum``'s layout, so
+``cd BAG && sha256sum -c manifest-sha256.txt`` checks a bag without certkit.
+
+The bag is written here rather than with the ``bagit`` library because that library
+moves the payload in place and lists tag files in directory order, which is not the
+same from one file system to another; the test suite checks that ``bagit`` accepts the
+bags written here and rejects tampered ones.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import re
+import stat
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path, PurePosixPath
+
+ALGORITHM = "sha256"
+MANIFEST = "manifest-sha256.txt"
+TAGMANIFEST = "tagmanifest-sha256.txt"
+DECLARATION = "BagIt-Version: 1.0\nTag-File-Character-Encoding: UTF-8\n"
+_LINE = re.compile(r"^([0-9a-fA-F]{64})[ \t]+\*?(.+)$")
+
+
+class BagError(Exception):
+    """The path is not a bag certkit can read (no bagit.txt, an unsafe zip, ...)."""
+
+
+@dataclass(frozen=True)
+class Change:
+    """One way a bag differs from its manifests."""
+
+    kind: str      # "added", "removed", "modified", "damaged"
+    path: str      # relative to the bag, POSIX
+    detail: str
+
+
+def sha256_of(path: Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def _encode(path: str) -> str:
+    """RFC 8493 §2.1.3: %, CR and LF in a manifest's file path are percent-encoded."""
+    return path.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+
+
+def _decode(path: str) -> str:
+    return path.replace("%0A", "\n").replace("%0a", "\n").replace("%0D", "\r") \
+        .replace("%0d", "\r").replace("%25", "%")
+
+
+def _entries(folder: Path) -> list[str]:
+    """Every entry below ``folder`` that is not a directory (files, links, others),
+    as sorted POSIX paths relative to it; links are listed, never followed."""
+    found = []
+    for parent, directories, files in os.walk(folder):
+        for name in files + [d for d in directories if os.path.islink(os.path.join(parent, d))]:
+            found.append(Path(parent, name).relative_to(folder).as_posix())
+    return sorted(found)
+
+
+def _info_text(info: list[tuple[str, str]]) -> str:
+    lines = []
+    for label, value in info:
+        if not re.fullmatch(r"[A-Za-z][A-Za-z0-9-]*", label):
+            raise ValueError(f"bag-info label {label!r} is not a single word")
+        lines.append(f"{label}: {' '.join(str(value).split())}")
+    return "".join(line + "\n" for line in lines)
+
+
+def _write(path: Path, text: str) -> None:
+    with open(path, "w", encoding="utf-8", newline="\n") as handle:
+        handle.write(text)
+
+
+def write_bag(folder: Path, info: list[tuple[str, str]]) -> str:
+    """Make ``folder``, which already holds the payload in ``data/``, a complete bag.
+
+    ``info`` are the bag-info.txt lines in order (label, value); Payload-Oxum is added.
+    Returns the bag's hash: the SHA-256 of its tag manifest, which pins every file.
+    """
+    payload = _entries(folder / "data")
+    lines, octets = [], 0
+    for relative in payload:
+        path = folder / "data" / relative
+        if path.is_symlink() or not path.is_file():
+            raise BagError(f"{path}: the payload may hold regular files only")
+        lines.append(f"{sha256_of(path)}  data/{_encode(relative)}\n")
+        octets += path.stat().st_size
+    _write(folder / "bagit.txt", DECLARATION)
+    _write(folder / "bag-info.txt", _info_text([*info, ("Payload-Oxum",
+                                                        f"{octets}.{len(payload)}")]))
+    _write(folder / MANIFEST, "".join(lines))
+    tags = sorted(["bagit.txt", "bag-info.txt", MANIFEST])
+    _write(folder / TAGMANIFEST, "".join(f"{sha256_of(folder / t)}  {t}\n" for t in tags))
+    return sha256_of(folder / TAGMANIFEST)
+
+
+def read_info(folder: Path) -> dict[str, list[str]]:
+    """bag-info.txt as label -> values (a label may repeat)."""
+    info: dict[str, list[str]] = {}
+    try:
+        text = (folder / "bag-info.txt").read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return info
+    for line in text.splitlines():
+        label, sep, value = line.partition(":")
+        if sep:
+            info.setdefault(label.strip(), []).append(value.strip())
+    return info
+
+
+def _manifest(folder: Path, name: str, changes: list[Change]) -> dict[str, str] | None:
+    """path -> hash of one manifest; None (and a change) when it is missing or unreadable;
+    a malformed or unsafe line is a 'damaged' change naming the line."""
+    path = folder / name
+    if not path.is_file():
+        return None
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        changes.append(Change("damaged", name, f"cannot be read: {error}"))
+        return None
+    entries = {}
+    for number, line in enumerate(text.splitlines(), start=1):
+        match = _LINE.match(line)
+        relative = _decode(match.group(2)) if match else ""
+        parts = PurePosixPath(relative).parts
+        if not match or relative.startswith("/") or ".." in parts or "\\" in relative:
+            changes.append(Change("damaged", name, f"line {number}: expected '<SHA-256>  "
+                                                   f"<relative path>', found {line!r}"))
+            continue
+        entries[relative] = match.group(1).lower()
+    return entries
+
+
+def check_bag(folder: Path) -> list[Change]:
+    """Every file added to, removed from or modified in the bag at ``folder`` since its
+    manifests were written, each named; an empty list when the bag is intact.
+
+    Raises BagError when ``folder`` is not a bag at all (no bagit.txt).
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise BagError(f"{folder}: not found, or not a folder or a .zip of a bag")
+    if not (folder / "bagit.txt").is_file():
+        raise BagError(f"{folder}: not a bag (no bagit.txt)")
+    changes: list[Change] = []
+    payload = _manifest(folder, MANIFEST, changes)
+    tags = _manifest(folder, TAGMANIFEST, changes)
+    if payload is None:
+        changes.append(Change("removed", MANIFEST, "the payload manifest is missing"))
+        payload = {}
+    if tags is None:
+        changes.append(Change("removed", TAGMANIFEST, "the tag manifest is missing"))
+        tags = {}
+    listed = {**payload, **tags}
+    on_disk = set(_entries(folder))
+    for relative in sorted(listed):
+        path = folder / relative
+        if relative not in on_disk:
+            changes.append(Change("removed", relative, "listed in the manifest, not in the bag"))
+        elif path.is_symlink() or not path.is_file():
+            changes.append(Change("modified", relative, "is no longer a regular file"))
+        else:
+            found = sha256_of(path)
+            if found != listed[relative]:
+                changes.append(Change("modified", relative, f"SHA-256 {found}, the manifest "
+                                                            f"says {listed[relative]}"))
+    for relative in sorted(on_disk - set(listed) - {TAGMANIFEST, MANIFEST}):
+        changes.append(Change("added", relative, "in the bag, not in any manifest"))
+    if (folder / "bagit.txt").read_bytes() != DECLARATION.encode() and "bagit.txt" not in tags:
+        changes.append(Change("damaged", "bagit.txt", "not a BagIt 1.0 declaration"))
+    if not any(c.kind != "damaged" for c in changes):
+        oxum = read_info(folder).get("Payload-Oxum", [""])[0]
+        count = len(payload)
+        octets = sum((folder / p).stat().st_size for p in payload if (folder / p).is_file())
+        if oxum != f"{octets}.{count}":
+            changes.append(Change("damaged", "bag-info.txt", f"Payload-Oxum {oxum!r}, the "
+                                                             f"payload holds {octets}.{count}"))
+    return changes
+
+
+def bag_hash(folder: Path) -> str:
+    """SHA-256 of the tag manifest: one hash that pins every file of the bag."""
+    return sha256_of(Path(folder) / TAGMANIFEST)
+
+
+# --------------------------------------------------------------------------- zip
+def write_zip(folder: Path, target: Path, root: str, date) -> None:
+    """A zip of the bag at ``folder`` under the folder name ``root``: sorted entries,
+    every timestamp the campaign's ``date``, fixed permissions, so the same bag gives
+    the same bytes."""
+    stamp = (date.year, date.month, date.day, 0, 0, 0)
+    with zipfile.ZipFile(target, "w") as archive:
+        for relative in _entries(folder):
+            item = zipfile.ZipInfo(f"{root}/{relative}", date_time=stamp)
+            item.compress_type = zipfile.ZIP_DEFLATED
+            item.external_attr = (stat.S_IFREG | 0o644) << 16
+            item.create_system = 3  # Unix, so the permissions above are read as such
+            archive.writestr(item, (folder / relative).read_bytes(), compresslevel=9)
+
+
+def _unsafe(name: str) -> str | None:
+    """Why a zip member's name may not be extracted, or None."""
+    path = name.replace("\\", "/")
+    if path.startswith("/") or re.match(r"^[A-Za-z]:", path):
+        return "an absolute path"
+    if ".." in PurePosixPath(path).parts:
+        return "a path with '..'"
+    if "\\" in name:
+        return "a path with a backslash"
+    return None
+
+
+def extract_zip(archive: Path, into: Path) -> Path:
+    """Extract a zipped bag into the (empty) folder ``into``; return the bag's folder.
+
+    Refuses, before writing anything, a member with an absolute path, a '..' part, a
+    backslash, a symbolic link or a repeated name, and a zip without exactly one bag.
+    """
+    try:
+        with zipfile.ZipFile(archive) as handle:
+            members = handle.infolist()
+            names = [m.filename for m in members]
+            for member in members:
+                why = _unsafe(member.filename)
+                if why is None and stat.S_ISLNK(member.external_attr >> 16):
+                    why = "a symbolic link"
+                if why:
+                    raise BagError(f"{archive}: refused to extract {member.filename!r}: {why}")
+            if len(set(names)) != len(names):
+                raise BagError(f"{archive}: refused: the zip repeats a file name")
+            for member in members:
+                handle.extract(member, into)
+    except zipfile.BadZipFile as error:
+        raise BagError(f"{archive}: not a readable zip: {error}") from None
+    if (into / "bagit.txt").is_file():
+        return into
+    roots = [p for p in into.iterdir() if (p / "bagit.txt").is_file()]
+    if len(roots) != 1 or len(list(into.iterdir())) != 1:
+        raise BagError(f"{archive}: expected one bag (a folder with bagit.txt) in the zip")
+    return roots[0]
