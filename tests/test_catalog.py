@@ -1,0 +1,215 @@
+"""`certkit catalog`: an SQLite index of archived campaigns, searched by aircraft, date
+and verdict; a bag is indexed only when intact; concurrent additions all land."""
+
+import json
+import sqlite3
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from certkit.archive import archive_campaign
+from certkit.bag import write_bag
+from certkit.catalog import add, search
+from certkit.cli import app
+
+from .conftest import SEED
+
+runner = CliRunner()
+
+
+def make_bag(folder: Path, campaign: str, aircraft: str, tested: list[str],
+             verdicts: dict[str, str]) -> Path:
+    """A small bag with the labels and results an archive carries (no report)."""
+    results = {
+        "outcome": "COMPLIANCE SHOWN" if set(verdicts.values()) == {"PASS"} else
+        "COMPLIANCE NOT SHOWN",
+        "counts": {k: list(verdicts.values()).count(k) for k in ("PASS", "FAIL", "NOT SHOWN")},
+        "finding_counts": {"error": 0, "warning": 1, "info": 0},
+        "verdicts": [{"id": key, "clause": key.split("/")[0].replace("-", " "),
+                      "run": key.split("/")[1], "gear": None, "verdict": verdict}
+                     for key, verdict in verdicts.items()],
+    }
+    (folder / "data" / "results").mkdir(parents=True)
+    (folder / "data" / "results" / "results.json").write_text(json.dumps(results))
+    write_bag(folder, [("Campaign-Id", campaign), ("External-Description", f"{campaign} drops"),
+                       ("Aircraft-Model", aircraft), ("Report-Number", f"R-{campaign}"),
+                       ("Report-Revision", "A"), ("Issue-Date", tested[-1]),
+                       *(("Test-Date", day) for day in tested),
+                       ("Bag-Software-Agent", "certkit test")])
+    return folder
+
+
+@pytest.fixture
+def bags(tmp_path) -> dict[str, Path]:
+    return {
+        "A": make_bag(tmp_path / "a", "LSA-1", "Skylark LSA", ["2025-03-02", "2025-03-04"],
+                      {"CFR23.725a/D1": "PASS", "F2245-drop-height/D1": "PASS"}),
+        "B": make_bag(tmp_path / "b", "LSA-2", "Skylark LSA mod. B", ["2026-06-10"],
+                      {"CFR23.725a/D1": "FAIL", "F2245-drop-height/D1": "PASS"}),
+        "C": make_bag(tmp_path / "c", "AMPH-1", "Heron amphibian", ["2024-01-10"],
+                      {"CFR23.725a/D1": "NOT SHOWN"}),
+    }
+
+
+def test_an_archived_campaign_is_indexed_from_its_bag(tmp_path):
+    bag = tmp_path / "seed-bag"
+    archive_campaign(SEED, bag, model=False)
+    catalog = tmp_path / "catalog.sqlite"
+    result = runner.invoke(app, ["catalog", "add", str(bag), "--catalog", str(catalog)])
+    assert result.exit_code == 0, result.output
+    assert result.output.startswith("added: SEED-AMPHIBIAN-DT")
+    [entry] = search(catalog)
+    # campaign.yaml: aircraft.model, document.*; README: 4 of 11 criteria pass, 7 not shown
+    assert entry.aircraft == "Light amphibious airplane (seed paper)"
+    assert (entry.campaign_id, entry.report_number, entry.revision, entry.issue_date,
+            entry.first_test_date, entry.last_test_date) == \
+        ("SEED-AMPHIBIAN-DT", "CK-SEED-0001", "A", "2024-01-15", "2024-01-10", "2024-01-10")
+    assert (entry.passed, entry.failed, entry.not_shown, entry.dq_errors) == (4, 0, 7, 6)
+    assert entry.outcome == "COMPLIANCE NOT SHOWN"
+    assert entry.location == str(bag.resolve())
+    import hashlib
+    assert entry.bag_hash == hashlib.sha256((bag / "tagmanifest-sha256.txt").read_bytes()) \
+        .hexdigest()
+    with sqlite3.connect(catalog) as connection:
+        clauses = connection.execute("SELECT id, verdict FROM verdicts ORDER BY id").fetchall()
+    assert len(clauses) == 11 and ("CFR23.725a-limit-drop-height/D300", "PASS") in clauses
+
+
+def test_adding_the_same_bag_twice_keeps_one_entry_and_a_copy_is_another(bags, tmp_path):
+    catalog = tmp_path / "catalog.sqlite"
+    assert add(catalog, bags["A"])[1] is True
+    assert add(catalog, bags["A"])[1] is False
+    result = runner.invoke(app, ["catalog", "add", str(bags["A"]), "--catalog", str(catalog)])
+    assert result.exit_code == 0 and result.output.startswith("already catalogued: LSA-1")
+    import shutil
+    shutil.copytree(bags["A"], tmp_path / "copy-of-a")
+    add(catalog, tmp_path / "copy-of-a")
+    entries = search(catalog)
+    assert [e.location for e in entries] == [str(bags["A"]), str(tmp_path / "copy-of-a")]
+    assert entries[0].bag_hash == entries[1].bag_hash
+
+
+def test_search_by_aircraft_text_dates_outcome_and_verdict(bags, tmp_path):
+    catalog = tmp_path / "catalog.sqlite"
+    for bag in bags.values():
+        add(catalog, bag)
+
+    def ids(**filters):
+        return [e.campaign_id for e in search(catalog, **filters)]
+
+    assert ids() == ["AMPH-1", "LSA-1", "LSA-2"]            # by aircraft name
+    assert ids(aircraft="skylark") == ["LSA-1", "LSA-2"]      # case-insensitive substring
+    assert ids(text="heron") == ["AMPH-1"] and ids(text="R-LSA-2") == ["LSA-2"]
+    assert ids(campaign="LSA") == ["LSA-1", "LSA-2"]
+    # tested within a range: LSA-1 ran 2025-03-02..04, so it overlaps a range from 03-03
+    assert ids(since="2025-03-03") == ["LSA-1", "LSA-2"]
+    assert ids(since="2025-03-05") == ["LSA-2"]
+    assert ids(until="2025-03-01") == ["AMPH-1"]
+    assert ids(since="2025-01-01", until="2025-12-31") == ["LSA-1"]
+    assert ids(outcome="compliance shown") == ["LSA-1"]
+    assert ids(verdict="FAIL") == ["LSA-2"]
+    assert ids(verdict="not shown") == ["AMPH-1"]
+    assert ids(verdict="PASS", clause="F2245") == ["LSA-1", "LSA-2"]
+    assert ids(verdict="FAIL", clause="F2245") == []
+    assert ids(text="100%") == [] and ids(text="_") == []   # wildcards are literal
+    assert ids(aircraft="Skylark", verdict="FAIL") == ["LSA-2"]
+
+
+def test_search_on_the_command_line(bags, tmp_path):
+    catalog = tmp_path / "catalog.sqlite"
+    result = runner.invoke(app, ["catalog", "add", *map(str, bags.values()), "--catalog",
+                                 str(catalog)])
+    assert result.exit_code == 0 and result.output.count("added: ") == 3
+    result = runner.invoke(app, ["catalog", "search", "--aircraft", "skylark", "--verdict",
+                                 "fail", "--json", "--catalog", str(catalog)])
+    assert result.exit_code == 0
+    assert [e["campaign_id"] for e in json.loads(result.output)] == ["LSA-2"]
+    result = runner.invoke(app, ["catalog", "list", "--catalog", str(catalog)])
+    assert result.output.startswith("3 archived campaign(s)")
+    assert "report R-LSA-1 rev. A, issued 2025-03-04, tested 2025-03-02 to 2025-03-04" \
+        in result.output
+    result = runner.invoke(app, ["catalog", "search", "--from", "2025-13-01", "--catalog",
+                                 str(catalog)])
+    assert result.exit_code == 2 and "--from: expected a date as YYYY-MM-DD" in result.output
+    result = runner.invoke(app, ["catalog", "search", "--verdict", "maybe", "--catalog",
+                                 str(catalog)])
+    assert result.exit_code == 2
+
+
+def test_a_bag_that_is_not_intact_is_not_added(bags, tmp_path):
+    catalog = tmp_path / "catalog.sqlite"
+    add(catalog, bags["A"])
+    (bags["B"] / "data" / "results" / "results.json").write_text("{}")
+    result = runner.invoke(app, ["catalog", "add", str(bags["B"]), str(bags["C"]),
+                                 "--catalog", str(catalog)])
+    assert result.exit_code == 1
+    assert "not added to the catalog: the bag is not intact" in result.output
+    assert "modified: data/results/results.json" in result.output
+    assert [e.campaign_id for e in search(catalog)] == ["AMPH-1", "LSA-1"]  # C still added
+
+
+def test_listing_a_catalog_that_does_not_exist_creates_nothing(tmp_path):
+    catalog = tmp_path / "none.sqlite"
+    result = runner.invoke(app, ["catalog", "list", "--catalog", str(catalog)])
+    assert result.exit_code == 0 and "no catalogued campaign matches" in result.output
+    assert not catalog.exists()
+    catalog.write_text("not a database, just text that is long enough " * 40)
+    result = runner.invoke(app, ["catalog", "list", "--catalog", str(catalog)])
+    assert result.exit_code == 2 and "not a certkit catalog" in result.output
+
+
+ADDER = textwrap.dedent("""
+    import sys, time
+    from pathlib import Path
+    from certkit.catalog import add
+    catalog, bag, go = sys.argv[1:4]
+    print("ready", flush=True)
+    while not Path(go).exists():
+        time.sleep(0.005)
+    add(catalog, bag)
+    print("added", flush=True)
+""")
+
+
+def _start(script: Path, catalog: Path, bag: Path, go: Path) -> subprocess.Popen:
+    process = subprocess.Popen([sys.executable, str(script), str(catalog), str(bag), str(go)],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert process.stdout.readline().strip() == "ready", process.stderr.read()
+    return process
+
+
+def _finish(processes) -> None:
+    for process in processes:
+        out, error = process.communicate(timeout=120)
+        assert process.returncode == 0 and out.strip() == "added", error
+
+
+def test_two_concurrent_additions_to_a_new_catalog_both_land(bags, tmp_path):
+    # both processes wait at the start line, then add at once, each creating the schema
+    script, catalog, go = tmp_path / "adder.py", tmp_path / "new.sqlite", tmp_path / "go"
+    script.write_text(ADDER)
+    processes = [_start(script, catalog, bags[k], go) for k in ("A", "B")]
+    go.touch()
+    _finish(processes)
+    assert sorted(e.campaign_id for e in search(catalog)) == ["LSA-1", "LSA-2"]
+
+
+def test_two_additions_blocked_by_a_writer_both_land_when_it_finishes(bags, tmp_path):
+    script, catalog, go = tmp_path / "adder.py", tmp_path / "busy.sqlite", tmp_path / "go"
+    script.write_text(ADDER)
+    add(catalog, bags["C"])
+    holder = sqlite3.connect(catalog, isolation_level=None)
+    holder.execute("BEGIN IMMEDIATE")       # another writer holds the catalog
+    processes = [_start(script, catalog, bags[k], go) for k in ("A", "B")]
+    go.touch()
+    time.sleep(1.5)                         # both now wait on the lock
+    assert all(p.poll() is None for p in processes)
+    holder.execute("COMMIT")
+    holder.close()
+    _finish(processes)
+    assert sorted(e.campaign_id for e in search(catalog)) == ["AMPH-1", "LSA-1", "LSA-2"]
