@@ -1,6 +1,7 @@
 # Two commands do all the set-up on a fresh machine:
 #   make report   -> .venv with certkit, then out/report.pdf, report.html, results.json, tables/
 #   make test     -> .venv with certkit and the test tools, then the test suite
+#                    (without the checks marked slow; `make test-slow` runs those, CI runs both)
 PYTHON ?= python3
 VENV   ?= .venv
 CAMPAIGN ?= campaigns/seed-amphibian/campaign.yaml
@@ -11,14 +12,17 @@ $(VENV)/.installed: pyproject.toml
 	$(VENV)/bin/python -m pip install --quiet --disable-pip-version-check -e '.[test]'
 	touch $@
 
-.PHONY: install report test bench clean
+.PHONY: install report test test-slow bench clean
 install: $(VENV)/.installed
 
 report: $(VENV)/.installed
 	$(VENV)/bin/certkit report $(CAMPAIGN) -o $(OUT)
 
 test: $(VENV)/.installed
-	$(VENV)/bin/python -m pytest -q
+	$(VENV)/bin/python -m pytest -q -n auto --dist loadfile -m "not slow"
+
+test-slow: $(VENV)/.installed
+	$(VENV)/bin/python -m pytest -q -n auto --dist loadfile -m slow
 
 bench: $(VENV)/.installed
 	$(VENV)/bin/python benchmarks/bench_report.py

@@ -26,8 +26,8 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
 from . import __version__
-from .bag import BagError, Change, bag_hash, check_bag, extract_zip, read_info, sha256_of, \
-    write_bag, write_zip
+from .bag import BagError, Change, check_bag, extract_zip, read_info, sha256_of, write_bag, \
+    write_zip
 from .errors import CertkitInputError
 from .provenance import environment
 
@@ -278,10 +278,13 @@ def recompute(folder: Path, info: dict[str, list[str]], tolerance: float,
     archived inputs and compare the results with the archived results.json."""
     from .campaign import load_campaign
     from .compliance import assess
-    from .report import render_report
+    from .report import results_json
 
     archived_bytes = (folder / RESULTS / "results.json").read_bytes()
-    archived = json.loads(archived_bytes)
+    try:
+        archived = json.loads(archived_bytes)
+    except ValueError as error:
+        return Recomputed(False, [f"{RESULTS}/results.json: not JSON ({error})"], [])
     campaign = load_campaign(_archived_spec(folder, info))
     assessment = assess(campaign)
     evidence = None
@@ -289,10 +292,7 @@ def recompute(folder: Path, info: dict[str, list[str]], tolerance: float,
         from .model_evidence import model_evidence
         (progress or (lambda m: None))("calibrating the drop model")
         evidence = model_evidence(campaign)
-    with tempfile.TemporaryDirectory(prefix="certkit-recompute-") as scratch:
-        out = Path(scratch) / "results"
-        render_report(assessment, out, progress, evidence)
-        recomputed_bytes = (out / "results.json").read_bytes()
+    recomputed_bytes = results_json(assessment, evidence)
     differences, software = compare_results(archived, json.loads(recomputed_bytes), tolerance)
     return Recomputed(recomputed_bytes == archived_bytes, differences, software)
 

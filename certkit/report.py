@@ -1126,13 +1126,18 @@ def render_pdf(html: str, attachments: list[tuple[str, bytes, str]], date: dt.da
 
 
 # --------------------------------------------------------------------------- writing
+def results_json(assessment: Assessment, model=None) -> bytes:
+    """results.json as written: the results document, with its provenance, as UTF-8."""
+    results = results_document(assessment, provenance(assessment.campaign.inputs), model)
+    return (json.dumps(results, indent=2, ensure_ascii=False, allow_nan=False)
+            + "\n").encode("utf-8")
+
+
 def _write_outputs(assessment: Assessment, folder: Path, progress, model) -> None:
     campaign = assessment.campaign
     record = provenance(campaign.inputs)
     progress("computing results")
-    results = results_document(assessment, record, model)
-    results_bytes = (json.dumps(results, indent=2, ensure_ascii=False, allow_nan=False)
-                     + "\n").encode("utf-8")
+    results_bytes = results_json(assessment, model)
     (folder / "results.json").write_bytes(results_bytes)
     write_tables(assessment, folder / "tables", model)
     progress("drawing figures and laying out HTML")

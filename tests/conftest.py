@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import math
 import shutil
+import subprocess
+import sys
 import textwrap
 from pathlib import Path
 
@@ -207,3 +209,13 @@ PHYSICS_SPEC = textwrap.dedent("""\
 def physics_campaign(tmp_path: Path) -> Path:
     """A campaign whose gear has every parameter the drop model needs; returns the spec path."""
     return write_campaign(tmp_path / "physics", PHYSICS_SPEC)
+
+
+@pytest.fixture(scope="session")
+def full_report(tmp_path_factory) -> Path:
+    """The example's full report (drop-model sections 9-11 included), made once by the
+    command line in a fresh process; the slow checks share it."""
+    out = tmp_path_factory.mktemp("full-report") / "out"
+    subprocess.run([sys.executable, "-m", "certkit.cli", "report", str(SEED), "-o", str(out)],
+                   check=True, capture_output=True, timeout=600)
+    return out

@@ -170,6 +170,7 @@ def test_a_strong_effect_is_named_and_the_held_out_error_shrinks(pool_outcome):
     assert document["metrics"]["top1"]["cases"] == 1
 
 
+@pytest.mark.slow
 def test_a_dask_cluster_gives_the_same_outcome_as_the_process_pool(pool_outcome):
     distributed = pytest.importorskip("distributed")
     case, document = pool_outcome
@@ -247,6 +248,7 @@ def test_bad_battery_options_exit_2_with_a_message(option, value):
 RECORD = "campaigns/seed-amphibian/blind-check/blind-check.json"
 
 
+@pytest.mark.slow
 def test_the_examples_blind_check_record_is_what_this_code_gives():
     """The committed record (72 cases, about 5 minutes) is spot-checked: two of its cases
     are run again here, and its metrics are those score() gives for its cases (a check

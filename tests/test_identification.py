@@ -47,6 +47,7 @@ def test_the_true_model_family_predicts_the_held_out_drop_to_the_noise(result):
         assert score.rmse < 0.1  # mm
 
 
+@pytest.mark.slow
 def test_the_held_out_drop_does_not_influence_any_fitted_model(synthetic, result):
     # change only D300's recorded stroke: every block fitted on the training runs must come
     # out bit for bit the same, only the held-out scores move

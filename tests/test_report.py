@@ -134,6 +134,7 @@ def _digests(folder: Path) -> dict[str, str]:
             for p in sorted(folder.rglob("*")) if p.is_file()}
 
 
+@pytest.mark.slow
 def test_same_inputs_give_identical_bytes_across_processes(timeseries_campaign, tmp_path):
     # the time-series campaign exercises figures, fonts and attachments
     _render_in_fresh_process(timeseries_campaign, tmp_path / "a")
@@ -146,25 +147,24 @@ def test_same_inputs_give_identical_bytes_across_processes(timeseries_campaign, 
 
 
 @pytest.mark.slow
-def test_model_section_is_reproducible_and_says_the_data_are_synthetic(tmp_path):
+def test_model_section_is_reproducible_and_says_the_data_are_synthetic(full_report, tmp_path):
     # the example campaign: calibration, identification and gap diagnosis of both gears, in
-    # two processes
-    _render_in_fresh_process(SEED, tmp_path / "a")
+    # two processes (full_report is made in one, shared with other slow checks)
     _render_in_fresh_process(SEED, tmp_path / "b")
-    assert _digests(tmp_path / "a") == _digests(tmp_path / "b")
-    html = (tmp_path / "a" / "report.html").read_text(encoding="utf-8")
+    assert _digests(full_report) == _digests(tmp_path / "b")
+    html = (full_report / "report.html").read_text(encoding="utf-8")
     assert "9. Governing-equation model" in html
     assert "are SYNTHETIC" in html and "9.7364" in html and "11.3473" in html
     assert html.count('class="model-gear"') == 2
     assert "10. Identification" in html and html.count('class="identification-gear"') == 2
     assert "0.48805" in html and "0.38246" in html  # the seed's Wiener RMSEs quoted
-    results = json.loads((tmp_path / "a" / "results.json").read_text(encoding="utf-8"))
+    results = json.loads((full_report / "results.json").read_text(encoding="utf-8"))
     gears = results["model"]["calibration"]["gear_units"]
     assert [g["gear_unit"] for g in gears] == ["left-main", "right-main"]
     for gear in gears:  # calibration improves every run's stroke fit
         strokes = [e for e in gear["rmse"] if e["channel"] == "stroke"]
         assert all(e["calibrated"] < e["nominal"] for e in strokes)
-    rows = (tmp_path / "a" / "tables" / "model.csv").read_text(encoding="utf-8").splitlines()
+    rows = (full_report / "tables" / "model.csv").read_text(encoding="utf-8").splitlines()
     assert len(rows) == 1 + 2 * 3 * 3  # header + 2 gears x 3 runs x 3 channels
     identification = results["model"]["identification"]["gear_units"]
     assert [g["held_out"] for g in identification] == [["D300"], ["D300"]]
@@ -184,8 +184,8 @@ def test_model_section_is_reproducible_and_says_the_data_are_synthetic(tmp_path)
     for gap in gaps:
         assert gap["answer"] and set(gap["answer"]) <= {"rebound orifice", "seal friction",
                                                         "tyre hysteresis"}
-    cells = (tmp_path / "a" / "tables" / "gap.csv").read_text(encoding="utf-8").splitlines()
+    cells = (full_report / "tables" / "gap.csv").read_text(encoding="utf-8").splitlines()
     assert len(cells) == 1 + 2 * 3 * 3 * 6  # header + gears x runs x channels x phases
-    shrink = (tmp_path / "a" / "tables" / "gap_shrink.csv").read_text(encoding="utf-8")
+    shrink = (full_report / "tables" / "gap_shrink.csv").read_text(encoding="utf-8")
     # held-out D300 of each gear: 3 channels x (whole record + 6 phases)
     assert len(shrink.splitlines()) == 1 + 2 * 3 * 7
