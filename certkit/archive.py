@@ -17,6 +17,8 @@ existing target is never replaced.
 from __future__ import annotations
 
 import contextlib
+import ctypes
+import errno
 import json
 import math
 import os
@@ -28,6 +30,7 @@ from pathlib import Path, PurePosixPath
 from . import __version__
 from .bag import BagError, Change, check_bag, extract_zip, read_info, sha256_of, write_bag, \
     write_zip
+from .baseline import FORMAT as RESULTS_FORMAT
 from .errors import CertkitInputError
 from .provenance import environment
 
@@ -123,6 +126,28 @@ def _copy_inputs(campaign, folder: Path) -> None:
                                            "being archived; archive again when it is stable")
 
 
+def _staged_campaign(campaign, folder: Path):
+    """The campaign loaded again from its archived copy; refused unless it names the
+    same files with the same bytes (a layout the archive cannot reproduce, such as a
+    path through a link that leaves the folder, is caught here, not years later)."""
+    from .campaign import load_campaign
+
+    try:
+        staged = load_campaign(folder / campaign.inputs[0].name)
+    except CertkitInputError as error:
+        raise CertkitInputError.single(
+            str(campaign.spec_path), None, "", f"the archived copy of the campaign does not "
+            f"load as the original does ({error.problems[0].message}); keep the data files "
+            f"inside the campaign folder, not behind links that leave it") from None
+    before = [(i.name, i.sha256) for i in campaign.inputs]
+    after = [(i.name, i.sha256) for i in staged.inputs]
+    if before != after:
+        raise CertkitInputError.single(str(campaign.spec_path), None, "",
+                                       f"the archived copy names other files than the "
+                                       f"original: {after} instead of {before}")
+    return staged
+
+
 def _check_new(target: Path) -> None:
     if os.path.lexists(target):
         raise _refuse(target, "already exists; certkit never replaces an archive: give a "
@@ -131,18 +156,55 @@ def _check_new(target: Path) -> None:
         raise _refuse(target, "give the zip a name")
 
 
-def _created_parents(parent: Path) -> list[Path]:
-    missing = [p for p in [parent, *parent.parents] if not p.exists()]
-    for folder in reversed(missing):
+_RENAME_NOREPLACE = 1
+_AT_FDCWD = -100
+
+
+def _rename_no_replace(source: Path, target: Path) -> None:
+    """Move ``source`` to ``target`` only if nothing is there, atomically where the kernel
+    offers renameat2(RENAME_NOREPLACE); raises FileExistsError otherwise."""
+    libc = ctypes.CDLL(None, use_errno=True)
+    renameat2 = getattr(libc, "renameat2", None)
+    if renameat2 is not None:
+        done = renameat2(_AT_FDCWD, os.fsencode(source), _AT_FDCWD, os.fsencode(target),
+                         _RENAME_NOREPLACE)
+        if done == 0:
+            return
+        number = ctypes.get_errno()
+        if number == errno.EEXIST:
+            raise FileExistsError(number, os.strerror(number), str(target))
+        if number not in (errno.ENOSYS, errno.EINVAL, errno.ENOTSUP):
+            raise OSError(number, os.strerror(number), str(target))
+    # no renameat2 here: check, then rename (a folder) or link (a file), which fails
+    # rather than replace a file; only an empty folder made in between could be replaced
+    if os.path.lexists(target):
+        raise FileExistsError(errno.EEXIST, "exists", str(target))
+    if source.is_dir():
+        os.rename(source, target)
+        return
+    try:
+        os.link(source, target)
+    except FileExistsError:
+        raise
+    except OSError:   # a file system without hard links: copy into a file made exclusively
+        with open(source, "rb") as reader, open(target, "xb") as writer:
+            shutil.copyfileobj(reader, writer, 1 << 20)
+
+
+def _create_parents(parent: Path, created: list[Path]) -> None:
+    """Make the missing folders above a target, noting each in ``created`` (innermost
+    first) as soon as it exists, so a failure can take them back."""
+    for folder in reversed([p for p in [parent, *parent.parents] if not p.exists()]):
         folder.mkdir()
-    return missing
+        created.insert(0, folder)
 
 
 def archive_campaign(spec: str | Path, target: str | Path, *, model: bool = True,
                      progress=None) -> Archived:
-    """Assess the campaign at ``spec`` (with the drop model unless ``model`` is False),
-    render its report and write everything as a bag at ``target``: a folder, or a zip
-    when ``target`` ends in .zip.
+    """Archive the campaign at ``spec`` as a bag at ``target``: a folder, or a zip when
+    ``target`` ends in .zip.  Its files are copied into the bag first; the assessment
+    (with the drop model unless ``model`` is False) and the report are then made from
+    those copies, so what the bag concludes is what its own inputs give.
 
     Raises CertkitInputError for bad input or a target that exists; nothing is left
     behind on any failure.
@@ -155,56 +217,58 @@ def archive_campaign(spec: str | Path, target: str | Path, *, model: bool = True
     target = Path(target)
     _check_new(target)
     campaign = load_campaign(spec)
-    progress("assessing")
-    assessment = assess(campaign)
-    evidence = None
-    if model:
-        from .model_evidence import model_evidence
-        progress("calibrating the drop model")
-        evidence = model_evidence(campaign)
+    zipped = target.suffix.lower() == ".zip"
+    if zipped and campaign.spec.document.date.year < 1980:
+        raise _refuse(target, f"a zip cannot carry a date before 1980 (document.date "
+                              f"{campaign.spec.document.date}); archive to a folder")
     final = target.absolute()
+    created: list[Path] = []
+    staging = None
     try:
-        created = _created_parents(final.parent)
-    except OSError as error:
-        raise _refuse(target, f"cannot create its folder: {error.strerror or error}") from None
-    try:
-        staging = Path(tempfile.mkdtemp(prefix=f".{final.name}.tmp-", dir=final.parent))
-    except OSError as error:
-        for folder in created:
-            with contextlib.suppress(OSError):
-                folder.rmdir()
-        raise _refuse(target, f"cannot write here: {error.strerror or error}") from None
-    placed = False
-    try:
+        try:
+            _create_parents(final.parent, created)
+            staging = Path(tempfile.mkdtemp(prefix=f".{final.name}.tmp-", dir=final.parent))
+        except OSError as error:
+            raise _refuse(target, f"cannot write here: {error.strerror or error}") from None
         bag = staging / "bag"
         (bag / "data").mkdir(parents=True)
         progress("copying the campaign's files")
         _copy_inputs(campaign, bag / CAMPAIGN)
+        campaign = _staged_campaign(campaign, bag / CAMPAIGN)
+        progress("assessing")
+        assessment = assess(campaign)
+        evidence = None
+        if model:
+            from .model_evidence import model_evidence
+            progress("calibrating the drop model")
+            evidence = model_evidence(campaign)
         render_report(assessment, bag / RESULTS, progress, evidence)
         (bag / ENVIRONMENT).write_text(json.dumps(environment(), indent=2) + "\n",
                                        encoding="utf-8")
         progress("writing the manifests")
-        digest = write_bag(bag, _bag_info(campaign, assessment, evidence))
-        info = read_info(bag)
-        octets, files = (int(x) for x in info["Payload-Oxum"][0].split("."))
+        try:
+            digest = write_bag(bag, _bag_info(campaign, assessment, evidence))
+        except BagError as error:
+            raise _refuse(target, str(error)) from None
+        octets, files = (int(x) for x in read_info(bag)["Payload-Oxum"][0].split("."))
         source = bag
-        if final.suffix.lower() == ".zip":
+        if zipped:
             source = staging / "bag.zip"
             write_zip(bag, source, final.stem, campaign.spec.document.date)
-        if os.path.lexists(final):   # appeared while the bag was being made
+        try:
+            _rename_no_replace(source, final)
+        except FileExistsError:
             raise _refuse(target, "appeared while the archive was being written; it was "
-                                  "left as it is")
-        os.replace(source, final) if source.is_dir() else os.link(source, final)
-        placed = True
-    except FileExistsError:
-        raise _refuse(target, "appeared while the archive was being written; it was left "
-                              "as it is") from None
+                                  "left as it is") from None
+        except OSError as error:
+            raise _refuse(target, f"cannot be placed: {error.strerror or error}") from None
+        created = []
     finally:
-        shutil.rmtree(staging, ignore_errors=True)
-        if not placed:
-            for folder in created:
-                with contextlib.suppress(OSError):
-                    folder.rmdir()
+        if staging is not None:
+            shutil.rmtree(staging, ignore_errors=True)
+        for folder in created:
+            with contextlib.suppress(OSError):
+                folder.rmdir()
     return Archived(target, digest, files, octets, assessment.outcome)
 
 
@@ -227,6 +291,8 @@ def _flatten(node, prefix: str, out: dict) -> None:
     if isinstance(node, dict):
         for key, value in node.items():
             _flatten(value, f"{prefix}/{key}" if prefix else str(key), out)
+        if not node:
+            out[prefix] = {}
     elif isinstance(node, list):
         for index, value in enumerate(node):
             _flatten(value, f"{prefix}/{index}", out)
@@ -263,29 +329,45 @@ def compare_results(archived: dict, recomputed: dict, tolerance: float
     return differences, software
 
 
-def _archived_spec(folder: Path, info: dict[str, list[str]]) -> Path:
-    named = (info.get("Campaign-Spec") or [""])[0]
-    parts = PurePosixPath(named).parts
-    if not named.startswith(CAMPAIGN + "/") or ".." in parts:
-        raise BagError(f"{folder}: bag-info.txt names no campaign spec under {CAMPAIGN}/ "
-                       f"(Campaign-Spec: {named!r})")
-    return folder / named
+def archived_results(folder: Path) -> tuple[bytes, dict]:
+    """The archived results.json, bytes and document; BagError when the bag is not a
+    certkit archive (another tool's bag, or results that are not certkit's)."""
+    path = folder / RESULTS / "results.json"
+    try:
+        data = path.read_bytes() if path.is_file() else None
+        document = json.loads(data) if data is not None else None
+    except (OSError, ValueError) as error:
+        raise BagError(f"{folder}: {RESULTS}/results.json cannot be read: {error}") from None
+    if not isinstance(document, dict) or document.get("format") != RESULTS_FORMAT:
+        raise BagError(f"{folder}: not a certkit archive (no certkit results at "
+                       f"{RESULTS}/results.json)")
+    return data, document
 
 
-def recompute(folder: Path, info: dict[str, list[str]], tolerance: float,
-              progress=None) -> Recomputed:
+def _archived_spec(folder: Path, results: dict) -> Path:
+    """The archived spec: the first input results.json records, inside data/campaign/."""
+    try:
+        named = results["provenance"]["inputs"][0]["file"]
+    except (KeyError, IndexError, TypeError):
+        named = None
+    if not isinstance(named, str) or named.startswith("/") or ".." in PurePosixPath(named).parts:
+        raise BagError(f"{folder}: results.json names no campaign spec (provenance.inputs)")
+    return folder / CAMPAIGN / named
+
+
+def recompute(folder: Path, tolerance: float, progress=None) -> Recomputed:
     """Re-run the assessment (and the drop model, when the archive has it) from the
     archived inputs and compare the results with the archived results.json."""
     from .campaign import load_campaign
     from .compliance import assess
     from .report import results_json
 
-    archived_bytes = (folder / RESULTS / "results.json").read_bytes()
+    archived_bytes, archived = archived_results(folder)
     try:
-        archived = json.loads(archived_bytes)
-    except ValueError as error:
-        return Recomputed(False, [f"{RESULTS}/results.json: not JSON ({error})"], [])
-    campaign = load_campaign(_archived_spec(folder, info))
+        campaign = load_campaign(_archived_spec(folder, archived))
+    except CertkitInputError as error:   # e.g. a spec this certkit no longer accepts
+        return Recomputed(False, [f"the archived campaign does not load: {problem}"
+                                  for problem in error.problems], [])
     assessment = assess(campaign)
     evidence = None
     if archived.get("model") is not None:
@@ -312,5 +394,5 @@ def verify_archive(path: str | Path, *, recompute_results: bool = False,
                 result.notes.append("not recomputed: the bag is not intact, so its inputs "
                                     "are not the ones archived")
             else:
-                result.recomputed = recompute(folder, result.info, tolerance, progress)
+                result.recomputed = recompute(folder, tolerance, progress)
     return result

@@ -8,8 +8,8 @@ for the three tag files).  The manifests use ``sha256sum``'s layout, so
 
 The bag is written here rather than with the ``bagit`` library because that library
 moves the payload in place and lists tag files in directory order, which is not the
-same from one file system to another; the test suite checks that ``bagit`` accepts the
-bags written here and rejects tampered ones.
+same from one file system to another; the test suite checks that ``bagit`` accepts a bag
+written here and rejects a tampered one.
 """
 
 from __future__ import annotations
@@ -17,8 +17,11 @@ from __future__ import annotations
 import hashlib
 import os
 import re
+import shutil
 import stat
+import unicodedata
 import zipfile
+import zlib
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
@@ -94,8 +97,11 @@ def write_bag(folder: Path, info: list[tuple[str, str]]) -> str:
     lines, octets = [], 0
     for relative in payload:
         path = folder / "data" / relative
-        if path.is_symlink() or not path.is_file():
+        if not _is_regular(path):
             raise BagError(f"{path}: the payload may hold regular files only")
+        if "\\" in relative or any(c < " " or c in "\x85\u2028\u2029" for c in relative):
+            raise BagError(f"{relative!r}: a payload file name may not hold a backslash or "
+                           f"a line or control character")
         lines.append(f"{sha256_of(path)}  data/{_encode(relative)}\n")
         octets += path.stat().st_size
     _write(folder / "bagit.txt", DECLARATION)
@@ -110,38 +116,62 @@ def write_bag(folder: Path, info: list[tuple[str, str]]) -> str:
 def read_info(folder: Path) -> dict[str, list[str]]:
     """bag-info.txt as label -> values (a label may repeat)."""
     info: dict[str, list[str]] = {}
-    try:
-        text = (folder / "bag-info.txt").read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
-        return info
-    for line in text.splitlines():
+    text = _read_tag(folder / "bag-info.txt")
+    for line in (text or "").split("\n"):
         label, sep, value = line.partition(":")
         if sep:
             info.setdefault(label.strip(), []).append(value.strip())
     return info
 
 
-def _manifest(folder: Path, name: str, changes: list[Change]) -> dict[str, str] | None:
-    """path -> hash of one manifest; None (and a change) when it is missing or unreadable;
-    a malformed or unsafe line is a 'damaged' change naming the line."""
-    path = folder / name
-    if not path.is_file():
+def _is_regular(path: Path) -> bool:
+    """A regular file, not a link, FIFO or device (reading those could block or not end)."""
+    try:
+        return stat.S_ISREG(os.lstat(path).st_mode)
+    except OSError:
+        return False
+
+
+def _read_tag(path: Path) -> str | None:
+    """A tag file's text; None when it is missing, not a regular file or not UTF-8."""
+    if not _is_regular(path):
         return None
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        changes.append(Change("damaged", name, f"cannot be read: {error}"))
+        return path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
         return None
-    entries = {}
-    for number, line in enumerate(text.splitlines(), start=1):
+
+
+def _manifest(folder: Path, name: str, changes: list[Change]) -> dict[str, str] | None:
+    """path -> hash of one manifest; None when it is missing.  A malformed or unsafe line,
+    a path listed twice, or (in the tag manifest) a payload path is a 'damaged' change
+    naming the line."""
+    path = folder / name
+    if not os.path.lexists(path):
+        return None
+    text = _read_tag(path)
+    if text is None:
+        changes.append(Change("damaged", name, "not a readable UTF-8 text file"))
+        return {}
+    entries: dict[str, str] = {}
+    lines = text.split("\n")
+    if lines and lines[-1] == "":
+        lines.pop()
+    for number, line in enumerate(lines, start=1):
         match = _LINE.match(line)
         relative = _decode(match.group(2)) if match else ""
         parts = PurePosixPath(relative).parts
         if not match or relative.startswith("/") or ".." in parts or "\\" in relative:
-            changes.append(Change("damaged", name, f"line {number}: expected '<SHA-256>  "
-                                                   f"<relative path>', found {line!r}"))
+            problem = f"expected '<SHA-256>  <relative path>', found {line!r}"
+        elif relative in entries:
+            problem = f"{relative!r} is listed twice"
+        elif (name == TAGMANIFEST) == (parts[0] == "data"):
+            problem = (f"{relative!r}: the payload is listed in {MANIFEST} only"
+                       if name == TAGMANIFEST else f"{relative!r} is not under data/")
+        else:
+            entries[relative] = match.group(1).lower()
             continue
-        entries[relative] = match.group(1).lower()
+        changes.append(Change("damaged", name, f"line {number}: {problem}"))
     return entries
 
 
@@ -149,46 +179,46 @@ def check_bag(folder: Path) -> list[Change]:
     """Every file added to, removed from or modified in the bag at ``folder`` since its
     manifests were written, each named; an empty list when the bag is intact.
 
-    Raises BagError when ``folder`` is not a bag at all (no bagit.txt).
+    Raises BagError when ``folder`` is not a bag at all (no bagit.txt and no manifest).
     """
     folder = Path(folder)
     if not folder.is_dir():
         raise BagError(f"{folder}: not found, or not a folder or a .zip of a bag")
-    if not (folder / "bagit.txt").is_file():
-        raise BagError(f"{folder}: not a bag (no bagit.txt)")
+    if not any(os.path.lexists(folder / n) for n in ("bagit.txt", MANIFEST, TAGMANIFEST)):
+        raise BagError(f"{folder}: not a bag (no bagit.txt, no {MANIFEST})")
     changes: list[Change] = []
-    payload = _manifest(folder, MANIFEST, changes)
-    tags = _manifest(folder, TAGMANIFEST, changes)
-    if payload is None:
-        changes.append(Change("removed", MANIFEST, "the payload manifest is missing"))
-        payload = {}
-    if tags is None:
-        changes.append(Change("removed", TAGMANIFEST, "the tag manifest is missing"))
-        tags = {}
-    listed = {**payload, **tags}
+    manifests = {}
+    for name in (MANIFEST, TAGMANIFEST):
+        entries = _manifest(folder, name, changes)
+        if entries is None:
+            changes.append(Change("removed", name, "the manifest is missing"))
+            entries = {}
+        manifests[name] = entries
     on_disk = set(_entries(folder))
-    for relative in sorted(listed):
+    listed = sorted((relative, name, digest) for name, entries in manifests.items()
+                    for relative, digest in entries.items())
+    for relative, name, digest in listed:
         path = folder / relative
         if relative not in on_disk:
-            changes.append(Change("removed", relative, "listed in the manifest, not in the bag"))
-        elif path.is_symlink() or not path.is_file():
+            changes.append(Change("removed", relative, f"listed in {name}, not in the bag"))
+        elif not _is_regular(path):
             changes.append(Change("modified", relative, "is no longer a regular file"))
-        else:
-            found = sha256_of(path)
-            if found != listed[relative]:
-                changes.append(Change("modified", relative, f"SHA-256 {found}, the manifest "
-                                                            f"says {listed[relative]}"))
-    for relative in sorted(on_disk - set(listed) - {TAGMANIFEST, MANIFEST}):
+        elif (found := sha256_of(path)) != digest:
+            changes.append(Change("modified", relative, f"SHA-256 {found}, {name} says "
+                                                        f"{digest}"))
+    for relative in sorted(on_disk - {r for r, _, _ in listed} - {TAGMANIFEST, MANIFEST}):
         changes.append(Change("added", relative, "in the bag, not in any manifest"))
-    if (folder / "bagit.txt").read_bytes() != DECLARATION.encode() and "bagit.txt" not in tags:
+    if "bagit.txt" not in manifests[TAGMANIFEST] and _is_regular(folder / "bagit.txt") \
+            and (folder / "bagit.txt").read_bytes() != DECLARATION.encode():
         changes.append(Change("damaged", "bagit.txt", "not a BagIt 1.0 declaration"))
-    if not any(c.kind != "damaged" for c in changes):
+    if not changes:
         oxum = read_info(folder).get("Payload-Oxum", [""])[0]
-        count = len(payload)
-        octets = sum((folder / p).stat().st_size for p in payload if (folder / p).is_file())
-        if oxum != f"{octets}.{count}":
+        payload = manifests[MANIFEST]
+        octets = sum((folder / p).stat().st_size for p in payload)
+        if oxum != f"{octets}.{len(payload)}":
             changes.append(Change("damaged", "bag-info.txt", f"Payload-Oxum {oxum!r}, the "
-                                                             f"payload holds {octets}.{count}"))
+                                                             f"payload holds "
+                                                             f"{octets}.{len(payload)}"))
     return changes
 
 
@@ -201,7 +231,9 @@ def bag_hash(folder: Path) -> str:
 def write_zip(folder: Path, target: Path, root: str, date) -> None:
     """A zip of the bag at ``folder`` under the folder name ``root``: sorted entries,
     every timestamp the campaign's ``date``, fixed permissions, so the same bag gives
-    the same bytes."""
+    the same bytes.  (Zip timestamps start in 1980: an earlier date is refused.)"""
+    if date.year < 1980:
+        raise BagError(f"a zip cannot carry a date before 1980 ({date}); archive to a folder")
     stamp = (date.year, date.month, date.day, 0, 0, 0)
     with zipfile.ZipFile(target, "w") as archive:
         for relative in _entries(folder):
@@ -209,46 +241,68 @@ def write_zip(folder: Path, target: Path, root: str, date) -> None:
             item.compress_type = zipfile.ZIP_DEFLATED
             item.external_attr = (stat.S_IFREG | 0o644) << 16
             item.create_system = 3  # Unix, so the permissions above are read as such
-            archive.writestr(item, (folder / relative).read_bytes(), compresslevel=9)
+            large = (folder / relative).stat().st_size > (1 << 31)
+            with open(folder / relative, "rb") as source, \
+                    archive.open(item, "w", force_zip64=large) as sink:
+                shutil.copyfileobj(source, sink, 1 << 20)
 
 
 def _unsafe(name: str) -> str | None:
-    """Why a zip member's name may not be extracted, or None."""
+    """Why a zip member's name may not be extracted, or None.  Only canonical relative
+    names pass: no empty, '.' or '..' part, so two names cannot land on one file."""
     path = name.replace("\\", "/")
     if path.startswith("/") or re.match(r"^[A-Za-z]:", path):
         return "an absolute path"
-    if ".." in PurePosixPath(path).parts:
+    parts = path.rstrip("/").split("/")
+    if ".." in parts:
         return "a path with '..'"
     if "\\" in name:
         return "a path with a backslash"
+    if any(part in ("", ".") for part in parts):
+        return "a path with an empty or '.' part"
     return None
 
 
 def extract_zip(archive: Path, into: Path) -> Path:
     """Extract a zipped bag into the (empty) folder ``into``; return the bag's folder.
 
-    Refuses, before writing anything, a member with an absolute path, a '..' part, a
-    backslash, a symbolic link or a repeated name, and a zip without exactly one bag.
+    Refuses, before writing anything, a member with an absolute path, a '..', '.' or
+    empty part, a backslash, a symbolic link, a name repeated (also up to case and
+    Unicode normalisation), or more bytes than the disk holds; then a zip without exactly
+    one bag.  Any damage to the zip itself is a BagError.
     """
     try:
         with zipfile.ZipFile(archive) as handle:
             members = handle.infolist()
-            names = [m.filename for m in members]
+            seen = set()
             for member in members:
                 why = _unsafe(member.filename)
                 if why is None and stat.S_ISLNK(member.external_attr >> 16):
                     why = "a symbolic link"
+                key = unicodedata.normalize("NFC", member.filename.rstrip("/")).casefold()
+                if why is None and key in seen:
+                    why = "a name the zip already holds (up to case or Unicode form)"
+                seen.add(key)
                 if why:
                     raise BagError(f"{archive}: refused to extract {member.filename!r}: {why}")
-            if len(set(names)) != len(names):
-                raise BagError(f"{archive}: refused: the zip repeats a file name")
+            size = sum(member.file_size for member in members)
+            free = shutil.disk_usage(into).free
+            if size > free // 2:
+                raise BagError(f"{archive}: refused: it unpacks to {size} bytes and "
+                               f"{free} bytes are free where it would be extracted")
             for member in members:
                 handle.extract(member, into)
-    except zipfile.BadZipFile as error:
-        raise BagError(f"{archive}: not a readable zip: {error}") from None
-    if (into / "bagit.txt").is_file():
+    except BagError:
+        raise
+    except (zipfile.BadZipFile, zipfile.LargeZipFile, zlib.error, NotImplementedError,
+            RuntimeError, EOFError, ValueError, OSError) as error:
+        raise BagError(f"{archive}: not a readable zip of a bag: {error}") from None
+    def is_bag(folder: Path) -> bool:
+        return any(os.path.lexists(folder / n) for n in ("bagit.txt", MANIFEST, TAGMANIFEST))
+
+    if is_bag(into):
         return into
-    roots = [p for p in into.iterdir() if (p / "bagit.txt").is_file()]
+    roots = [p for p in into.iterdir() if p.is_dir() and is_bag(p)]
     if len(roots) != 1 or len(list(into.iterdir())) != 1:
         raise BagError(f"{archive}: expected one bag (a folder with bagit.txt) in the zip")
     return roots[0]

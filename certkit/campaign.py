@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import posixpath
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -169,6 +170,16 @@ def _resolve_data_path(root: Path, relative: str, display: str, location: tuple,
     return candidate
 
 
+def _input_name(relative: str, resolved: Path, root: Path) -> str:
+    """The name an input is recorded (and archived) under: the path the spec gives,
+    normalised, so that it reads the same through a symbolic link; the resolved path when
+    the given one leaves the folder on its way."""
+    given = posixpath.normpath(relative)
+    if given.startswith("../") or given == ".." or posixpath.isabs(given):
+        return resolved.relative_to(root).as_posix()
+    return given
+
+
 def _blind_check(spec: CampaignSpec, root: Path, display: str, lines: LineMap
                  ) -> tuple[BlindCheckRecord | None, Path | None]:
     """The blind-check record the spec names (model.gap.blind_check), read and checked."""
@@ -240,7 +251,7 @@ def load_campaign(path: str | Path) -> Campaign:
         except CertkitInputError as error:
             errors.extend(error.problems)
             continue
-        name = data_path.relative_to(root).as_posix()
+        name = _input_name(run.data.file, data_path, root)
         if name not in {item.name for item in inputs}:
             inputs.append(InputFile(name, _sha256(data_path), data_path.stat().st_size, data_path))
     try:
@@ -249,7 +260,7 @@ def load_campaign(path: str | Path) -> Campaign:
         errors.extend(error.problems)
         blind_check, blind_path = None, None
     if blind_path is not None:
-        name = blind_path.relative_to(root).as_posix()
+        name = _input_name(spec.model.gap.blind_check, blind_path, root)
         if name not in {item.name for item in inputs}:
             inputs.append(InputFile(name, _sha256(blind_path), blind_path.stat().st_size,
                                     blind_path))

@@ -10,13 +10,12 @@ transaction with a generous busy timeout: two processes adding at once both land
 
 from __future__ import annotations
 
-import json
 import sqlite3
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from .archive import RESULTS, opened_bag
-from .bag import bag_hash, check_bag, read_info
+from .archive import archived_results, opened_bag
+from .bag import BagError, bag_hash, check_bag, read_info
 from .errors import CertkitInputError
 
 SCHEMA_VERSION = 1
@@ -95,12 +94,15 @@ def _connect(path: Path) -> sqlite3.Connection:
     try:
         connection = sqlite3.connect(path, timeout=TIMEOUT_S, isolation_level=None)
         version = connection.execute("PRAGMA user_version").fetchone()[0]
+        tables = {row[0] for row in connection.execute(
+            "SELECT name FROM sqlite_master WHERE type = 'table'")}
     except sqlite3.Error as error:
         raise _catalog_error(path, f"not a certkit catalog (SQLite says: {error})") from None
-    if version not in (0, SCHEMA_VERSION):
+    if version not in (0, SCHEMA_VERSION) or not tables <= {"campaigns", "verdicts"}:
         connection.close()
-        raise _catalog_error(path, f"catalog schema version {version}; this certkit reads "
-                                   f"version {SCHEMA_VERSION}")
+        found = f"schema version {version}" if version else f"tables {sorted(tables)}"
+        raise _catalog_error(path, f"not a certkit catalog of version {SCHEMA_VERSION} "
+                                   f"({found})")
     return connection
 
 
@@ -119,21 +121,27 @@ def describe(bag: str | Path) -> tuple[Entry, list[tuple]]:
         if changes:
             raise CatalogRefusal(bag, changes)
         info = read_info(folder)
-        results = json.loads((folder / RESULTS / "results.json").read_text(encoding="utf-8"))
+        _, results = archived_results(folder)
         digest = bag_hash(folder)
     dates = sorted(info.get("Test-Date", [])) or [""]
-    counts, findings = results["counts"], results["finding_counts"]
-    entry = Entry(
-        bag_hash=digest, location=str(bag.resolve()),
-        campaign_id=_first(info, "Campaign-Id"), title=_first(info, "External-Description"),
-        aircraft=_first(info, "Aircraft-Model"), report_number=_first(info, "Report-Number"),
-        revision=_first(info, "Report-Revision"), issue_date=_first(info, "Issue-Date"),
-        first_test_date=dates[0], last_test_date=dates[-1], outcome=results["outcome"],
-        passed=counts["PASS"], failed=counts["FAIL"], not_shown=counts["NOT SHOWN"],
-        dq_errors=findings["error"], dq_warnings=findings["warning"],
-        software=_first(info, "Bag-Software-Agent"))
-    verdicts = [(digest, v["id"], v["clause"], v["run"], v["gear"], v["verdict"])
-                for v in results["verdicts"]]
+    try:
+        counts, findings = results["counts"], results["finding_counts"]
+        entry = Entry(
+            bag_hash=digest, location=str(bag.resolve()),
+            campaign_id=_first(info, "Campaign-Id"),
+            title=_first(info, "External-Description"),
+            aircraft=_first(info, "Aircraft-Model"),
+            report_number=_first(info, "Report-Number"),
+            revision=_first(info, "Report-Revision"), issue_date=_first(info, "Issue-Date"),
+            first_test_date=dates[0], last_test_date=dates[-1], outcome=results["outcome"],
+            passed=counts["PASS"], failed=counts["FAIL"], not_shown=counts["NOT SHOWN"],
+            dq_errors=findings["error"], dq_warnings=findings["warning"],
+            software=_first(info, "Bag-Software-Agent"))
+        verdicts = [(digest, v["id"], v["clause"], v["run"], v["gear"], v["verdict"])
+                    for v in results["verdicts"]]
+    except (KeyError, TypeError) as error:
+        raise BagError(f"{bag}: its results.json lacks what the catalog indexes "
+                       f"({error})") from None
     return entry, verdicts
 
 

@@ -22,8 +22,8 @@ from .errors import CertkitInputError
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="Turn a landing-gear drop-test campaign into airworthiness evidence.")
-err = Console(stderr=True, highlight=False, soft_wrap=True)
-out = Console(highlight=False, soft_wrap=True)
+err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)
+out = Console(highlight=False, soft_wrap=True, markup=False)
 
 SpecArgument = Annotated[Path, typer.Argument(help="campaign spec (YAML)", show_default=False)]
 
@@ -617,7 +617,7 @@ def catalog_add(bag: Annotated[list[Path], typer.Argument(help="bag folder(s) or
                                                           show_default=False)],
                 catalog: CatalogOption = DEFAULT_CATALOG) -> None:
     """Verify each bag and add it to the catalog (a bag already there is left as it is);
-    exit 1 when a bag is not intact (it is not added)."""
+    exit 1 when a bag is not intact, 2 when one is not a certkit bag (neither is added)."""
     from .bag import BagError
     from .catalog import CatalogRefusal, add
 
@@ -625,16 +625,17 @@ def catalog_add(bag: Annotated[list[Path], typer.Argument(help="bag folder(s) or
     for item in bag:
         try:
             entry, added = add(catalog, item)
-        except BagError as error:
+        except BagError as error:   # not a bag: say so, go on with the others
             err.print(Text.assemble(("error: ", "bold red"), str(error)))
-            raise typer.Exit(2)
+            status = 2
+            continue
         except CertkitInputError as error:
             _fail_input(error)
         except CatalogRefusal as refusal:
             err.print(Text.assemble(("error: ", "bold red"), str(refusal)))
             for change in refusal.changes:
                 err.print(f"  {change.kind}: {change.path} ({change.detail})")
-            status = 1
+            status = max(status, 1)
             continue
         what = "added" if added else "already catalogued"
         out.print(f"{what}: {entry.campaign_id} ({entry.aircraft}), bag {entry.bag_hash[:12]} "

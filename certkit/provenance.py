@@ -11,7 +11,7 @@ import subprocess
 from importlib import metadata
 from pathlib import Path
 
-from packaging.requirements import Requirement
+from packaging.requirements import InvalidRequirement, Requirement
 
 import certkit
 
@@ -62,7 +62,10 @@ def _requirement_names(distribution: str) -> list[str]:
         return []
     names = []
     for text in requires:
-        requirement = Requirement(text)
+        try:
+            requirement = Requirement(text)
+        except InvalidRequirement:   # a package's own malformed metadata: not certkit's
+            continue
         if requirement.marker is None or requirement.marker.evaluate({"extra": ""}):
             names.append(requirement.name)
     return names

@@ -1126,9 +1126,11 @@ def render_pdf(html: str, attachments: list[tuple[str, bytes, str]], date: dt.da
 
 
 # --------------------------------------------------------------------------- writing
-def results_json(assessment: Assessment, model=None) -> bytes:
-    """results.json as written: the results document, with its provenance, as UTF-8."""
-    results = results_document(assessment, provenance(assessment.campaign.inputs), model)
+def results_json(assessment: Assessment, model=None, record: dict | None = None) -> bytes:
+    """results.json as written: the results document, with its provenance (``record``,
+    made here when not given), as UTF-8."""
+    record = provenance(assessment.campaign.inputs) if record is None else record
+    results = results_document(assessment, record, model)
     return (json.dumps(results, indent=2, ensure_ascii=False, allow_nan=False)
             + "\n").encode("utf-8")
 
@@ -1137,7 +1139,7 @@ def _write_outputs(assessment: Assessment, folder: Path, progress, model) -> Non
     campaign = assessment.campaign
     record = provenance(campaign.inputs)
     progress("computing results")
-    results_bytes = results_json(assessment, model)
+    results_bytes = results_json(assessment, model, record)
     (folder / "results.json").write_bytes(results_bytes)
     write_tables(assessment, folder / "tables", model)
     progress("drawing figures and laying out HTML")

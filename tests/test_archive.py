@@ -154,7 +154,8 @@ def test_removed_added_and_modified_files_are_each_named_with_exit_1(copy):
              or line.startswith(("added", "removed", "modified"))]
     assert lines == [   # what the manifests list, in path order; then what they do not
         lines[0],
-        "removed: data/campaign/data/D250.csv (listed in the manifest, not in the bag)",
+        "removed: data/campaign/data/D250.csv (listed in manifest-sha256.txt, not in the "
+        "bag)",
         "added: data/campaign/data/D400.csv (in the bag, not in any manifest)",
         "added: notes.txt (in the bag, not in any manifest)",
     ]
@@ -170,7 +171,7 @@ def test_a_missing_manifest_and_a_non_bag_are_told_apart(copy, tmp_path):
     result = runner.invoke(app, ["verify", str(tmp_path / "nothing")])
     assert result.exit_code == 2 and "not found" in result.output
     result = runner.invoke(app, ["verify", str(SEED.parent)])
-    assert result.exit_code == 2 and "not a bag (no bagit.txt)" in result.output
+    assert result.exit_code == 2 and "not a bag (no bagit.txt, no manifest" in result.output
 
 
 def test_a_manifest_line_that_escapes_the_bag_is_damage(copy):
@@ -223,7 +224,7 @@ def test_zip_extraction_refuses_links_and_repeated_names(tmp_path):
         handle.writestr("bag/bagit.txt", b"a")
         with pytest.warns(UserWarning):
             handle.writestr("bag/bagit.txt", b"b")
-    with pytest.raises(BagError, match="repeats a file name"):
+    with pytest.raises(BagError, match="a name the zip already holds"):
         extract_zip(tmp_path / "twice.zip", tmp_path / "x")
 
 
@@ -346,3 +347,146 @@ def test_the_bag_is_readable_as_the_umask_allows_not_private_to_its_writer(bag):
     for path in bag.rglob("*"):
         expected = (0o777 if path.is_dir() else 0o666) & ~mask
         assert path.stat().st_mode & 0o777 == expected, path
+
+
+# ------------------------------------------------------------------ review findings
+def test_file_names_are_printed_as_they_are_not_as_markup(copy):
+    (copy / "data" / "[bold]y.csv").write_text("x")
+    (copy / "data" / "x[").mkdir()
+    (copy / "data" / "x[" / "].csv").write_text("x")
+    result = runner.invoke(app, ["verify", str(copy)])
+    assert result.exit_code == 1, result.output
+    assert "added: data/[bold]y.csv (" in result.output
+    assert "added: data/x[/].csv (" in result.output
+
+
+def test_a_tag_manifest_cannot_vouch_for_a_payload_file(copy):
+    # the outcome changed, and the new hash appended to the tag manifest, not the manifest
+    path = copy / "data" / "results" / "results.json"
+    path.write_text(path.read_text().replace("COMPLIANCE NOT SHOWN", "COMPLIANCE SHOWN"))
+    digest = hashlib.sha256(path.read_bytes()).hexdigest()
+    tags = copy / "tagmanifest-sha256.txt"
+    tags.write_text(tags.read_text() + f"{digest}  data/results/results.json\n")
+    changes = {(c.kind, c.path) for c in check_bag(copy)}
+    assert ("modified", "data/results/results.json") in changes
+    assert ("damaged", "tagmanifest-sha256.txt") in changes
+    assert runner.invoke(app, ["verify", str(copy)]).exit_code == 1
+
+
+def test_a_path_listed_twice_in_a_manifest_is_damage(copy):
+    manifest = copy / "manifest-sha256.txt"
+    first = manifest.read_text().splitlines()[0]
+    manifest.write_text(manifest.read_text() + "0" * 64 + first[64:] + "\n")
+    damaged = [c for c in check_bag(copy) if c.kind == "damaged"]
+    assert len(damaged) == 1 and "is listed twice" in damaged[0].detail
+
+
+def test_a_removed_bagit_txt_is_a_removed_file_not_a_foreign_folder(copy):
+    (copy / "bagit.txt").unlink()
+    result = runner.invoke(app, ["verify", str(copy)])
+    assert result.exit_code == 1 and "removed: bagit.txt" in result.output
+
+
+def test_a_fifo_in_place_of_a_tag_file_does_not_hang_verify(copy):
+    (copy / "bag-info.txt").unlink()
+    os.mkfifo(copy / "bag-info.txt")
+    completed = subprocess.run([sys.executable, "-m", "certkit.cli", "verify", str(copy)],
+                               capture_output=True, text=True, timeout=60)
+    assert completed.returncode == 1
+    assert "modified: bag-info.txt (is no longer a regular file)" in completed.stdout
+
+
+@pytest.mark.parametrize("shadow", ["SEED-2024/./data/results/results.json",
+                                    "SEED-2024/data/results/RESULTS.json",
+                                    "SEED-2024//data/results/results.json"])
+def test_a_zip_cannot_hide_a_second_copy_of_a_file(bag, tmp_path, shadow):
+    archive = tmp_path / "shadow.zip"
+    with zipfile.ZipFile(archive, "w") as handle:
+        for name, content in _tree(bag).items():
+            handle.writestr(f"SEED-2024/{name}", content)
+        handle.writestr(shadow, b"{}")
+    result = runner.invoke(app, ["verify", str(archive)])
+    assert result.exit_code == 2 and "refused to extract" in result.output
+
+
+def test_a_damaged_zip_is_bad_input_not_a_crash(bag, tmp_path):
+    archive = tmp_path / "bag.zip"
+    with zipfile.ZipFile(archive, "w", zipfile.ZIP_DEFLATED) as handle:
+        for name, content in _tree(bag).items():
+            handle.writestr(f"SEED-2024/{name}", content)
+    data = bytearray(archive.read_bytes())
+    start = data.index(b"PK\x03\x04", 1000)          # the deflated body of a later member
+    data[start + 200:start + 240] = bytes(40)
+    archive.write_bytes(bytes(data))
+    result = runner.invoke(app, ["verify", str(archive)])
+    assert result.exit_code in (1, 2), result.output
+    assert "internal error" not in result.output
+
+
+def test_a_bag_another_tool_made_verifies_but_is_not_a_certkit_archive(tmp_path):
+    folder = tmp_path / "other"
+    (folder / "photos").mkdir(parents=True)
+    (folder / "photos" / "rig.txt").write_text("the rig\n")
+    bagit.make_bag(str(folder), checksums=["sha256"])
+    assert runner.invoke(app, ["verify", str(folder)]).exit_code == 0   # intact
+    result = runner.invoke(app, ["verify", str(folder), "--recompute"])
+    assert result.exit_code == 2 and "not a certkit archive" in result.output
+    result = runner.invoke(app, ["catalog", "add", str(folder), "--catalog",
+                                 str(tmp_path / "c.sqlite")])
+    assert result.exit_code == 2 and "not a certkit archive" in result.output
+
+
+def test_an_input_behind_a_link_is_archived_where_the_spec_names_it(seed_copy, tmp_path):
+    data = seed_copy.parent / "data"
+    (seed_copy.parent / "raw").mkdir()
+    (data / "D200.csv").rename(seed_copy.parent / "raw" / "D200-2024-01-10.csv")
+    (data / "D200.csv").symlink_to("../raw/D200-2024-01-10.csv")
+    target = tmp_path / "bag"
+    archive_campaign(seed_copy, target, model=False)
+    assert (target / "data" / "campaign" / "data" / "D200.csv").read_bytes() == \
+        (SEED.parent / "data" / "D200.csv").read_bytes()
+    assert not (target / "data" / "campaign" / "raw").exists()
+    result = runner.invoke(app, ["verify", str(target), "--recompute"])
+    assert result.exit_code == 0 and "reproduced byte for byte" in result.output, result.output
+
+
+@pytest.mark.parametrize("intruder", ["empty folder", "folder", "file"])
+def test_a_target_that_appears_while_archiving_is_left_alone(tmp_path, monkeypatch, intruder):
+    import certkit.archive as archive_module
+
+    target = tmp_path / "bag"
+    original = archive_module.write_bag
+
+    def write_and_intrude(folder, info):
+        digest = original(folder, info)
+        if intruder == "file":
+            target.write_text("someone else's")
+        else:
+            target.mkdir()
+            if intruder == "folder":
+                (target / "theirs.txt").write_text("someone else's")
+        return digest
+
+    monkeypatch.setattr(archive_module, "write_bag", write_and_intrude)
+    result = runner.invoke(app, ["archive", str(SEED), "-o", str(target), "--no-model"])
+    assert result.exit_code == 2
+    assert "appeared while the archive was being written" in result.output
+    if intruder == "file":
+        assert target.read_text() == "someone else's"
+    else:
+        assert [p.name for p in target.iterdir()] == ([] if intruder == "empty folder"
+                                                      else ["theirs.txt"])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bag"]   # no staging left
+
+
+def test_a_zip_cannot_carry_a_date_before_1980(seed_copy, tmp_path):
+    text = seed_copy.read_text()
+    seed_copy.write_text(text.replace("  date: 2024-01-15\n", "  date: 1979-12-31\n", 1)
+                         .replace("test_dates: [2024-01-10]", "test_dates: [1979-12-30]")
+                         .replace("{revision: A, date: 2024-01-15", "{revision: A, date: "
+                                                                    "1979-12-31"))
+    result = runner.invoke(app, ["archive", str(seed_copy), "-o", str(tmp_path / "old.zip"),
+                                 "--no-model"])
+    assert result.exit_code == 2, result.output
+    assert "a zip cannot carry a date before 1980 (document.date 1979-12-31)" in result.output
+    assert not (tmp_path / "old.zip").exists()
