@@ -490,3 +490,16 @@ def test_a_zip_cannot_carry_a_date_before_1980(seed_copy, tmp_path):
     assert result.exit_code == 2, result.output
     assert "a zip cannot carry a date before 1980 (document.date 1979-12-31)" in result.output
     assert not (tmp_path / "old.zip").exists()
+
+
+@pytest.mark.slow
+def test_a_full_archive_with_the_drop_model_reproduces_from_its_inputs(tmp_path):
+    # the default archive: calibration, identification and gap diagnosis included
+    target = tmp_path / "full"
+    archive_campaign(SEED, target)
+    results = json.loads((target / "data" / "results" / "results.json").read_text())
+    assert results["model"]["calibration"]["gear_units"]
+    assert read_info(target)["Drop-Model"] == ["run (report sections 9 to 11)"]
+    verification = verify_archive(target, recompute_results=True)
+    assert verification.intact and verification.recomputed.identical, \
+        verification.recomputed.differences[:5]
