@@ -4,9 +4,10 @@ data or certkit itself cannot silently move a certified number (issue 6).
 
 Every number is addressed by a stable path: ``design/<key>``, ``basis/<set>/<key>``,
 ``runs/<run>/<key>``, ``runs/<run>/<gear>/<key>`` and ``verdicts/<id>/value|limit|margin``;
-verdicts by their id.  A number drifts when it differs from the baseline's by more than
-the relative tolerance (of the baseline's magnitude); numbers and criteria that appear or
-disappear, units and verdicts that change, are changes whatever the tolerance.
+verdicts and data-quality findings by their id.  A number drifts when it differs from
+the baseline's by more than the relative tolerance (of the baseline's magnitude); numbers,
+criteria and findings that appear or disappear, units, verdicts, finding severities and
+the campaign's outcome that change, are changes whatever the tolerance.
 """
 
 from __future__ import annotations
@@ -56,6 +57,24 @@ def verdicts(results: dict) -> dict[str, str]:
     return {v["id"]: v["verdict"] for v in results.get("verdicts", [])}
 
 
+def findings(results: dict) -> dict[str, str]:
+    """Every data-quality finding: id -> severity."""
+    return {f["id"]: f["severity"] for f in results.get("findings", [])}
+
+
+def _compare_labels(changes: list, what: str, old: dict, new: dict, changed: str) -> None:
+    for key in sorted(set(old) | set(new)):
+        if key not in old:
+            changes.append(Change("added", f"{what} {key}", None, new[key],
+                                  f"a {what} not in the baseline"))
+        elif key not in new:
+            changes.append(Change("removed", f"{what} {key}", old[key], None,
+                                  f"a {what} only in the baseline"))
+        elif old[key] != new[key]:
+            changes.append(Change(changed, f"{what} {key}", old[key], new[key],
+                                  f"{old[key]} → {new[key]}"))
+
+
 def compare(current: dict, baseline: dict, tolerance: float) -> list[Change]:
     """The changes from ``baseline`` to ``current`` (both results documents), in path order."""
     changes = []
@@ -77,17 +96,12 @@ def compare(current: dict, baseline: dict, tolerance: float) -> list[Change]:
                 changes.append(Change("drifted", path, b, a,
                                       f"{100 * relative:+.4g} % (tolerance "
                                       f"{100 * tolerance:g} %)"))
-    old, new = verdicts(baseline), verdicts(current)
-    for key in sorted(set(old) | set(new)):
-        if key not in old:
-            changes.append(Change("added", f"criterion {key}", None, new[key],
-                                  "a criterion not in the baseline"))
-        elif key not in new:
-            changes.append(Change("removed", f"criterion {key}", old[key], None,
-                                  "a criterion only in the baseline"))
-        elif old[key] != new[key]:
-            changes.append(Change("verdict changed", f"criterion {key}", old[key], new[key],
-                                  f"{old[key]} → {new[key]}"))
+    _compare_labels(changes, "criterion", verdicts(baseline), verdicts(current),
+                    "verdict changed")
+    _compare_labels(changes, "finding", findings(baseline), findings(current),
+                    "severity changed")
+    _compare_labels(changes, "campaign", {"outcome": baseline.get("outcome")},
+                    {"outcome": current.get("outcome")}, "outcome changed")
     return changes
 
 
@@ -107,4 +121,22 @@ def read_baseline(path: str | Path) -> dict:
         raise CertkitInputError.single(str(path), None, "format",
                                        f"expected a certkit results file ({FORMAT}), found "
                                        f"{found!r}")
+    for key in ("design", "requirement_sets", "runs", "verdicts", "findings"):
+        if not isinstance(document.get(key, []), list):
+            raise CertkitInputError.single(str(path), None, key,
+                                           f"expected a list, found "
+                                           f"{type(document[key]).__name__}")
+    try:
+        values = numbers(document)
+        verdicts(document)
+        findings(document)
+    except (KeyError, TypeError, AttributeError) as error:
+        raise CertkitInputError.single(str(path), None, "--baseline",
+                                       f"not a complete certkit results file: {error!r} is "
+                                       f"missing or malformed") from None
+    for key, (value, _) in values.items():
+        if value is not None and (isinstance(value, bool) or
+                                  not isinstance(value, (int, float))):
+            raise CertkitInputError.single(str(path), None, key,
+                                           f"expected a number or null, found {value!r}")
     return document

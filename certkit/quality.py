@@ -43,7 +43,14 @@ def _display(assessment: Assessment, value: float, kind: str) -> str:
 def _add(assessment: Assessment, check: str, severity: str, run: str | None, gear: str | None,
          message: str, **values) -> None:
     parts = ["QA", check] + [part for part in (run, gear) if part]
-    assessment.findings.append(Finding("/".join(parts), check, severity, run, gear, message, values))
+    identifier, taken = "/".join(parts), {f.id for f in assessment.findings}
+    # the same check can find twice in one place (two channels of a run): number the
+    # repeats in the order found, so every id stays unique and stable
+    repeat = 2
+    while identifier in taken:
+        identifier = "/".join(parts) + f"#{repeat}"
+        repeat += 1
+    assessment.findings.append(Finding(identifier, check, severity, run, gear, message, values))
 
 
 def _gear_items(assessment: Assessment):

@@ -180,3 +180,97 @@ def test_table_values_are_not_rounded(tmp_path):
     verdict = next(v for v in assess(load_campaign(SEED)).verdicts
                    if v.id == "CFR23.725b-effective-weight/D300/left-main")
     assert float(rows[verdict.id]["value"]) == verdict.value    # exactly, not to 10 digits
+
+
+def test_new_findings_changed_severities_and_the_outcome_are_caught():
+    from certkit.baseline import compare
+
+    current = _current()
+    baseline = json.loads(json.dumps(current))
+    error = next(f for f in baseline["findings"] if f["severity"] == "error")
+    error["severity"] = "warning"                       # an error that was a warning
+    extra = baseline["findings"].pop()                  # a finding new since the baseline
+    baseline["outcome"] = "COMPLIANT"
+    changes = {(c.kind, c.path): (c.before, c.after) for c in compare(current, baseline, 1e-9)}
+    assert changes == {
+        ("severity changed", f"finding {error['id']}"): ("warning", "error"),
+        ("added", f"finding {extra['id']}"): (None, extra["severity"]),
+        ("outcome changed", "campaign outcome"): ("COMPLIANT", "COMPLIANCE NOT SHOWN"),
+    }
+
+
+def test_a_malformed_baseline_is_bad_input_not_a_crash(tmp_path):
+    document = json.loads(BASELINE.read_text(encoding="utf-8"))
+    for mangle, where in ((lambda d: d["verdicts"][0].pop("id"), "'id'"),
+                          (lambda d: d["design"][0].update(value="12 kN"), "design/"),
+                          (lambda d: d["findings"][0].pop("severity"), "missing or malformed"),
+                          (lambda d: d.update(runs={}), "runs: expected a list")):
+        bad = json.loads(json.dumps(document))
+        mangle(bad)
+        path = tmp_path / "bad.json"
+        path.write_text(json.dumps(bad), encoding="utf-8")
+        result = runner.invoke(app, ["audit", str(SEED), "--baseline", str(path)])
+        assert result.exit_code == 2, result.output
+        assert where in result.output and "bad.json" in result.output
+
+
+def test_a_repeated_finding_gets_its_own_id():
+    from types import SimpleNamespace
+
+    from certkit.quality import _add
+
+    assessment = SimpleNamespace(findings=[])
+    for channel in ("load", "stroke", "tyre"):   # one check, one run, three channels
+        _add(assessment, "data-clipping", "warning", "D300", None, f"{channel} clipped")
+    assert [f.id for f in assessment.findings] == [
+        "QA/data-clipping/D300", "QA/data-clipping/D300#2", "QA/data-clipping/D300#3"]
+
+
+RESERVE_RUN = """\
+  - id: R2
+    test_type: reserve
+    gear_units: [left-main]
+    drop_height: {height}
+    drop_mass: 250 kg
+    lift: {{method: reduced_mass, ratio: 0.667}}
+    reported:
+      gears:
+        left-main: {{strut_stroke: 110 mm, tyre_deflection: 40 mm, peak_vertical_load: 12 kN}}
+    inspection: {{failure: {failure}}}
+"""
+
+
+def _audit_exit(tmp_path, height: str, failure: str):
+    import subprocess
+    import sys
+
+    from .conftest import TIMESERIES_SPEC, analytic_signals, write_campaign, write_csv
+
+    folder = tmp_path / f"c-{height.replace(' ', '')}-{failure}"
+    (folder / "data").mkdir(parents=True)
+    write_csv(folder / "data" / "r1.csv", analytic_signals())
+    spec = write_campaign(folder, TIMESERIES_SPEC + RESERVE_RUN.format(height=height,
+                                                                       failure=failure))
+    completed = subprocess.run([sys.executable, "-m", "certkit.cli", "audit", str(spec),
+                                "--format", "json"], capture_output=True, text=True,
+                               timeout=300)
+    rows = {r["id"]: r for r in json.loads(completed.stdout)} if completed.stdout else {}
+    return completed.returncode, rows
+
+
+def test_exit_0_when_everything_passes_and_1_on_a_fail_through_the_entry_point(tmp_path):
+    # 600 kg on 12 m²: W/S = 10.24 lb/ft², limit drop h = 3.6·√(W/S) in = 292.6 mm (R1 drops
+    # 300 mm); reserve drop 1.44·h = 421.4 mm
+    w_over_s = (600 / 0.45359237) / (12 / 0.3048 ** 2)
+    reserve = 1.44 * 3.6 * w_over_s ** 0.5 * 0.0254
+    assert round(reserve * 1000, 1) == 421.4
+    status, rows = _audit_exit(tmp_path, "450 mm", "false")
+    assert status == 0 and {r["outcome"] for r in rows.values() if r["kind"] == "criterion"} \
+        == {"PASS"}
+    status, rows = _audit_exit(tmp_path, "400 mm", "false")      # below the reserve height
+    assert status == 1
+    row = rows["CFR23.727a-reserve-drop-height/R2"]
+    assert row["outcome"] == "FAIL" and abs(row["limit"] - reserve) < 1e-6
+    assert abs(row["margin"] - (0.4 - reserve)) < 1e-6
+    status, rows = _audit_exit(tmp_path, "450 mm", "true")       # the gear failed
+    assert status == 1 and rows["CFR23.723b-reserve-no-failure/R2"]["outcome"] == "FAIL"
