@@ -28,8 +28,8 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
 from . import __version__
-from .bag import BagError, Change, check_bag, extract_zip, read_info, sha256_of, write_bag, \
-    write_zip
+from .bag import TAGMANIFEST, BagError, Change, bag_hash, check_bag, extract_zip, read_info, \
+    sha256_of, write_bag, write_zip
 from .baseline import FORMAT as RESULTS_FORMAT
 from .errors import CertkitInputError
 from .provenance import environment
@@ -70,6 +70,8 @@ class Verification:
     path: Path
     changes: list[Change]
     info: dict[str, list[str]]
+    bag_hash: str
+    expected_hash: str | None = None
     recomputed: Recomputed | None = None
     notes: list[str] = field(default_factory=list)
 
@@ -78,8 +80,13 @@ class Verification:
         return not self.changes
 
     @property
+    def hash_as_expected(self) -> bool:
+        return self.expected_hash is None or self.bag_hash == self.expected_hash
+
+    @property
     def passed(self) -> bool:
-        return self.intact and (self.recomputed is None or self.recomputed.reproduced)
+        return self.intact and self.hash_as_expected and (
+            self.recomputed is None or self.recomputed.reproduced)
 
 
 def _refuse(target: Path, message: str) -> CertkitInputError:
@@ -380,15 +387,20 @@ def recompute(folder: Path, tolerance: float, progress=None) -> Recomputed:
 
 
 def verify_archive(path: str | Path, *, recompute_results: bool = False,
-                   tolerance: float = 1e-9, progress=None) -> Verification:
-    """Check the bag at ``path`` (a folder or a .zip) against its manifests and, with
-    ``recompute_results``, that its results reproduce from its inputs.
+                   tolerance: float = 1e-9, expected_hash: str | None = None,
+                   progress=None) -> Verification:
+    """Check the bag at ``path`` (a folder or a .zip) against its manifests, its hash
+    against ``expected_hash`` (kept elsewhere: a bag changed and re-hashed is intact by
+    its own manifests but has another hash) and, with ``recompute_results``, that its
+    results reproduce from its inputs.
 
     Raises BagError when ``path`` is not a readable bag.
     """
     with opened_bag(path) as folder:
         changes = check_bag(folder)
-        result = Verification(Path(path), changes, read_info(folder))
+        digest = bag_hash(folder) if os.path.isfile(folder / TAGMANIFEST) else ""
+        expected = expected_hash.strip().lower() if expected_hash else None
+        result = Verification(Path(path), changes, read_info(folder), digest, expected)
         if recompute_results:
             if changes:
                 result.notes.append("not recomputed: the bag is not intact, so its inputs "

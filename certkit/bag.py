@@ -208,6 +208,9 @@ def check_bag(folder: Path) -> list[Change]:
                                                         f"{digest}"))
     for relative in sorted(on_disk - {r for r, _, _ in listed} - {TAGMANIFEST, MANIFEST}):
         changes.append(Change("added", relative, "in the bag, not in any manifest"))
+    if manifests[TAGMANIFEST] and MANIFEST not in manifests[TAGMANIFEST]:
+        changes.append(Change("damaged", TAGMANIFEST, f"does not list {MANIFEST}, so the "
+                                                      f"payload manifest is unprotected"))
     if "bagit.txt" not in manifests[TAGMANIFEST] and _is_regular(folder / "bagit.txt") \
             and (folder / "bagit.txt").read_bytes() != DECLARATION.encode():
         changes.append(Change("damaged", "bagit.txt", "not a BagIt 1.0 declaration"))

@@ -55,11 +55,12 @@ TIMEOUT_S = 60.0
 
 
 class CatalogRefusal(Exception):
-    """The bag was not added: it is not intact (the changes are listed)."""
+    """The bag was not added: it is not intact (the changes are listed), or the catalog
+    holds another bag at its location (it changed since it was catalogued)."""
 
-    def __init__(self, bag: Path, changes):
+    def __init__(self, bag: Path, reason: str, changes=()):
         self.changes = list(changes)
-        super().__init__(f"{bag}: not added to the catalog: the bag is not intact")
+        super().__init__(f"{bag}: not added to the catalog: {reason}")
 
 
 @dataclass(frozen=True)
@@ -119,7 +120,7 @@ def describe(bag: str | Path) -> tuple[Entry, list[tuple]]:
     with opened_bag(bag) as folder:
         changes = check_bag(folder)
         if changes:
-            raise CatalogRefusal(bag, changes)
+            raise CatalogRefusal(bag, "the bag is not intact", changes)
         info = read_info(folder)
         _, results = archived_results(folder)
         digest = bag_hash(folder)
@@ -159,6 +160,15 @@ def add(catalog: str | Path, bag: str | Path) -> tuple[Entry, bool]:
         for statement in filter(str.strip, SCHEMA.split(";")):
             connection.execute(statement)   # (executescript would commit first)
         connection.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+        before = connection.execute(
+            "SELECT bag_hash FROM campaigns WHERE location = ? AND bag_hash != ?",
+            (entry.location, entry.bag_hash)).fetchone()
+        if before is not None:
+            connection.execute("ROLLBACK")
+            raise CatalogRefusal(Path(bag), f"the catalog holds another bag at "
+                                            f"{entry.location} (hash {before[0]}, now "
+                                            f"{entry.bag_hash}): the bag was changed and "
+                                            f"re-hashed since it was catalogued")
         fields = list(entry.as_dict())
         cursor = connection.execute(
             f"INSERT OR IGNORE INTO campaigns ({', '.join(fields)}) "

@@ -535,6 +535,9 @@ def verify(bag: Annotated[Path, typer.Argument(help="a bag folder or a .zip of o
                                    "check the archived results.json reproduces")] = False,
            tolerance: Annotated[float, typer.Option(
                help="with --recompute: relative difference allowed between numbers")] = 1e-9,
+           expect_hash: Annotated[str | None, typer.Option(
+               "--expect-hash", help="the bag hash recorded when it was archived (or in the "
+                                     "catalog): a bag re-hashed after tampering differs")] = None,
            ) -> None:
     """Check an archive against its manifests: every added, removed or modified file is
     named (exit 1); exit 0 when it is intact (and, with --recompute, reproduces)."""
@@ -548,7 +551,8 @@ def verify(bag: Annotated[Path, typer.Argument(help="a bag folder or a .zip of o
                                 f"--tolerance: expected a share ≥ 0, found {tolerance}"))
         raise typer.Exit(2)
     try:
-        result = verify_archive(bag, recompute_results=recompute, tolerance=tolerance)
+        result = verify_archive(bag, recompute_results=recompute, tolerance=tolerance,
+                                expected_hash=expect_hash)
     except BagError as error:
         err.print(Text.assemble(("error: ", "bold red"), str(error)))
         raise typer.Exit(2)
@@ -563,6 +567,10 @@ def verify(bag: Annotated[Path, typer.Argument(help="a bag folder or a .zip of o
         out.print(f"{bag}: intact — {files} payload file(s) match manifest-sha256.txt")
     else:
         out.print(f"{bag}: NOT INTACT — {len(result.changes)} change(s) since it was archived")
+    out.print(f"bag hash (SHA-256 of tagmanifest-sha256.txt): {result.bag_hash}")
+    if not result.hash_as_expected:
+        out.print(f"NOT THE BAG EXPECTED: its hash is not {result.expected_hash}; it was "
+                  f"changed and re-hashed, or it is another bag")
     for note in result.notes:
         out.print(note)
     recomputed = result.recomputed

@@ -503,3 +503,34 @@ def test_a_full_archive_with_the_drop_model_reproduces_from_its_inputs(tmp_path)
     verification = verify_archive(target, recompute_results=True)
     assert verification.intact and verification.recomputed.identical, \
         verification.recomputed.differences[:5]
+
+
+def _rehash(copy: Path) -> None:
+    """Rewrite a bag's manifests after its payload was changed (a careful forger)."""
+    info = read_info(copy)
+    for name in ("bagit.txt", "bag-info.txt", "manifest-sha256.txt", "tagmanifest-sha256.txt"):
+        (copy / name).unlink()
+    write_bag(copy, [(label, value) for label, values in info.items() if label !=
+                     "Payload-Oxum" for value in values])
+
+
+def test_a_bag_changed_and_re_hashed_is_caught_by_its_recorded_hash(bag, copy):
+    recorded = hashlib.sha256((bag / "tagmanifest-sha256.txt").read_bytes()).hexdigest()
+    result = runner.invoke(app, ["verify", str(bag), "--expect-hash", recorded.upper()])
+    assert result.exit_code == 0 and f"bag hash (SHA-256 of tagmanifest-sha256.txt): " \
+        f"{recorded}" in result.output
+    path = copy / "data" / "results" / "results.json"
+    path.write_text(path.read_text().replace("COMPLIANCE NOT SHOWN", "COMPLIANT"))
+    _rehash(copy)
+    assert check_bag(copy) == []                      # intact by its own manifests
+    result = runner.invoke(app, ["verify", str(copy), "--expect-hash", recorded])
+    assert result.exit_code == 1
+    assert f"NOT THE BAG EXPECTED: its hash is not {recorded}" in result.output
+
+
+def test_a_tag_manifest_that_leaves_out_the_manifest_is_damage(copy):
+    tags = copy / "tagmanifest-sha256.txt"
+    tags.write_text("".join(line + "\n" for line in tags.read_text().splitlines()
+                            if not line.endswith("manifest-sha256.txt")))
+    assert [(c.kind, c.path) for c in check_bag(copy)] == [("damaged",
+                                                            "tagmanifest-sha256.txt")]

@@ -143,6 +143,22 @@ def test_search_on_the_command_line(bags, tmp_path):
     assert result.exit_code == 2
 
 
+def test_a_bag_changed_since_it_was_catalogued_is_refused_at_its_location(bags, tmp_path):
+    from .test_archive import _rehash
+
+    catalog = tmp_path / "catalog.sqlite"
+    entry, _ = add(catalog, bags["B"])
+    results = bags["B"] / "data" / "results" / "results.json"
+    results.write_text(results.read_text().replace('"COMPLIANCE NOT SHOWN"',
+                                                   '"COMPLIANCE SHOWN"'))
+    _rehash(bags["B"])
+    result = runner.invoke(app, ["catalog", "add", str(bags["B"]), "--catalog", str(catalog)])
+    assert result.exit_code == 1, result.output
+    assert f"the catalog holds another bag at {entry.location} (hash {entry.bag_hash}" \
+        in result.output
+    assert [e.bag_hash for e in search(catalog)] == [entry.bag_hash]
+
+
 def test_a_bag_that_is_not_intact_is_not_added(bags, tmp_path):
     catalog = tmp_path / "catalog.sqlite"
     add(catalog, bags["A"])
@@ -209,7 +225,7 @@ def test_two_additions_blocked_by_a_writer_both_land_when_it_finishes(bags, tmp_
     holder.execute("BEGIN IMMEDIATE")       # another writer holds the catalog
     processes = [_start(script, catalog, bags[k], go) for k in ("A", "B")]
     go.touch()
-    time.sleep(1.5)                         # both now wait on the lock
+    time.sleep(6.0)           # both wait on the lock, longer than SQLite's default 5 s
     assert all(p.poll() is None for p in processes)
     holder.execute("COMMIT")
     holder.close()
