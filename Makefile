@@ -7,9 +7,12 @@ VENV   ?= .venv
 CAMPAIGN ?= campaigns/seed-amphibian/campaign.yaml
 OUT    ?= out
 
-$(VENV)/.installed: pyproject.toml
+# constraints.txt pins every package to the versions the tests (and the committed reference
+# page images) were made with, so a fresh machine gets the same bytes
+$(VENV)/.installed: pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
-	$(VENV)/bin/python -m pip install --quiet --disable-pip-version-check -e '.[test]'
+	$(VENV)/bin/python -m pip install --quiet --disable-pip-version-check -c constraints.txt \
+	    -e '.[test]'
 	touch $@
 
 .PHONY: install report test test-slow bench clean

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import io
 import re
 
@@ -27,6 +28,16 @@ _STYLE = {
 }
 _WIDTH, _HEIGHT = 6.6, 2.6  # inches: fits A4 portrait with 15 mm margins
 _LEAD = 0.05                 # seconds shown before touchdown
+
+
+@contextlib.contextmanager
+def _style(extra: dict | None = None):
+    """certkit's figure style on top of matplotlib's own defaults, whatever a user's
+    matplotlibrc says, so the same inputs draw the same figures on every machine."""
+    with plt.rc_context():
+        matplotlib.rcdefaults()
+        matplotlib.rcParams.update({**_STYLE, **(extra or {})})
+        yield
 
 
 def _to_svg(figure) -> str:
@@ -61,7 +72,7 @@ def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | N
     window = time >= start
     t_ms = (time[window] - (touchdown if touchdown is not None else time[0])) * 1e3
     figures = []
-    with plt.rc_context(_STYLE):
+    with _style():
         figure, axes = plt.subplots(figsize=(_WIDTH, _HEIGHT))
         for gear_id, (series, _) in gears.items():
             axes.plot(t_ms, convert(1.0, "N", force_unit) * series.load[window], label=gear_id)
@@ -120,7 +131,7 @@ def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | N
 def model_figure(gear_id: str, run_id: str, traces: list, units, window: float = 1.0) -> dict:
     """Measured against nominal and calibrated model, one panel per channel (0 to ``window`` s
     after touchdown, as the seed paper's Figs. 14-15)."""
-    with plt.rc_context(_STYLE):
+    with _style():
         figure, all_axes = plt.subplots(len(traces), 1, figsize=(_WIDTH, 1.1 * len(traces) + 0.4),
                                         sharex=True)
         all_axes = np.atleast_1d(all_axes)
@@ -154,7 +165,7 @@ def identification_figures(gear) -> list[dict]:
     figures = []
     outputs = ("stroke", "tyre")
     held = gear.measured[gear.held_out[0]]
-    with plt.rc_context(_STYLE):
+    with _style():
         figure, all_axes = plt.subplots(1, 2, figsize=(_WIDTH, _HEIGHT))
         for axes, output in zip(all_axes, outputs):
             for (model, name), (grid, curve) in gear.nonlinearities.items():
@@ -214,7 +225,7 @@ def gap_heatmap(gap, title: str, caption: str, vmax: float | None = None) -> dic
     finite = values[np.isfinite(values)]
     top = vmax if vmax is not None else (float(finite.max()) if finite.size else 1.0)
     top = top if top > 0 else 1.0
-    with plt.rc_context(dict(_STYLE, **{"axes.grid": False})):
+    with _style({"axes.grid": False}):
         figure, axes = plt.subplots(figsize=(_WIDTH, 0.2 * len(rows) + 1.1))
         mesh = axes.pcolormesh(np.ma.masked_invalid(100.0 * values), cmap="Blues", vmin=0.0,
                                vmax=100.0 * top, edgecolors="white", linewidth=0.5)
@@ -252,7 +263,7 @@ def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: s
     channels = list(before.measured)
     boundaries = [(p.name, float(t[p.start]) * 1e3) for p in phases[1:]
                   if -_LEAD <= t[p.start] <= window]
-    with plt.rc_context(_STYLE):
+    with _style():
         figure, all_axes = plt.subplots(len(channels), 1,
                                         figsize=(_WIDTH, 1.15 * len(channels) + 0.9), sharex=True)
         all_axes = np.atleast_1d(all_axes)
@@ -291,7 +302,7 @@ def blind_curve(points, target_top1: float | None, target_shrink: float | None,
     """The blind check's detectability curve: top-1 accuracy and median held-out shrink of
     the single-effect cases against effect size / noise, with the targets drawn."""
     ratios = [p.ratio for p in points]
-    with plt.rc_context(_STYLE):
+    with _style():
         figure, axes = plt.subplots(figsize=(_WIDTH * 0.7, _HEIGHT))
         for key, label, marker in (("top1", "top-1 accuracy", "o"),
                                    ("median_shrink", "median held-out load shrink", "s")):

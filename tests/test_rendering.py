@@ -17,6 +17,7 @@ from __future__ import annotations
 import dataclasses
 import datetime as dt
 import importlib.util
+import json
 import os
 import re
 import shutil
@@ -78,7 +79,7 @@ def browser():
         missing.append("the playwright package (pip install -e '.[test]')")
     if missing:
         reason = "the browser check needs " + " and ".join(missing)
-        if os.environ.get(REQUIRE_BROWSER) == "1":
+        if os.environ.get(REQUIRE_BROWSER, "").lower() in ("1", "true", "yes"):
             pytest.fail(f"{reason}; {REQUIRE_BROWSER}=1 forbids skipping it")
         pytest.skip(reason)
     return CHROMIUM
@@ -140,12 +141,16 @@ class BrowserView:
 _MEASURE = """selectors => selectors.flatMap(selector =>
   [...document.querySelectorAll(selector)].map((element, index) => {
     const box = element.getBoundingClientRect();
+    const style = getComputedStyle(element);
     const figure = element.closest('figure');
     const caption = figure ? figure.querySelector('figcaption')
                            : element.querySelector('caption');
     const label = caption ? caption.textContent : element.className.baseVal ?? element.className;
+    const marks = element.tagName.toLowerCase() === 'svg' ? element.querySelectorAll(
+      'path, text, use, image, line, polyline, polygon, rect, circle, ellipse').length : null;
     return {selector, index, label: String(label).slice(0, 70),
-            width: box.width, height: box.height};
+            width: box.width, height: box.height, marks,
+            hidden: style.visibility === 'hidden' || Number(style.opacity) === 0};
   }))"""
 
 
@@ -153,7 +158,9 @@ def open_in_browser(html_file: Path) -> BrowserView:
     """Open ``html_file`` in headless Chromium with a new empty profile and measure it.
 
     Every request any page of the browser makes is recorded; all but the page itself and
-    data: URLs are aborted, so that a failing check never reaches the network either."""
+    data: URLs are aborted, so that a failing check never reaches the network either.
+    After measuring, the page is scrolled to its end (lazy images load) and laid out for
+    print (print-only stylesheets load), so those requests are seen too."""
     from playwright.sync_api import sync_playwright
 
     url = html_file.resolve().as_uri()
@@ -165,7 +172,8 @@ def open_in_browser(html_file: Path) -> BrowserView:
         else:
             route.abort()
 
-    with tempfile.TemporaryDirectory(prefix="certkit-chromium-") as profile, \
+    with tempfile.TemporaryDirectory(prefix="certkit-chromium-",
+                                     ignore_cleanup_errors=True) as profile, \
             sync_playwright() as playwright:
         context = playwright.chromium.launch_persistent_context(
             profile, executable_path=str(CHROMIUM), headless=True, args=list(CHROMIUM_FLAGS))
@@ -173,10 +181,15 @@ def open_in_browser(html_file: Path) -> BrowserView:
             context.on("request", lambda request: requests.append(request.url))
             context.route("**/*", local_only)
             page = context.pages[0] if context.pages else context.new_page()
-            page.goto(url, wait_until="load")
+            page.goto(url, wait_until="load", timeout=120_000)
             page.evaluate("() => document.fonts.ready.then(() => true)")
             boxes = page.evaluate(_MEASURE, list(ELEMENTS))
-            page.wait_for_load_state("networkidle")  # whatever layout asked for, too
+            page.evaluate("() => window.scrollTo(0, document.body.scrollHeight)")
+            page.wait_for_timeout(300)
+            page.wait_for_load_state("networkidle", timeout=120_000)
+            page.emulate_media(media="print")
+            page.wait_for_timeout(300)
+            page.wait_for_load_state("networkidle", timeout=120_000)
         finally:
             context.close()
     return BrowserView(url, requests, boxes)
@@ -193,9 +206,14 @@ def size_problems(view: BrowserView, expected: Counter) -> list[str]:
     seen = Counter(box["selector"] for box in view.boxes)
     problems = [f"{seen[selector]} '{selector}' in the browser, the HTML has {expected[selector]}"
                 for selector in ELEMENTS if seen[selector] != expected[selector]]
-    problems += [f"{box['selector']} #{box['index'] + 1} ({box['label']!r}) is "
-                 f"{box['width']:g} x {box['height']:g} px"
-                 for box in view.boxes if not (box["width"] > 0 and box["height"] > 0)]
+    for box in view.boxes:
+        name = f"{box['selector']} #{box['index'] + 1} ({box['label']!r})"
+        if not (box["width"] > 0 and box["height"] > 0):
+            problems.append(f"{name} is {box['width']:g} x {box['height']:g} px")
+        elif box["hidden"]:
+            problems.append(f"{name} is hidden (visibility or opacity)")
+        elif box["marks"] == 0:
+            problems.append(f"{name} has nothing drawn in it")
     return problems
 
 
@@ -227,6 +245,14 @@ def test_browser_check_reports_an_image_fetched_from_the_network(
     view = open_in_browser(tampered)
     assert sorted(network_problems(view)) == ["requested http://192.0.2.1/paper.png",
                                               "requested http://192.0.2.1/x.png"]
+    # requests a reviewer would trigger only by scrolling down or printing are seen too
+    tampered.write_text(html.replace("</body>", '<img loading="lazy" alt="" '
+                                     'src="http://192.0.2.1/lazy.png"></body>')
+                        .replace("</head>", "<style>@media print { body { background: "
+                                 "url(http://192.0.2.1/print.png) } }</style></head>"),
+                        encoding="utf-8")
+    assert sorted(network_problems(open_in_browser(tampered))) == [
+        "requested http://192.0.2.1/lazy.png", "requested http://192.0.2.1/print.png"]
     assert size_problems(view, expected_elements(html)) == []
 
 
@@ -244,6 +270,25 @@ def test_browser_check_reports_a_figure_drawn_with_no_size(browser, example_repo
     view.boxes.remove(next(box for box in view.boxes if box["selector"] == "table"))
     assert size_problems(view, expected)[0] == (
         f"{expected['table'] - 1} 'table' in the browser, the HTML has {expected['table']}")
+
+
+def test_browser_check_reports_a_hidden_or_empty_drawing(browser, example_report, tmp_path):
+    html = (example_report / "report.html").read_text(encoding="utf-8")
+    expected = expected_elements(html)
+    tampered = tmp_path / "report.html"
+    tampered.write_text(_inject(html, head="<style>figure svg { opacity: 0 }</style>"),
+                        encoding="utf-8")
+    problems = size_problems(open_in_browser(tampered), expected)
+    assert len(problems) == expected["figure svg"]
+    assert all(p.endswith("is hidden (visibility or opacity)") for p in problems)
+    # the first figure's drawing emptied: its box keeps its size, but nothing is drawn
+    emptied = re.sub(r"(<figure\b.*?<svg\b[^>]*>).*?(</svg>)", r"\1\2", html, count=1,
+                     flags=re.S)
+    assert emptied != html
+    tampered.write_text(emptied, encoding="utf-8")
+    problems = size_problems(open_in_browser(tampered), expected)
+    assert len(problems) == 1 and problems[0].startswith("figure svg #1 (") \
+        and problems[0].endswith("has nothing drawn in it")
 
 
 def test_html_element_count_is_independent_of_the_browser():
@@ -317,6 +362,25 @@ def _write_differences(actual: list[Path], reference: list[Path]) -> None:
             image.save(page.with_name(page.name.replace("page-", "diff-")))
 
 
+def rendering_versions() -> dict[str, str]:
+    """What the page images depend on besides certkit: the PDF writer, the plotting
+    library, Pango (text layout) and poppler (pdftoppm)."""
+    from importlib import metadata
+
+    versions = {name: metadata.version(name) for name in ("weasyprint", "pydyf", "matplotlib")}
+    for package in ("libpango-1.0-0", "poppler-utils"):
+        try:
+            versions[package] = subprocess.run(
+                ["dpkg-query", "-W", "-f=${Version}", package], capture_output=True,
+                text=True, timeout=30).stdout.strip() or "unknown"
+        except OSError:
+            versions[package] = "unknown"
+    return versions
+
+
+VERSIONS_FILE = REFERENCE_PAGES / "versions.json"
+
+
 def pages_unlike_reference(pdf: Path, folder: Path) -> str | None:
     """None when ``pdf`` looks like the reference pages; otherwise what differs and where the
     pages as rendered now (and their differences) were written."""
@@ -326,8 +390,14 @@ def pages_unlike_reference(pdf: Path, folder: Path) -> str | None:
     if not problems:
         return None
     _write_differences(actual, reference)
+    made_with = json.loads(VERSIONS_FILE.read_text()) if VERSIONS_FILE.is_file() else {}
+    now = rendering_versions()
+    moved = [f"{name} {made_with.get(name, '?')} -> {now[name]}" for name in now
+             if made_with.get(name) != now[name]]
     return (f"{pdf} does not look like the reference pages {REFERENCE_PAGES}:\n  "
             + "\n  ".join(problems)
+            + (f"\nthe references were made with other versions: {', '.join(moved)} (pin "
+               f"them with constraints.txt, or remake the references)" if moved else "")
             + f"\nthe pages as rendered now, with diff-NN.png showing what moved: {folder}\n"
               f"if the change is intended, run tests/data/report-pages/refresh.py, look at "
               f"the new pages and commit them")
@@ -453,3 +523,11 @@ def test_pdffonts_of_a_pdf_with_an_unembedded_font(tmp_path):
     text = subprocess.run([_tool("pdffonts"), str(tmp_path / "helvetica.pdf")], check=True,
                           capture_output=True, text=True, timeout=60).stdout
     assert unembedded_fonts(text) == ["Helvetica"], text
+
+
+@pytest.mark.slow
+def test_pdffonts_shows_every_font_of_the_full_report_embedded(full_report):
+    text = subprocess.run([_tool("pdffonts"), str(full_report / "report.pdf")], check=True,
+                          capture_output=True, text=True, timeout=60).stdout
+    assert parse_pdffonts(text), text
+    assert unembedded_fonts(text) == [], text

@@ -189,3 +189,15 @@ def test_model_section_is_reproducible_and_says_the_data_are_synthetic(full_repo
     shrink = (full_report / "tables" / "gap_shrink.csv").read_text(encoding="utf-8")
     # held-out D300 of each gear: 3 channels x (whole record + 6 phases)
     assert len(shrink.splitlines()) == 1 + 2 * 3 * 7
+
+
+def test_figures_do_not_depend_on_the_users_matplotlib_settings(timeseries_campaign, tmp_path):
+    import matplotlib
+
+    assessment = assess(load_campaign(timeseries_campaign))
+    render_report(assessment, tmp_path / "plain")
+    with matplotlib.rc_context({"lines.linewidth": 7.0, "font.size": 20.0,
+                                "axes.facecolor": "yellow"}):   # as a matplotlibrc would
+        render_report(assessment, tmp_path / "styled")
+    assert (tmp_path / "plain" / "report.html").read_bytes() == \
+        (tmp_path / "styled" / "report.html").read_bytes()

@@ -20,6 +20,8 @@ versions; make them on Debian bookworm, as CI runs.
 
 from __future__ import annotations
 
+import json
+import shutil
 import sys
 import tempfile
 from pathlib import Path
@@ -31,7 +33,8 @@ from PIL import Image  # noqa: E402
 
 from certkit import assess, load_campaign, render_report  # noqa: E402
 from tests.conftest import SEED  # noqa: E402
-from tests.test_rendering import DPI, compare_pages, reference_pages, render_pages  # noqa: E402
+from tests.test_rendering import (DPI, VERSIONS_FILE, compare_pages,  # noqa: E402
+                                   reference_pages, render_pages, rendering_versions)
 
 
 def main() -> None:
@@ -39,13 +42,23 @@ def main() -> None:
         out = Path(scratch) / "out"
         render_report(assess(load_campaign(SEED)), out)
         pages = render_pages(out / "report.pdf", Path(scratch) / "pages", DPI)
+        again = render_pages(out / "report.pdf", Path(scratch) / "again", DPI)
+        if [p.read_bytes() for p in pages] != [p.read_bytes() for p in again]:
+            sys.exit("pdftoppm drew the pages differently twice; nothing was replaced")
         before = reference_pages(HERE)
         changes = compare_pages(pages, before) if before else ["no reference pages before"]
-        for old in before:
-            old.unlink()
+        # the new set is made complete beside the old one, then swapped in
+        staged = Path(scratch) / "new"
+        staged.mkdir()
         for page in pages:
             with Image.open(page) as image:
-                image.convert("L").save(HERE / page.name, optimize=True)
+                image.convert("L").save(staged / page.name, optimize=True)
+        (staged / VERSIONS_FILE.name).write_text(
+            json.dumps(rendering_versions(), indent=2) + "\n", encoding="utf-8")
+        for old in before:
+            old.unlink()
+        for new in sorted(staged.iterdir()):
+            shutil.copyfile(new, HERE / new.name)
     size = sum(p.stat().st_size for p in reference_pages(HERE))
     print(f"{len(pages)} pages at {DPI} dpi written to {HERE} ({size / 1024:.0f} KiB)")
     print("beyond the tolerance, compared with the previous images:\n  "
