@@ -19,6 +19,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import re
 import math
 from dataclasses import asdict, dataclass
 from xml.etree import ElementTree
@@ -159,4 +160,10 @@ def to_junit(rows: list[AuditRow], title: str) -> str:
             else:
                 ElementTree.SubElement(case, "system-out").text = detail
     ElementTree.indent(root)
-    return ElementTree.tostring(root, encoding="unicode", xml_declaration=True) + "\n"
+    text = ElementTree.tostring(root, encoding="unicode", xml_declaration=True) + "\n"
+    # characters XML 1.0 cannot hold (a control character typed into a spec) would make
+    # the file unreadable to every CI; each is shown as U+FFFD instead
+    return _NOT_XML.sub("\ufffd", text)
+
+
+_NOT_XML = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")

@@ -98,10 +98,11 @@ def test_the_bagit_library_accepts_the_bag_and_rejects_a_tampered_one(bag, copy)
     assert not bagit.Bag(str(copy)).is_valid()
 
 
-def test_two_archives_of_the_same_inputs_are_identical(bag, tmp_path):
-    # the second made by the command line in a fresh process, elsewhere, as a zip
+def test_two_archives_of_the_same_inputs_are_identical(bag, seed_copy, tmp_path):
+    # the second made by the command line in a fresh process, from a copy of the campaign
+    # in another folder, as a zip
     zipped = tmp_path / "again.zip"
-    completed = subprocess.run([sys.executable, "-m", "certkit.cli", "archive", str(SEED),
+    completed = subprocess.run([sys.executable, "-m", "certkit.cli", "archive", str(seed_copy),
                                 "-o", str(zipped), "--no-model"], capture_output=True,
                                text=True, timeout=300)
     assert completed.returncode == 0, completed.stderr
@@ -493,10 +494,12 @@ def test_a_zip_cannot_carry_a_date_before_1980(seed_copy, tmp_path):
 
 
 @pytest.mark.slow
-def test_a_full_archive_with_the_drop_model_reproduces_from_its_inputs(tmp_path):
-    # the default archive: calibration, identification and gap diagnosis included
+def test_a_full_archive_with_the_drop_model_reproduces_from_its_inputs(tmp_path, full_report):
+    # the default archive: calibration, identification and gap diagnosis included; its
+    # report is the one `certkit report` makes in another process, byte for byte
     target = tmp_path / "full"
     archive_campaign(SEED, target)
+    assert _tree(target / "data" / "results") == _tree(full_report)
     results = json.loads((target / "data" / "results" / "results.json").read_text())
     assert results["model"]["calibration"]["gear_units"]
     assert read_info(target)["Drop-Model"] == ["run (report sections 9 to 11)"]

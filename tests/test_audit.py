@@ -274,3 +274,11 @@ def test_exit_0_when_everything_passes_and_1_on_a_fail_through_the_entry_point(t
     assert abs(row["margin"] - (0.4 - reserve)) < 1e-6
     status, rows = _audit_exit(tmp_path, "450 mm", "true")       # the gear failed
     assert status == 1 and rows["CFR23.723b-reserve-no-failure/R2"]["outcome"] == "FAIL"
+
+
+def test_junit_stays_well_formed_with_a_control_character_in_a_message():
+    row = AuditRow("QA/x/R1", "finding", "QA", "x", "R1", None, None, None, None, "", "error",
+                   "logger note: \x01 \x1b[31m red \x7f end")
+    root = ElementTree.fromstring(to_junit([row], "T\x02"))
+    failure = root.find("testsuite/testcase/failure")
+    assert failure.text == "error: logger note: \ufffd \ufffd[31m red \x7f end"
