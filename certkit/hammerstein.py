@@ -39,7 +39,6 @@ from collections.abc import Sequence
 
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve, solve
-from scipy.signal import lfilter, lfiltic
 
 from certkit.lssvm import rbf_kernel
 
@@ -436,6 +435,8 @@ class HammersteinLSSVM:
         out[:n0] = y_init
         if n0 == u.size:
             return out
+        from scipy.signal import lfilter, lfiltic   # here: scipy.signal takes ~1 s to import
+
         den = np.concatenate(([1.0], -self.a_))
         past = y_init[::-1][:self.na]                # y_{n0-1}, y_{n0-2}, ...
         zi = lfiltic([1.0], den, past) if self.na else None

@@ -10,7 +10,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import lfilter
 
 
 def _as_experiments(u, y) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -87,6 +86,8 @@ class ARX:
         """Free-run simulation from rest (zero past inputs and outputs; no measured output
         is used).  Identification signals are deviations that start at rest: the load and
         travels of a drop from touchdown, or the departures from a static point."""
+        from scipy.signal import lfilter   # here: scipy.signal takes ~1 s to import
+
         return lfilter(self.b_, np.concatenate([[1.0], -self.a_]), np.asarray(u, dtype=float))
 
     def predict(self, u: np.ndarray, y: np.ndarray) -> np.ndarray:
