@@ -44,6 +44,13 @@ def _fail(spec: Path, message: str) -> None:
     raise typer.Exit(2)
 
 
+def _bad_option(option: str, expected: str, found) -> None:
+    """A command-line option with a value it cannot take: say which, and exit 2."""
+    err.print(Text.assemble(("error: ", "bold red"),
+                            f"--{option}: expected {expected}, found {found}"))
+    raise typer.Exit(2)
+
+
 def _version(value: bool) -> None:
     if value:
         out.print(f"certkit {__version__}")
@@ -171,9 +178,7 @@ def _numbers(text: str, key: str, kind=float) -> tuple:
     except ValueError:
         values = ()
     if not values:
-        err.print(Text.assemble(("error: ", "bold red"),
-                                f"--{key}: expected comma-separated numbers, found {text!r}"))
-        raise typer.Exit(2)
+        _bad_option(key, "comma-separated numbers", repr(text))
     return values
 
 
@@ -455,9 +460,7 @@ def audit(spec: SpecArgument,
 
     writers = {"md": None, "csv": to_csv, "json": to_json}
     if format not in writers:
-        err.print(Text.assemble(("error: ", "bold red"),
-                                f"--format: expected md, csv or json, found {format!r}"))
-        raise typer.Exit(2)
+        _bad_option("format", "md, csv or json", repr(format))
     try:
         campaign = load_campaign(spec)
     except CertkitInputError as error:
@@ -469,9 +472,7 @@ def audit(spec: SpecArgument,
         from .report import results_document
 
         if not tolerance >= 0:
-            err.print(Text.assemble(("error: ", "bold red"),
-                                    f"--tolerance: expected a share ≥ 0, found {tolerance}"))
-            raise typer.Exit(2)
+            _bad_option("tolerance", "a share ≥ 0", tolerance)
         try:
             earlier = read_baseline(baseline)
         except CertkitInputError as error:
@@ -547,9 +548,7 @@ def verify(bag: Annotated[Path, typer.Argument(help="a bag folder or a .zip of o
     from .simulation import SimulationError
 
     if not tolerance >= 0:
-        err.print(Text.assemble(("error: ", "bold red"),
-                                f"--tolerance: expected a share ≥ 0, found {tolerance}"))
-        raise typer.Exit(2)
+        _bad_option("tolerance", "a share ≥ 0", tolerance)
     try:
         result = verify_archive(bag, recompute_results=recompute, tolerance=tolerance,
                                 expected_hash=expect_hash)
@@ -672,9 +671,7 @@ def _date_option(value: str | None, key: str) -> str | None:
     try:
         return dt.date.fromisoformat(value).isoformat()
     except ValueError:
-        err.print(Text.assemble(("error: ", "bold red"),
-                                f"--{key}: expected a date as YYYY-MM-DD, found {value!r}"))
-        raise typer.Exit(2)
+        _bad_option(key, "a date as YYYY-MM-DD", repr(value))
 
 
 @catalog_app.command("search")
@@ -700,9 +697,7 @@ def catalog_search(text: Annotated[str | None, typer.Argument(
     from .catalog import search as run_search
 
     if verdict is not None and verdict.upper() not in ("PASS", "FAIL", "NOT SHOWN"):
-        err.print(Text.assemble(("error: ", "bold red"),
-                                f"--verdict: expected PASS, FAIL or NOT SHOWN, found {verdict!r}"))
-        raise typer.Exit(2)
+        _bad_option("verdict", "PASS, FAIL or NOT SHOWN", repr(verdict))
     try:
         entries = run_search(catalog, text, aircraft=aircraft, campaign=campaign,
                              outcome=outcome, since=_date_option(since, "from"),
