@@ -30,9 +30,9 @@ from pathlib import Path, PurePosixPath
 from . import __version__
 from .bag import TAGMANIFEST, BagError, Change, bag_hash, check_bag, extract_zip, read_info, \
     sha256_of, write_bag, write_zip
-from .baseline import FORMAT as RESULTS_FORMAT
 from .errors import CertkitInputError
 from .provenance import environment
+from .results import RESULTS_FORMAT
 
 CAMPAIGN = "data/campaign"
 RESULTS = "data/results"

@@ -14,12 +14,14 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 from .errors import CertkitInputError
+from .results import RESULTS_FORMAT
 
-FORMAT = "certkit-results/1"
+FORMAT = RESULTS_FORMAT
 
 
 @dataclass(frozen=True)
@@ -135,8 +137,15 @@ def read_baseline(path: str | Path) -> dict:
                                        f"not a complete certkit results file: {error!r} is "
                                        f"missing or malformed") from None
     for key, (value, _) in values.items():
-        if value is not None and (isinstance(value, bool) or
-                                  not isinstance(value, (int, float))):
+        number = isinstance(value, (int, float)) and not isinstance(value, bool)
+        # NaN and ±inf fail the comparison, and so does an integer beyond any float
+        if value is not None and not (number and abs(value) <= sys.float_info.max):
             raise CertkitInputError.single(str(path), None, key,
-                                           f"expected a number or null, found {value!r}")
+                                           f"expected a finite number or null, found "
+                                           f"{value!r}")
+    for key in ("verdicts", "findings"):
+        for item in document.get(key, []):
+            if not isinstance(item.get("id"), str):
+                raise CertkitInputError.single(str(path), None, f"{key}[].id",
+                                               f"expected text, found {item.get('id')!r}")
     return document

@@ -101,10 +101,14 @@ class Metric(_Record):
     target: float | None
     direction: Literal["at least", "at most"] | None
     met: bool | None
-    interval: list[float] | None = None   # 95 % Wilson interval of count/cases
+    interval: list[float] | None = None   # 95 % Wilson interval of count/cases: [low, high]
 
     @model_validator(mode="after")
     def _consistent(self):
+        if self.interval is not None and not (len(self.interval) == 2 and
+                                              0 <= self.interval[0] <= self.interval[1] <= 1):
+            raise ValueError(f"interval must be (low, high) with 0 ≤ low ≤ high ≤ 1, got "
+                             f"{list(self.interval)}")
         if (self.target is None) != (self.direction is None):
             raise ValueError("target and direction go together (both or neither)")
         if self.met is not None and self.met != self.judged:
@@ -154,6 +158,14 @@ class BlindCheckRecord(_Record):
     confusion: Confusion
     cases: list[dict[str, Any]] = []
 
+    @model_validator(mode="after")
+    def _scored_from(self):
+        value = self.settings.get("scored_from")
+        if value is not None and (isinstance(value, bool) or
+                                  not isinstance(value, (int, float))):
+            raise ValueError(f"settings.scored_from must be a number, got {value!r}")
+        return self
+
 
 class BlindRecordError(ValueError):
     """The file is not a readable blind-check record; ``problems``: (key, message)."""
@@ -175,6 +187,8 @@ def read_blind_check(path: Path) -> BlindCheckRecord:
         raw = json.loads(Path(path).read_text(encoding="utf-8"))
     except UnicodeDecodeError as error:
         raise BlindRecordError([("", f"not UTF-8 text ({error.reason})")]) from None
+    except OSError as error:
+        raise BlindRecordError([("", f"cannot be read: {error.strerror or error}")]) from None
     except json.JSONDecodeError as error:
         raise BlindRecordError([("", f"not JSON: {error.msg} at line {error.lineno}, "
                                      f"column {error.colno}")]) from None

@@ -188,10 +188,17 @@ def _blind_check(spec: Path, gear: str | None, output: Path, workers, scheduler,
 
     from .blind_check import BlindCheckError, Settings, blind_check, write_blind_check
     from .fitting import FitError
-    from .outputs import staged_folder
+    from .outputs import check_target, staged_folder
     from .simulation import SimulationError
 
     settings = Settings(ratios=_numbers(ratios, "ratios"), seeds=_numbers(seeds, "seeds", int))
+    if workers is not None and workers < 1:
+        _bad_option("workers", "a whole number ≥ 1", workers)
+    own = {"blind-check.json", "blind-check-cases.csv"}
+    try:   # the output folder is checked before the battery, not after it
+        check_target(output, [spec], own)
+    except CertkitInputError as error:
+        _fail_input(error)
     try:
         def progress(outcome):
             named = ", ".join(outcome["named"]) or "(none)"
@@ -204,7 +211,6 @@ def _blind_check(spec: Path, gear: str | None, output: Path, workers, scheduler,
     except (SimulationError, FitError, BlindCheckError) as error:
         _fail(spec, str(error))
     try:
-        own = {"blind-check.json", "blind-check-cases.csv"}
         with staged_folder(output, [spec], own) as folder:
             write_blind_check(document, folder)
     except CertkitInputError as error:
@@ -480,21 +486,23 @@ def audit(spec: SpecArgument,
         rows += baseline_rows(compare(results_document(assessment, {}), earlier, tolerance))
     title = f"{campaign.spec.campaign.id} ({spec.name})"
     text = to_markdown(rows, title) if format == "md" else writers[format](rows)
-    # both files or neither: the table first, then the JUnit; a failed second write takes
-    # back a first one that did not exist before
-    written = []
+    # both files or neither: the table first, then the JUnit; a failed second write puts
+    # back what the first replaced (or removes it, if there was nothing)
+    written: list[tuple[Path, bytes | None]] = []
     try:
         for path, content in ((output, text), (junit, None)):
             if path is None:
                 continue
-            existed = path.exists()
+            before = path.read_bytes() if path.is_file() else None
             write_text_atomically(path, content if content is not None
                                   else to_junit(rows, title))
-            if not existed:
-                written.append(path)
+            written.append((path, before))
     except OSError as error:
-        for path in written:
-            path.unlink(missing_ok=True)
+        for path, before in written:
+            if before is None:
+                path.unlink(missing_ok=True)
+            else:
+                path.write_bytes(before)
         _fail(spec, f"cannot write the audit: {error}")
     if output is None:
         sys.stdout.write(text)

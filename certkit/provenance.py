@@ -12,6 +12,7 @@ from importlib import metadata
 from pathlib import Path
 
 from packaging.requirements import InvalidRequirement, Requirement
+from packaging.utils import canonicalize_name
 
 import certkit
 
@@ -77,7 +78,7 @@ def environment() -> dict:
     packages, pending = {}, _requirement_names("certkit") or list(DEPENDENCIES)
     while pending:
         name = pending.pop()
-        key = name.lower().replace("_", "-")
+        key = canonicalize_name(name)
         if key in packages:
             continue
         try:

@@ -26,7 +26,7 @@ from .compliance import Assessment
 from .equations import EQUATIONS, GRAVITY_NOTE
 from .outputs import staged_folder
 from .provenance import provenance
-from .results import Value
+from .results import RESULTS_FORMAT, Value
 from .units import convert
 
 SI_UNITS = {"length": "m", "force": "N", "mass": "kg", "energy": "J", "velocity": "m/s",
@@ -796,6 +796,7 @@ def _gap_view(evidence, campaign, units) -> dict:
         return {"available": False, "note": note, "notes": [], "gears": [], "blind": blind,
                 "time_unit": units.time, **method}
     from .figures import gap_heatmap, gap_overlay
+    from .holdout import MIDDLE_FROM
 
     gears = []
     for gear_id, gap in evidence.gap.items():
@@ -824,7 +825,8 @@ def _gap_view(evidence, campaign, units) -> dict:
             "id": gear_id, "training": ", ".join(gap.training),
             "held_out": ", ".join(gap.held_out),
             "split": ("declared in the spec (model.gap.held_out)" if gap.declared else
-                      "the default (every drop at the highest drop height held out)"),
+                      f"the default (every drop at the highest drop height held out, and at "
+                      f"the middle one from {MIDDLE_FROM} heights up)"),
             "calibration_cost": f"{gap.before.calibration.fit.cost:.4g}",
             "largest": _gap_largest(gap.before, units),
             "heatmap": figures[0], "overlays": figures[1:],
@@ -935,7 +937,7 @@ def results_document(assessment: Assessment, record: dict, model=None) -> dict:
                       "identification": identification_document(model.identification),
                       "gap": _gap_results(model, assessment.campaign)}
     return _finite({
-        "format": "certkit-results/1",
+        "format": RESULTS_FORMAT,
         "campaign": {"id": spec.campaign.id, "title": spec.campaign.title,
                      "report_number": spec.document.report_number,
                      "revision": spec.document.revision, "date": spec.document.date.isoformat()},
@@ -988,8 +990,9 @@ def write_tables(assessment: Assessment, folder: Path, model=None) -> None:
                  x.max_error] for g in (identification.gears if identification else ())
                 for x in g.scores])
     gaps = list(model.gap.values()) if model is not None else []
-    if gaps:
-        from .calibration import CHANNEL_UNITS
+    channel_units: dict[str, str] = {}
+    if gaps:   # (only then: calibration loads the compiled model, a second of import)
+        from .calibration import CHANNEL_UNITS as channel_units
     rows = []
     for gap in gaps:
         later = ({(c.run, c.channel, c.phase): c for c in gap.after.cells}
@@ -997,7 +1000,7 @@ def write_tables(assessment: Assessment, folder: Path, model=None) -> None:
         for c in gap.before.cells:
             a = later.get((c.run, c.channel, c.phase))
             rows.append([gap.gear_id, c.run, "held out" if c.run in gap.held_out else "training",
-                         c.channel, c.phase, c.samples, CHANNEL_UNITS[c.channel], c.scale,
+                         c.channel, c.phase, c.samples, channel_units[c.channel], c.scale,
                          c.rms, c.bias, c.lag, a.rms if a else None, a.bias if a else None,
                          a.lag if a else None])
     _write_csv(folder / "gap.csv",
@@ -1007,7 +1010,7 @@ def write_tables(assessment: Assessment, folder: Path, model=None) -> None:
     _write_csv(folder / "gap_shrink.csv",
                ["gear", "run", "channel", "phase", "samples", "unit", "rmse_before",
                 "rmse_after", "shrink_percent"],
-               [[gap.gear_id, e.run, e.channel, e.phase, e.samples, CHANNEL_UNITS[e.channel],
+               [[gap.gear_id, e.run, e.channel, e.phase, e.samples, channel_units[e.channel],
                  e.before, e.after, None if e.shrink is None else 100.0 * e.shrink]
                 for gap in gaps for e in gap.held_out_errors])
     _write_csv(folder / "verdicts.csv",

@@ -10,6 +10,8 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field
 
 PASS, FAIL, NOT_SHOWN = "PASS", "FAIL", "NOT SHOWN"
+#: The ``format`` of results.json; a baseline or an archive of another format is refused.
+RESULTS_FORMAT = "certkit-results/1"
 
 
 @dataclass(frozen=True)

@@ -282,3 +282,43 @@ def test_junit_stays_well_formed_with_a_control_character_in_a_message():
     root = ElementTree.fromstring(to_junit([row], "T\x02"))
     failure = root.find("testsuite/testcase/failure")
     assert failure.text == "error: logger note: \ufffd \ufffd[31m red \x7f end"
+
+
+def test_a_failed_junit_write_puts_back_the_table_it_replaced(tmp_path):
+    table = tmp_path / "audit.md"
+    table.write_text("the earlier audit\n", encoding="utf-8")
+    junit = tmp_path / "missing-folder" / "audit.xml"      # cannot be written
+    result = runner.invoke(app, ["audit", str(SEED), "-o", str(table), "--junit", str(junit)])
+    assert result.exit_code == 2 and "cannot write the audit" in result.output
+    assert table.read_text(encoding="utf-8") == "the earlier audit\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["audit.md"]
+
+
+def test_written_tables_are_as_readable_as_the_umask_allows(tmp_path):
+    import os
+
+    mask = os.umask(0o022)
+    try:
+        runner.invoke(app, ["audit", str(SEED), "-o", str(tmp_path / "a.md"), "--junit",
+                            str(tmp_path / "a.xml")])
+    finally:
+        os.umask(mask)
+    for name in ("a.md", "a.xml"):
+        assert (tmp_path / name).stat().st_mode & 0o777 == 0o644, name
+
+
+def test_a_baseline_with_nan_an_overflowing_number_or_a_numeric_id_is_bad_input(tmp_path):
+    text = BASELINE.read_text(encoding="utf-8")
+    document = json.loads(text)
+    first = document["design"][0]
+    cases = [
+        text.replace(json.dumps(first["value"]), "NaN", 1),
+        text.replace(json.dumps(first["value"]), "1" + "0" * 400, 1),
+        json.dumps(dict(document, verdicts=[dict(document["verdicts"][0], id=5)])),
+    ]
+    for number, content in enumerate(cases):
+        path = tmp_path / f"bad{number}.json"
+        path.write_text(content, encoding="utf-8")
+        result = runner.invoke(app, ["audit", str(SEED), "--baseline", str(path)])
+        assert result.exit_code == 2, (number, result.output)
+        assert f"bad{number}.json" in result.output

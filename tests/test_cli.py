@@ -54,3 +54,19 @@ def test_timeseries_campaign_reports_with_exit_0(timeseries_campaign, tmp_path):
     html = (tmp_path / "o" / "report.html").read_text(encoding="utf-8")
     assert "The drop model cannot be built from the spec" in html
     assert "gear_units[0].strut.pneumatic_area" in html
+
+
+def test_blind_check_options_are_checked_before_the_battery_runs(tmp_path, monkeypatch):
+    import certkit.blind_check
+
+    def battery(*args, **kwargs):
+        raise AssertionError("the battery ran before its options were checked")
+
+    monkeypatch.setattr(certkit.blind_check, "blind_check", battery)
+    result = runner.invoke(app, ["gap", str(SEED), "--blind-check", "--workers", "0",
+                                 "-o", str(tmp_path / "bc")])
+    assert result.exit_code == 2 and "--workers: expected a whole number ≥ 1, found 0" \
+        in result.output
+    # an output folder that would swallow the campaign is refused at once, not after hours
+    result = runner.invoke(app, ["gap", str(SEED), "--blind-check", "-o", str(SEED.parent)])
+    assert result.exit_code == 2 and "would contain the input" in result.output

@@ -247,7 +247,8 @@ def test_the_gap_section_lays_out_the_diagnosis(diagnosed, with_hysteresis):
     assert "right-main: not diagnosed. Example note." in section
     # the map before, the held-out overlay, the map that remains
     assert section.count("<svg") == 3
-    assert "the default (every drop at the highest drop height held out)" in section
+    assert ("the default (every drop at the highest drop height held out, and at the middle "
+            "one from 4 heights up)") in section          # holdout.MIDDLE_FROM = 4
     # thresholds are the code's, not typed into the template
     from certkit.attribution import RELEVANT
     assert f"would remove at least {RELEVANT:g} σ" in section
@@ -276,6 +277,11 @@ def test_the_blind_check_record_is_a_hashed_input(with_hysteresis):
     (lambda r: r.update(kind="something else"), "kind: expected 'certkit blind check'"),
     (lambda r: r["confusion"]["counts"].pop(), "confusion: counts must have one row per truth"),
     (lambda r: r["metrics"]["harm_rate"].pop("cases"), "metrics.harm_rate.cases: field required"),
+    (lambda r: r["metrics"]["top1"].update(interval=[0.5]),
+     "interval must be (low, high) with 0 ≤ low ≤ high ≤ 1"),
+    (lambda r: r["metrics"]["top1"].update(interval=[0.9, 0.2]),
+     "interval must be (low, high) with 0 ≤ low ≤ high ≤ 1"),
+    (lambda r: r["settings"].update(scored_from="2"), "settings.scored_from must be a number"),
 ])
 def test_a_bad_blind_check_record_is_an_input_error_naming_the_key(with_hysteresis, tmp_path,
                                                                    change, words):
