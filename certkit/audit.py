@@ -3,7 +3,9 @@ stable id, as JUnit XML, Markdown, CSV or JSON (issue 6, first part).
 
 A row's id is the verdict's (requirement clause, run and gear: ``CFR23.725a-limit-drop-
 height/D300``) or the finding's (``QA/<check>/<run>/<gear>``), so the same criterion keeps
-its id from one run of the audit to the next.  Values are SI, as in results.json.
+its id from one run of the audit to the next.  Values are SI, as in results.json, in the
+JSON and CSV tables; the Markdown summary and the JUnit messages, which people read, show
+them in the campaign's display units (:mod:`certkit.display`).
 
 With a baseline (an earlier results.json, :mod:`certkit.baseline`), every number that
 drifted beyond the tolerance, every criterion added or removed and every verdict that
@@ -25,6 +27,8 @@ from dataclasses import asdict, dataclass
 from xml.etree import ElementTree
 
 from .compliance import Assessment
+from .display import margin as margin_text, with_unit
+from .spec import DisplayUnits
 
 PASS = "PASS"
 
@@ -43,6 +47,8 @@ class AuditRow:
     unit: str
     outcome: str              # criterion: PASS / FAIL / NOT SHOWN; finding: its severity
     message: str
+    quantity: str = "ratio"   # physical kind of value, limit and margin (selects display unit)
+    comparison: str = ""      # criterion: ≥ or ≤
 
     @property
     def failed(self) -> bool:
@@ -58,7 +64,8 @@ def _number(value):
 def audit_rows(assessment: Assessment) -> list[AuditRow]:
     """The criteria (in the report's order), then the findings."""
     rows = [AuditRow(v.id, "criterion", v.clause, v.title, v.run, v.gear, _number(v.value),
-                     _number(v.limit), _number(v.margin), v.unit, v.verdict, v.reason)
+                     _number(v.limit), _number(v.margin), v.unit, v.verdict, v.reason, v.kind,
+                     v.comparison)
             for v in assessment.verdicts]
     rows += [AuditRow(f.id, "finding", f.check, f.check.replace("-", " "), f.run, f.gear, None,
                       None, None, "", f.severity, f.message)
@@ -104,11 +111,26 @@ def to_csv(rows: list[AuditRow]) -> str:
     return buffer.getvalue()
 
 
-def to_markdown(rows: list[AuditRow], title: str) -> str:
+def _shown(row: AuditRow, units) -> dict:
+    """A row's value, limit and margin as a person reads them (display units, 4 figures)."""
+    if row.kind != "criterion":
+        return {"value": "", "limit": "", "margin": ""}
+    return {"value": with_unit(row.value, row.quantity, units) if row.value is not None
+            else "not available",
+            "limit": (f"{row.comparison} {with_unit(row.limit, row.quantity, units)}".strip()
+                      if row.limit is not None else "—"),
+            "margin": margin_text(row.margin, row.limit, row.quantity, units)}
+
+
+def to_markdown(rows: list[AuditRow], title: str, units: DisplayUnits | None = None) -> str:
     """A summary fit for a CI job page: the counts, then every row that does not pass,
-    then the full table."""
-    def cell(value) -> str:
-        return _text(value).replace("|", "\\|").replace("\n", " ")
+    then the full table; numbers in ``units`` (the campaign's report.units)."""
+    units = units or DisplayUnits()
+
+    def cell(row: AuditRow, column: str) -> str:
+        shown = _shown(row, units)
+        value = shown[column] if column in shown else _text(getattr(row, column))
+        return value.replace("|", "\\|").replace("\n", " ")
 
     failing = [row for row in rows if row.failed]
     criteria = [row for row in rows if row.kind == "criterion"]
@@ -120,21 +142,23 @@ def to_markdown(rows: list[AuditRow], title: str) -> str:
              f"warning(s)"
              + (f"; {sum(r.kind == 'baseline' for r in rows)} change(s) since the baseline"
                 if any(r.kind == "baseline" for r in rows) else "") + ".", ""]
-    header = ["id", "outcome", "value", "limit", "margin", "unit", "message"]
+    header = ["id", "outcome", "value", "limit", "margin", "message"]
     for heading, chosen in (("Not passing", failing), ("All rows", rows)):
         if not chosen:
             continue
         lines += [f"## {heading}", "", "| " + " | ".join(header) + " |",
                   "|" + "---|" * len(header)]
-        lines += ["| " + " | ".join(cell(getattr(row, column)) for column in header) + " |"
+        lines += ["| " + " | ".join(cell(row, column) for column in header) + " |"
                   for row in chosen]
         lines.append("")
     return "\n".join(lines)
 
 
-def to_junit(rows: list[AuditRow], title: str) -> str:
+def to_junit(rows: list[AuditRow], title: str, units: DisplayUnits | None = None) -> str:
     """JUnit XML: a test suite of criteria and one of findings, a test case per row; a
-    criterion that does not PASS and a finding of severity error are failures."""
+    criterion that does not PASS and a finding of severity error are failures.  Messages
+    show numbers in ``units`` (the campaign's report.units)."""
+    units = units or DisplayUnits()
     root = ElementTree.Element("testsuites", name=f"certkit audit: {title}")
     for kind, name in (("criterion", "criteria"), ("finding", "data quality"),
                        ("baseline", "baseline")):
@@ -147,11 +171,9 @@ def to_junit(rows: list[AuditRow], title: str) -> str:
         for row in chosen:
             case = ElementTree.SubElement(suite, "testcase", name=row.id,
                                           classname=f"{name}.{row.clause}")
-            def shown(value):
-                return "not available" if value is None else f"{_text(value)} {row.unit}"
-
-            detail = (f"{row.outcome}: value {shown(row.value)}, limit {shown(row.limit)}, "
-                      f"margin {shown(row.margin)}. {row.message}" if kind == "criterion"
+            shown = _shown(row, units)
+            detail = (f"{row.outcome}: value {shown['value']}, limit {shown['limit']}, "
+                      f"margin {shown['margin']}. {row.message}" if kind == "criterion"
                       else f"{row.outcome}: {row.message}")
             if row.failed:
                 failure = ElementTree.SubElement(case, "failure", type=row.outcome,

@@ -145,6 +145,13 @@ def _cross_references(spec: CampaignSpec, display: str, lines: LineMap) -> list[
             if run_id not in run_ids:
                 add(location + (position,),
                     f"unknown run {run_id!r}; declared: {', '.join(run_ids)}")
+    reference = spec.reference_results
+    if reference is not None and reference.gear is not None and reference.gear not in gear_ids:
+        add(("reference_results", "gear"),
+            f"unknown gear unit {reference.gear!r}; declared: {', '.join(gear_ids)}")
+    if reference is not None and reference.run is not None and reference.run not in run_ids:
+        add(("reference_results", "run"),
+            f"unknown run {reference.run!r}; declared: {', '.join(run_ids)}")
     return problems
 
 

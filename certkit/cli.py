@@ -18,6 +18,7 @@ from rich.console import Console
 from rich.text import Text
 
 from . import __version__, requirement_sets
+from .display import display, to_display, unit_of, with_unit
 from .errors import CertkitInputError
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
@@ -303,10 +304,11 @@ def calibrate(spec: SpecArgument,
         rmse = Table(title="RMSE, nominal → calibrated")
         for column in ("run", "channel", "nominal", "calibrated"):
             rmse.add_column(column, justify="left" if column in ("run", "channel") else "right")
+        units = campaign.spec.report.units
         for e in item.errors:
-            scale, unit = (1.0, "N") if e.unit == "N" else (1e3, "mm")
-            rmse.add_row(e.run, CHANNEL_LABELS[e.channel], f"{e.nominal * scale:.4g} {unit}",
-                         f"{e.calibrated * scale:.4g} {unit}")
+            kind = "force" if e.unit == "N" else "length"
+            rmse.add_row(e.run, CHANNEL_LABELS[e.channel], with_unit(e.nominal, kind, units),
+                         with_unit(e.calibrated, kind, units))
         out.print(rmse)
         for warning in fit_.warnings:
             err.print(Text.assemble(("warning: ", "bold yellow"), warning))
@@ -343,19 +345,23 @@ def identify(spec: SpecArgument,
         _fail(spec, "no gear unit has two drops with time histories; nothing to identify")
     out.print(result.plant_note)
     for gear in result.gears:
-        table = Table(title=f"{gear.gear_id}: free-run RMSE [mm]; trained on "
+        units = campaign.spec.report.units
+        table = Table(title=f"{gear.gear_id}: free-run RMSE [{units.length}]; trained on "
                             f"{', '.join(gear.training)}, held out {', '.join(gear.held_out)}")
         table.add_column("model")
         columns = [(o, p) for o in ("stroke", "tyre") for p in ("paper", "held-out")]
         for output, protocol in columns:
-            table.add_column(f"{OUTPUT_LABELS[output]}, {protocol}", justify="right")
+            table.add_column(f"{OUTPUT_LABELS[output]}, "
+                             f"{'short training' if protocol == 'paper' else protocol}",
+                             justify="right")
         models = list(dict.fromkeys(x.model for x in gear.scores))
         for model in models:
             cells = []
             for output, protocol in columns:
                 score = next((x for x in gear.scores if (x.model, x.output, x.protocol, x.run)
                               == (model, output, protocol, gear.held_out[0])), None)
-                cells.append("—" if score is None else f"{score.rmse:.4g}")
+                cells.append("—" if score is None
+                             else display(score.rmse * 1e-3, "length", units)[0])
             table.add_row(model, *cells)
         out.print(table)
         for note in gear.notes:
@@ -396,6 +402,7 @@ def gap(spec: SpecArgument,
     from .campaign import load_campaign
     from .fitting import FitError
     from .gap import gap_diagnosis
+    from .residuals import describe
     from .simulation import SimulationError
 
     try:
@@ -415,7 +422,11 @@ def gap(spec: SpecArgument,
             out.print(f"{gear_id}: trained on {', '.join(result.training)}, held out "
                       f"{', '.join(result.held_out)}"
                       f" ({'declared in model.gap.held_out' if result.declared else 'default'})")
-            out.print(result.before.summary)
+            units = campaign.spec.report.units
+            cell = result.before.largest
+            kind = "force" if cell is not None and cell.channel == "load" else "length"
+            out.print(describe(cell, to_display(1.0, kind, units), unit_of(kind, units))
+                      if cell is not None else "No residual to map.")
             table = Table(title="candidate effects, first step (score test on the training runs)")
             for column in ("effect", "LM statistic", "explained RMS [noise]"):
                 table.add_column(column, justify="left" if column == "effect" else "right")
@@ -428,11 +439,11 @@ def gap(spec: SpecArgument,
                 table.add_column(column, justify="left" if column in ("run", "channel", "phase")
                                  else "right")
             for row in result.held_out_errors:
-                unit, scale = ("N", 1.0) if row.channel == "load" else ("mm", 1e3)
-                after = "" if row.after is None else f"{row.after * scale:.4g} {unit}"
+                kind = "force" if row.channel == "load" else "length"
+                after = "" if row.after is None else with_unit(row.after, kind, units)
                 shrink = "" if row.shrink is None else f"{100 * row.shrink:.0f} %"
                 table.add_row(row.run, row.channel, row.phase,
-                              f"{row.before * scale:.4g} {unit}", after, shrink)
+                              with_unit(row.before, kind, units), after, shrink)
             out.print(table)
     except CertkitInputError as error:
         _fail_input(error)
@@ -485,7 +496,8 @@ def audit(spec: SpecArgument,
             _fail_input(error)
         rows += baseline_rows(compare(results_document(assessment, {}), earlier, tolerance))
     title = f"{campaign.spec.campaign.id} ({spec.name})"
-    text = to_markdown(rows, title) if format == "md" else writers[format](rows)
+    units = campaign.spec.report.units
+    text = to_markdown(rows, title, units) if format == "md" else writers[format](rows)
     # both files or neither: the table first, then the JUnit; a failed second write puts
     # back what the first replaced (or removes it, if there was nothing)
     written: list[tuple[Path, bytes | None]] = []
@@ -495,7 +507,7 @@ def audit(spec: SpecArgument,
                 continue
             before = path.read_bytes() if path.is_file() else None
             write_text_atomically(path, content if content is not None
-                                  else to_junit(rows, title))
+                                  else to_junit(rows, title, units))
             written.append((path, before))
     except OSError as error:
         for path, before in written:

@@ -447,8 +447,30 @@ def _runs_of(assessment: Assessment, test_type: str) -> list[RunResult]:
     return [run for run in assessment.runs if run.run.test_type == test_type]
 
 
-def _at_least(value: float, limit: float) -> str:
-    return PASS if value >= limit else FAIL
+#: Relative tolerance at which a criterion's value and limit count as equal.  A spec states
+#: its quantities to a handful of significant figures (12471.77 N is seven) and a logger's
+#: samples resolve at best about one part in 10^7 (24 bits), so no difference the inputs can
+#: express is smaller than one part in 10^8 of the value; the float64 round-off of the unit
+#: conversions between them (645 lb·g0 against 645 lbf, each through N) is about 10^-16 per
+#: operation.  A tolerance of 10^-9 lies between the two: it absorbs conversion round-off and
+#: never a difference the inputs state.
+EQUALITY_TOLERANCE = 1e-9
+
+
+def _slack(value: float, limit: float) -> float:
+    return EQUALITY_TOLERANCE * max(abs(value), abs(limit))
+
+
+def at_least(value: float, limit: float) -> str:
+    """PASS when ``value`` is not less than ``limit``: equality holds (within
+    :data:`EQUALITY_TOLERANCE`, relative), as "not less than" in 14 CFR 23.725-23.727."""
+    return PASS if value >= limit - _slack(value, limit) else FAIL
+
+
+def at_most(value: float, limit: float) -> str:
+    """PASS when ``value`` does not exceed ``limit``, equality included (within
+    :data:`EQUALITY_TOLERANCE`, relative)."""
+    return PASS if value <= limit + _slack(value, limit) else FAIL
 
 
 def _height_check(ctx: _Context, criterion: Criterion, test_type: str, required_key: str,
@@ -462,7 +484,7 @@ def _height_check(ctx: _Context, criterion: Criterion, test_type: str, required_
     for run in runs:
         h = run.get("h")
         verdicts.append(ctx.verdict(
-            criterion, run.run.id, None, _at_least(h, required.value), value=h,
+            criterion, run.run.id, None, at_least(h, required.value), value=h,
             limit=required.value, margin=h - required.value, unit="m", kind="length",
             reason=f"{what} drop from {run.run.drop_height.text}"))
     return verdicts
@@ -487,7 +509,7 @@ def check_dynamic_drop_height(ctx, criterion):
     verdicts = []
     for run in runs:
         h = run.get("h")
-        if h >= required.value:
+        if at_least(h, required.value) == PASS:
             verdicts.append(ctx.verdict(criterion, run.run.id, None, PASS, value=h,
                                         limit=required.value, margin=h - required.value,
                                         unit="m", kind="length", reason="option (1): 2.25·h_req"))
@@ -501,7 +523,7 @@ def check_dynamic_drop_height(ctx, criterion):
             continue
         n = max(factors)
         verdicts.append(ctx.verdict(
-            criterion, run.run.id, None, _at_least(n, 1.5 * n_limit), value=n,
+            criterion, run.run.id, None, at_least(n, 1.5 * n_limit), value=n,
             limit=1.5 * n_limit, margin=n - 1.5 * n_limit,
             reason="option (2): height developing 1.5 times the limit load factor"))
     return verdicts
@@ -527,25 +549,27 @@ def check_reserve_no_failure(ctx, criterion):
     return verdicts
 
 
-def check_effective_weight(ctx, criterion):
+def _effective_weight_check(ctx, criterion, test_type: str, what: str) -> list[Verdict]:
+    """W_drop ≥ W_e per gear unit of each ``test_type`` drop (W_e: the gear's W1 share
+    against the clause's effective weight, computed with the measured d)."""
     maximum = ctx.rules.number("wing_lift_ratio_maximum")
-    runs = [run for run in ctx.assessment.runs if run.run.test_type in ("limit", "reserve")]
+    runs = _runs_of(ctx.assessment, test_type)
     if not runs:
         return [ctx.verdict(criterion, None, None, NOT_SHOWN, unit="N", kind="force",
-                            reason="no limit or reserve drop in the test matrix")]
+                            reason=f"no {what} drop in the test matrix")]
     verdicts = []
     for run in runs:
         lift = run.get("L")
         method = run.run.lift.method
-        if method != "none" and run.run.test_type == "limit":
+        if method != "none" and test_type == "limit":
             verdicts.append(ctx.verdict(
-                criterion, run.run.id, None, PASS if lift <= maximum else FAIL, value=lift,
+                criterion, run.run.id, None, at_most(lift, maximum), value=lift,
                 limit=maximum, margin=maximum - lift, comparison="≤",
                 reason=f"wing-lift ratio L represented in the drop ({method})"))
         reason = {"none": "no lift simulated: W_e = W",
                   "lift_device": "lift by a device: the full weight W is dropped",
-                  "reduced_mass": ("reserve drop, W_e = W·h/(h + d), d measured (23.727(b))"
-                                   if run.run.test_type == "reserve" else
+                  "reduced_mass": ("reserve drop, W_e = W·h/(h + d), d measured"
+                                   if test_type == "reserve" else
                                    f"reduced mass, L = {lift:g}, d measured (23.725(d))")}[method]
         for gear in run.gears:
             w_e, w_drop = gear.get("W_e"), gear.get("W_drop")
@@ -555,9 +579,19 @@ def check_effective_weight(ctx, criterion):
                                             reason="d (tyre deflection + axle travel) unknown"))
                 continue
             verdicts.append(ctx.verdict(
-                criterion, run.run.id, gear.gear_id, _at_least(w_drop, w_e), value=w_drop,
+                criterion, run.run.id, gear.gear_id, at_least(w_drop, w_e), value=w_drop,
                 limit=w_e, margin=w_drop - w_e, unit="N", kind="force", reason=reason))
     return verdicts
+
+
+def check_effective_weight(ctx, criterion):
+    """23.725(b),(d): limit drops."""
+    return _effective_weight_check(ctx, criterion, "limit", "limit")
+
+
+def check_reserve_effective_weight(ctx, criterion):
+    """23.727(b): reserve energy drops, W_e = W·h/(h + d) when lift is simulated."""
+    return _effective_weight_check(ctx, criterion, "reserve", "reserve energy")
 
 
 def check_inertia_load_factor(ctx, criterion):
@@ -581,7 +615,7 @@ def check_inertia_load_factor(ctx, criterion):
                                             reason="design limit inertia load factor not declared"))
             else:
                 verdicts.append(ctx.verdict(
-                    criterion, run.run.id, gear.gear_id, PASS if n <= n_limit else FAIL,
+                    criterion, run.run.id, gear.gear_id, at_most(n, n_limit),
                     value=n, limit=n_limit, margin=n_limit - n, comparison="≤",
                     reason="n = n_j·W_e/W + L"))
     return verdicts
@@ -611,7 +645,7 @@ def check_energy_method_load_factor(ctx, criterion):
                            f"(n = n_j + L with L = {lift:.4g}, η_t = {eta_t}, η_s = {eta_s})"))
             else:
                 verdicts.append(ctx.verdict(
-                    criterion, run.run.id, gear.gear_id, PASS if n <= n_limit else FAIL,
+                    criterion, run.run.id, gear.gear_id, at_most(n, n_limit),
                     value=n, limit=n_limit, margin=n_limit - n, comparison="≤",
                     reason=f"n = n_j + L, L = {lift:.4g}, η_t = {eta_t}, η_s = {eta_s}"))
     return verdicts
@@ -625,7 +659,7 @@ def check_design_load_factor_minimum(ctx, criterion):
     if n_limit is None:
         return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=minimum,
                             reason="design limit inertia load factor not declared")]
-    return [ctx.verdict(criterion, None, None, _at_least(n_limit, minimum), value=n_limit,
+    return [ctx.verdict(criterion, None, None, at_least(n_limit, minimum), value=n_limit,
                         limit=minimum, margin=n_limit - minimum,
                         reason=f"minimum = max(2.67, 2.0 + L) with L = {lift:g}")]
 
@@ -636,6 +670,7 @@ CHECKS = {
     "dynamic_drop_height": check_dynamic_drop_height,
     "reserve_no_failure": check_reserve_no_failure,
     "effective_weight": check_effective_weight,
+    "reserve_effective_weight": check_reserve_effective_weight,
     "inertia_load_factor": check_inertia_load_factor,
     "energy_method_load_factor": check_energy_method_load_factor,
     "design_load_factor_minimum": check_design_load_factor_minimum,

@@ -13,6 +13,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .rundata import CHANNEL_LABELS  # noqa: E402
+from .display import with_unit  # noqa: E402
 from .units import convert  # noqa: E402
 
 _STYLE = {
@@ -28,6 +29,11 @@ _STYLE = {
 }
 _WIDTH, _HEIGHT = 6.6, 2.6  # inches: fits A4 portrait with 15 mm margins
 _LEAD = 0.05                 # seconds shown before touchdown
+
+
+def record_label(origin: str) -> str:
+    """What a run's recorded channels are called in a legend: by their declared origin."""
+    return "measured" if origin == "measured" else "synthetic record"
 
 
 @contextlib.contextmanager
@@ -113,7 +119,7 @@ def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | N
                 y = convert(1.0, "N", force_unit) * series.load[window]
                 end = int(np.argmax(travel[window]))
                 axes.fill_between(x[: end + 1], y[: end + 1], alpha=0.25, linewidth=0,
-                                  label=f"absorbed {energy:.5g} J (E1)")
+                                  label=f"absorbed {with_unit(energy, 'energy', units)} (E1)")
                 axes.plot(x, y)
                 axes.set_xlabel(f"{name} [{length_unit}]")
                 axes.set_ylabel(f"vertical load [{force_unit}]")
@@ -128,9 +134,11 @@ def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | N
 
 
 
-def model_figure(gear_id: str, run_id: str, traces: list, units, window: float = 1.0) -> dict:
-    """Measured against nominal and calibrated model, one panel per channel (0 to ``window`` s
-    after touchdown, as the seed paper's Figs. 14-15)."""
+def model_figure(gear_id: str, run_id: str, traces: list, units, window: float = 1.0,
+                 origin: str = "measured") -> dict:
+    """The run's record against nominal and calibrated model, one panel per channel (0 to
+    ``window`` s after touchdown); ``origin`` is the run's declared data origin."""
+    recorded = record_label(origin)
     with _style():
         figure, all_axes = plt.subplots(len(traces), 1, figsize=(_WIDTH, 1.1 * len(traces) + 0.4),
                                         sharex=True)
@@ -144,14 +152,14 @@ def model_figure(gear_id: str, run_id: str, traces: list, units, window: float =
             shown = np.flatnonzero(trace.time <= window)[::2]
             t_ms = trace.time[shown] * 1e3
             axes.plot(t_ms, scale * trace.measured[shown], color="0.55", linewidth=1.6,
-                      label="measured")
+                      label=recorded)
             axes.plot(t_ms, scale * trace.nominal[shown], linestyle="--", label="nominal model")
             axes.plot(t_ms, scale * trace.calibrated[shown], label="calibrated model")
             axes.set_ylabel(f"{CHANNEL_LABELS[trace.channel]}\n[{unit}]")
         all_axes[0].legend(loc="upper right", frameon=False, ncol=3)
         all_axes[-1].set_xlabel("time from touchdown [ms]")
         figure.tight_layout()
-        return {"title": f"Run {run_id}, {gear_id}: measured and governing-equation model",
+        return {"title": f"Run {run_id}, {gear_id}: {recorded} and governing-equation model",
                 "caption": "Grey: the run's channels; dashed: the drop model with the spec's "
                            "nominal parameters; solid: after calibration on all runs of this "
                            "gear unit.", "svg": _to_svg(figure)}
@@ -159,25 +167,29 @@ def model_figure(gear_id: str, run_id: str, traces: list, units, window: float =
 
 
 
-def identification_figures(gear) -> list[dict]:
-    """Static nonlinearities (seed Figs. 12-13), the held-out drop against every model
-    (Figs. 14-15) and the models' errors (Figs. 16-17) of one gear unit (kN, mm, ms)."""
+def identification_figures(gear, units, origin: str = "measured") -> list[dict]:
+    """Static nonlinearities, the held-out drop against every model and the models' errors
+    of one gear unit (identification works in kN and mm; drawn in the display units).
+    ``origin``: the held-out run's declared data origin."""
     figures = []
     outputs = ("stroke", "tyre")
     held = gear.measured[gear.held_out[0]]
+    recorded = record_label(origin)
+    force = convert(1e3, "N", units.force)     # one kN in the display force unit
+    length = convert(1e-3, "m", units.length)  # one mm in the display length unit
     with _style():
         figure, all_axes = plt.subplots(1, 2, figsize=(_WIDTH, _HEIGHT))
         for axes, output in zip(all_axes, outputs):
             for (model, name), (grid, curve) in gear.nonlinearities.items():
                 if name == output:
-                    axes.plot(grid, curve, label=model)
-            axes.set_xlabel("vertical load [kN]")
-            axes.set_ylabel(f"{CHANNEL_LABELS[output]} [mm]")
+                    axes.plot(force * np.asarray(grid), length * np.asarray(curve), label=model)
+            axes.set_xlabel(f"vertical load [{units.force}]")
+            axes.set_ylabel(f"{CHANNEL_LABELS[output]} [{units.length}]")
         all_axes[0].legend(loc="upper left", frameon=False, fontsize=6.5)
         figure.tight_layout()
         figures.append({"title": f"{gear.gear_id}: static nonlinearities",
                         "caption": "Wiener: f(z) against the unit-gain linear block's output z "
-                                   "(kN); Hammerstein: f(u) with the linear block scaled to unit "
+                                   f"({units.force}); Hammerstein: f(u) with the linear block scaled to unit "
                                    "static gain, up to its offset. Fitted on the training runs "
                                    f"({', '.join(gear.training)}).",
                         "svg": _to_svg(figure)})
@@ -187,20 +199,22 @@ def identification_figures(gear) -> list[dict]:
             for axes, output in zip(all_axes, outputs):
                 measured = held.outputs[output]
                 if kind == "response":
-                    axes.plot(t_ms, measured, color="0.55", linewidth=1.6, label="measured")
+                    axes.plot(t_ms, length * measured, color="0.55", linewidth=1.6,
+                              label=recorded)
                 for score in gear.scores:
                     if (score.protocol == "held-out" and score.output == output
                             and score.run == gear.held_out[0]):
                         values = score.simulated if kind == "response" else score.simulated - measured
-                        axes.plot(t_ms[:values.size], values, linewidth=0.9, label=score.model)
+                        axes.plot(t_ms[:values.size], length * values, linewidth=0.9,
+                                  label=score.model)
                 axes.set_ylabel(f"{CHANNEL_LABELS[output]}{' error' if kind == 'error' else ''}"
-                                f"\n[mm]")
+                                f"\n[{units.length}]")
             all_axes[0].legend(loc="upper right", frameon=False, fontsize=6.0, ncol=2)
             all_axes[-1].set_xlabel("time from touchdown [ms]")
             figure.tight_layout()
             figures.append({
                 "title": (f"{gear.gear_id}, held-out run {gear.held_out[0]}: "
-                          + ("measured and free-run simulated" if kind == "response"
+                          + (f"{recorded} and free-run simulated" if kind == "response"
                              else "free-run simulation error")),
                 "caption": "Every model simulated in free run from the load alone (the "
                            "Hammerstein and NARX models take their first samples from the "
@@ -249,7 +263,7 @@ def gap_heatmap(gap, title: str, caption: str, vmax: float | None = None) -> dic
 
 
 def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: str | None,
-                units, window: float) -> dict:
+                units, window: float, origin: str = "measured") -> dict:
     """A held-out run's channels against the calibrated nominal model and (``after``) the
     model with the named effects, from just before touchdown to ``window`` s after it, with
     the measured run's phase boundaries drawn and named.
@@ -272,7 +286,7 @@ def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: s
             unit = getattr(units, kind)
             scale = convert(1.0, si, unit)
             axes.plot(t_ms, scale * before.measured[channel][shown], color="0.55",
-                      linewidth=1.6, label="measured")
+                      linewidth=1.6, label=record_label(origin))
             axes.plot(t_ms, scale * before.simulated[channel][shown], linestyle="--",
                       label="calibrated nominal model")
             if after is not None:
@@ -287,7 +301,8 @@ def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: s
         all_axes[0].legend(loc="upper right", frameon=False, fontsize=6.5)
         all_axes[-1].set_xlabel("time from touchdown [ms]")
         figure.tight_layout()
-        return {"title": f"{gear_id}, held-out run {run_id}: measured and model, with the "
+        return {"title": f"{gear_id}, held-out run {run_id}: {record_label(origin)} and model, "
+                         f"with the "
                          f"drop's phases",
                 "caption": "Grey: the run's channels; dashed: the nominal model calibrated on "
                            "the training runs; solid: refitted with the named effect(s), when "

@@ -42,11 +42,6 @@ WINDOW = 1000           # samples from touchdown (1 s at 1 kHz, the paper's figu
 PAPER_TRAINING = 200    # the paper: "the initial 200 data points" after touchdown
 WHITENESS_LAGS = 25     # residual correlation lags examined (identification.md §1.5)
 WHITENESS_CONFIDENCE = 0.99
-#: The seed paper's published RMSEs (right gear, 0-1 s; unit not stated, mm presumed).
-SEED_RMSE = {"stroke": {"governing equation": 9.7364, "Hammerstein": 0.88522,
-                        "Wiener": 0.48805},
-             "tyre": {"governing equation": 11.3473, "Hammerstein": 0.71204,
-                      "Wiener": 0.38246}}
 
 
 @dataclass(frozen=True)

@@ -22,20 +22,14 @@ from jinja2 import Environment, FileSystemLoader, StrictUndefined, select_autoes
 from markupsafe import Markup
 
 from . import __version__
-from .compliance import Assessment
+from .compliance import Assessment, at_least
+from .display import (DISPLAY_RULE, SI_UNITS, SIGNIFICANT, display, margin, number, percent,
+                      unit_of, with_unit)
 from .equations import EQUATIONS, GRAVITY_NOTE
 from .outputs import staged_folder
 from .provenance import provenance
-from .results import RESULTS_FORMAT, Value
+from .results import PASS, RESULTS_FORMAT, Value
 from .units import convert
-
-SI_UNITS = {"length": "m", "force": "N", "mass": "kg", "energy": "J", "velocity": "m/s",
-            "pressure": "Pa", "area": "m^2", "time": "s", "wing_loading": "Pa"}
-SIGNIFICANT = 6  # enough to show typed values (1305.97 J, 1222.05 kgf) as typed
-DISPLAY_RULE = (f"Values are shown to {SIGNIFICANT} significant figures in the units chosen in "
-                f"the campaign's report.units; results.json and tables/*.csv hold full precision "
-                f"in SI.")
-
 
 def templates_dir() -> Path:
     """The Jinja2 templates: packaged copy in a wheel, the repository's templates/ otherwise."""
@@ -52,31 +46,6 @@ def fonts_dir() -> Path:
 
 
 # --------------------------------------------------------------------------- formatting
-def _number(value: float, digits: int = SIGNIFICANT) -> str:
-    if value == 0:
-        return "0"
-    text = f"{value:.{digits}g}"
-    if "e" in text:
-        mantissa, exponent = text.split("e")
-        return f"{mantissa}×10^{int(exponent)}"
-    return text
-
-
-def display(value: float | None, kind: str, units) -> tuple[str, str]:
-    """(number text, unit text) of an SI value in the campaign's display unit."""
-    unit = getattr(units, kind, None) if kind in SI_UNITS else None
-    if value is None:
-        return "—", unit or ""
-    if unit is None:
-        return _number(value), ""
-    return _number(convert(value, SI_UNITS[kind], unit)), unit
-
-
-def _with_unit(value: float | None, kind: str, units) -> str:
-    number, unit = display(value, kind, units)
-    return f"{number} {unit}".strip() if value is not None else "—"
-
-
 def _value_row(value: Value, units) -> dict:
     number, unit = display(value.value, value.kind, units)
     return {"label": value.label, "symbol": value.symbol, "value": number, "unit": unit,
@@ -177,9 +146,9 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
                 continue
             required = item.values[key].value
             runs = [r.run.id for r in assessment.runs
-                    if r.run.test_type == test_type and r.get("h") >= required]
+                    if r.run.test_type == test_type and at_least(r.get("h"), required) == PASS]
             completeness.append({"set": item.rules.id, "requirement": what,
-                                 "required": _with_unit(required, "length", units),
+                                 "required": with_unit(required, "length", units),
                                  "runs": ", ".join(runs) or "none",
                                  "status": "present" if runs else "missing"})
 
@@ -236,10 +205,11 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
         verdicts.append({
             "id": verdict.id, "set": verdict.requirement_set, "clause": verdict.clause,
             "title": verdict.title, "scope": " / ".join(p for p in (verdict.run, verdict.gear) if p)
-            or "campaign", "value": _with_unit(verdict.value, kind, units),
-            "limit": (f"{verdict.comparison} {_with_unit(verdict.limit, kind, units)}"
+            or "campaign", "value": with_unit(verdict.value, kind, units),
+            "limit": (f"{verdict.comparison} {with_unit(verdict.limit, kind, units)}"
                       if verdict.limit is not None else "—"),
-            "margin": _with_unit(verdict.margin, kind, units), "verdict": verdict.verdict,
+            "margin": margin(verdict.margin, verdict.limit, kind, units),
+            "verdict": verdict.verdict,
             "css": verdict.verdict.replace(" ", "-").lower(), "reason": verdict.reason,
             "to_confirm": verdict.to_confirm})
 
@@ -251,10 +221,10 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
         comparisons.append({
             "scope": " / ".join(p for p in (item.run, item.gear) if p) or "campaign",
             "quantity": item.quantity, "reported": item.reported_text,
-            "recomputed": _with_unit(item.recomputed, item.kind, units),
+            "recomputed": with_unit(item.recomputed, item.kind, units),
             "difference": ("—" if item.difference is None or item.recomputed in (None, 0)
                            else f"{item.difference / item.recomputed:+.2%}"),
-            "tolerance": _with_unit(item.tolerance, item.kind, units),
+            "tolerance": with_unit(item.tolerance, item.kind, units),
             "agrees": {True: "agrees", False: "DISAGREES", None: "—"}[item.agrees],
             "basis": item.basis})
 
@@ -291,10 +261,11 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
         "equations": sorted(EQUATIONS.items()), "gravity_note": GRAVITY_NOTE,
         "display_rule": DISPLAY_RULE,
         "assumptions": [a.strip() for a in spec.assumptions],
-        "audit": {name: getattr(spec.audit, name).text for name in type(spec.audit).model_fields},
+        "audit": _audit_settings(spec.audit, units),
         "provenance": record, "version": __version__,
-        "model": _model_view(model, units),
-        "identification": _identification_view(model, spec.model.identification),
+        "model": _model_view(model, units, spec.reference_results, _origins(spec)),
+        "identification": _identification_view(model, spec.model.identification, units,
+                                               spec.reference_results, _origins(spec)),
         "gap": _gap_view(model, campaign, units),
     }
 
@@ -302,12 +273,59 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
 _PARAMETER_KINDS = {"Pa": "pressure", "N": "force"}
 
 
-def _model_view(evidence, units) -> dict:
+def _reference_error(reference, gear_id: str, channel: str, model: str):
+    """A published RMSE (the spec's quantity) of the campaign's reference_results for this
+    gear unit, channel and model (a field of :class:`~certkit.spec.ReferenceModelErrors`),
+    None when it has none."""
+    if reference is None or (reference.gear is not None and reference.gear != gear_id):
+        return None
+    errors = getattr(reference, channel, None) if channel in ("stroke", "tyre") else None
+    return getattr(errors, model, None) if errors is not None else None
+
+
+def _typed_number(quantity, kind: str, units) -> str:
+    """A typed quantity's number in the display unit: as typed when typed in that unit."""
+    magnitude, unit = (quantity.text.split(None, 1) + [""])[:2]
+    return magnitude if unit.strip() == unit_of(kind, units) else display(quantity.si, kind,
+                                                                           units)[0]
+
+
+def _reference_view(reference, units) -> dict | None:
+    """How the report names the campaign's published reference results (None: it has none)."""
+    if reference is None:
+        return None
+    return {"source": reference.source, "gear": reference.gear or "not stated",
+            "run": reference.run or "not stated",
+            "window": with_unit(reference.window.si, "time", units),
+            "note": (reference.note or "").strip()}
+
+
+def _audit_settings(settings, units) -> dict[str, str]:
+    """The audit's thresholds: as typed where the spec sets them, else the default in the
+    display units (a length) or as a share."""
+    shown = {}
+    for name in type(settings).model_fields:
+        quantity = getattr(settings, name)
+        if name in settings.model_fields_set:
+            shown[name] = quantity.text
+        elif quantity.unit == "m":
+            shown[name] = f"{with_unit(quantity.si, 'length', units)} (default)"
+        else:
+            shown[name] = f"{quantity.text} (default)"
+    return shown
+
+
+def _origins(spec) -> dict[str, str]:
+    """run id -> declared origin of its time histories (measured / synthetic)."""
+    return {run.id: run.data.origin for run in spec.runs if run.data is not None}
+
+
+def _model_view(evidence, units, reference=None, origins=None) -> dict:
     """The governing-equation model section: calibration per gear unit, or why none."""
     if evidence is None:
         return {"available": False, "note": "The drop model was not run for this report "
                                             "(library call without a model evidence).",
-                "synthetic": "", "gears": [], "effects": "—", "seed_rows": []}
+                "synthetic": "", "gears": [], "effects": "—", "reference_rows": [], "reference": None}
     synthetic = ""
     if evidence.synthetic_runs:
         synthetic = (f"The time histories of run(s) {', '.join(evidence.synthetic_runs)} are "
@@ -317,12 +335,11 @@ def _model_view(evidence, units) -> dict:
     calibration = evidence.calibration
     if calibration is None:
         return {"available": False, "note": evidence.note, "synthetic": synthetic, "gears": [],
-                "effects": "—", "seed_rows": []}
-    from .identification import SEED_RMSE   # the paper's published RMSEs, one home
+                "effects": "—", "reference_rows": [], "reference": None}
     from .rundata import CHANNEL_LABELS
     from .figures import model_figure
 
-    gears, seed_rows = [], []
+    gears, reference_rows = [], []
     for gear in calibration.gears:
         fit = gear.fit
         parameters = []
@@ -336,9 +353,9 @@ def _model_view(evidence, units) -> dict:
                 bounds = f"{display(p.lower, kind, units)[0]} to {display(p.upper, kind, units)[0]}"
             else:
                 unit = p.unit if p.unit != "1" else ""
-                nominal, value = _number(p.nominal), _number(float(estimate))
-                se = "not determined" if not math.isfinite(error) else _number(float(error))
-                bounds = f"{_number(p.lower)} to {_number(p.upper)}"
+                nominal, value = number(p.nominal), number(float(estimate))
+                se = "not determined" if not math.isfinite(error) else number(float(error))
+                bounds = f"{number(p.lower)} to {number(p.upper)}"
             parameters.append({"name": knob.label, "unit": unit, "nominal": nominal,
                                "estimate": value, "error": se, "bounds": bounds})
         names = [p.name for p in fit.parameters]
@@ -355,19 +372,24 @@ def _model_view(evidence, units) -> dict:
                          "nominal": before, "calibrated": after,
                          "change": f"{change:+.1%}" if math.isfinite(change) else "—"})
         for trace in gear.traces:
-            if trace.channel in SEED_RMSE:
-                first = trace.time <= 1.0
-                nominal = math.sqrt(float(((trace.nominal - trace.measured)[first] ** 2).mean()))
-                fitted = math.sqrt(float(((trace.calibrated - trace.measured)[first] ** 2).mean()))
-                seed_rows.append({
-                    "gear": gear.gear_id, "run": trace.run,
-                    "channel": CHANNEL_LABELS[trace.channel],
-                    "seed": _number(SEED_RMSE[trace.channel]["governing equation"]),
-                    "nominal": _number(nominal * 1e3), "calibrated": _number(fitted * 1e3)})
-        figures = [model_figure(gear.gear_id, run, [t for t in gear.traces if t.run == run], units)
+            published = _reference_error(reference, gear.gear_id, trace.channel,
+                                         "governing_equation")
+            if published is None or (reference.run is not None and trace.run != reference.run):
+                continue
+            first = trace.time <= reference.window.si
+            nominal = math.sqrt(float(((trace.nominal - trace.measured)[first] ** 2).mean()))
+            fitted = math.sqrt(float(((trace.calibrated - trace.measured)[first] ** 2).mean()))
+            reference_rows.append({
+                "gear": gear.gear_id, "run": trace.run,
+                "channel": CHANNEL_LABELS[trace.channel],
+                "reference": published.text,
+                "nominal": with_unit(nominal, "length", units),
+                "calibrated": with_unit(fitted, "length", units)})
+        figures = [model_figure(gear.gear_id, run, [t for t in gear.traces if t.run == run], units,
+                                origin=(origins or {}).get(run, "measured"))
                    for run in gear.runs]
         figures = [dict(f, svg=Markup(f["svg"])) for f in figures]
-        velocities = "; ".join(f"{run}: {v:.4f} m/s ({source})"
+        velocities = "; ".join(f"{run}: {with_unit(v, 'velocity', units)} ({source})"
                                for run, (v, source) in gear.contact_velocities.items())
         gears.append({
             "id": gear.gear_id, "runs": ", ".join(gear.runs), "parameters": parameters,
@@ -375,125 +397,155 @@ def _model_view(evidence, units) -> dict:
             "correlation": correlation, "warnings": list(fit.warnings),
             "converged": fit.success, "message": fit.message, "evaluations": fit.evaluations,
             "cost": f"{fit.cost_nominal:.4g} → {fit.cost:.4g}", "rmse": rmse,
-            "figures": figures, "velocities": velocities, "step": f"{gear.step * 1e3:g} ms"})
+            "figures": figures, "velocities": velocities, "step": with_unit(gear.step, "time", units)})
     return {"available": True, "note": evidence.note, "synthetic": synthetic, "gears": gears,
-            "effects": ", ".join(calibration.effects) or "none", "seed_rows": seed_rows}
+            "effects": ", ".join(calibration.effects) or "none", "reference_rows": reference_rows,
+            "reference": _reference_view(reference, units)}
 
 
 _MODEL_ORDER = ("governing equation, nominal", "governing equation, calibrated", "Hammerstein",
                 "Wiener (small-signal)", "Wiener (BLA)", "NARX")
 
 
-def _ranking_sentence(scores, output: str, protocol: str, run: str) -> str:
+#: How the report names the identification protocols (Score.protocol).
+PROTOCOL_NAMES = {"paper": "short training", "held-out": "held-out"}
+#: Fields of the spec's reference_results that correspond to certkit's models.
+_REFERENCE_MODELS = {"governing equation, nominal": "governing_equation",
+                     "Hammerstein": "hammerstein", "Wiener (small-signal)": "wiener",
+                     "NARX": "narx"}
+
+
+def _mm(value_mm: float, units) -> str:
+    """An identification error (computed in mm) in the display length unit, with the unit."""
+    return f"{_short(value_mm * 1e-3, 'length', units)} {units.length}"
+
+
+def _ranking_sentence(scores, output: str, protocol: str, run: str, units) -> str:
     chosen = sorted((s for s in scores if s.output == output and s.protocol == protocol
                      and s.run == run), key=lambda s: s.rmse)
-    return ", ".join(f"{s.model} {s.rmse:.3g} mm" for s in chosen)
+    return ", ".join(f"{s.model} {_mm(s.rmse, units)}" for s in chosen)
 
 
-def _discussion(gear) -> list[str]:
-    """Where the ranking of the seed's three models differs from what the data say."""
-    from .identification import OUTPUT_LABELS, PAPER_TRAINING, SEED_RMSE
+def _discussion(gear, reference, units) -> list[str]:
+    """Where the ranking of the models the campaign's reference results rank differs from
+    what the data say here (nothing when the campaign has no reference results)."""
+    from .identification import OUTPUT_LABELS, PAPER_TRAINING
 
-    three = {"governing equation, nominal": "governing equation", "Hammerstein": "Hammerstein",
-             "Wiener (small-signal)": "Wiener"}
     run = gear.held_out[0]
     sentences = []
     for output in ("stroke", "tyre"):
-        def order(protocol):
-            chosen = [x for x in gear.scores if x.output == output and x.protocol == protocol
-                      and x.run == run and x.model in three]
-            return [three[x.model] for x in sorted(chosen, key=lambda x: x.rmse)]
-
-        seed = sorted(SEED_RMSE[output], key=SEED_RMSE[output].get)
-        held = order("held-out")
-        text = (f"{OUTPUT_LABELS[output].capitalize()}: the seed paper ranks "
-                f"{' < '.join(seed)} (RMSE). On the held-out drop {run} the order here is "
-                f"{' < '.join(held) or 'not available'}")
-        text += "; the same as the seed's." if held == seed else (
-            "; it differs from the seed's.")
+        published = {model: _reference_error(reference, gear.gear_id, output, field)
+                     for model, field in _REFERENCE_MODELS.items()}
+        published = {model: value.si for model, value in published.items() if value is not None}
+        if len(published) < 2:
+            continue
+        chosen = [x for x in gear.scores if x.output == output and x.protocol == "held-out"
+                  and x.run == run and x.model in published]
+        held = [x.model for x in sorted(chosen, key=lambda x: x.rmse)]
+        ranked = sorted(published, key=published.get)
+        text = (f"{OUTPUT_LABELS[output].capitalize()}: the reference results "
+                f"({reference.source}) rank {' < '.join(ranked)} (RMSE). On the held-out drop "
+                f"{run} the order here is {' < '.join(held) or 'not available'}")
+        text += ("; the same." if held == ranked else "; it differs.")
         paper_full = [x for x in gear.scores if x.output == output and x.protocol == "paper"]
         held_full = [x for x in gear.scores if x.output == output and x.protocol == "held-out"
                      and x.run == run]
         if paper_full and held_full:
             best_paper = min(paper_full, key=lambda x: x.rmse)
             best_held = min(held_full, key=lambda x: x.rmse)
-            text += (f" Trained on the first {PAPER_TRAINING} samples of the very drop it then simulates, "
-                     f"the best model reaches {best_paper.rmse:.3g} mm over the whole second "
+            text += (f" Trained on the first {PAPER_TRAINING} samples of the very drop it then "
+                     f"simulates, the best model reaches {_mm(best_paper.rmse, units)} "
                      f"({best_paper.model}); trained on other drop heights, "
-                     f"{best_held.rmse:.3g} mm ({best_held.model}).")
+                     f"{_mm(best_held.rmse, units)} ({best_held.model}).")
         sentences.append(text)
     return sentences
 
 
-def _identification_view(evidence, settings) -> dict:
-    """The identification section: RMSE tables beside the seed's, linear blocks, figures.
+def _identification_view(evidence, settings, units, reference=None, origins=None) -> dict:
+    """The identification section: RMSE tables (beside the campaign's reference results when
+    it has some), linear blocks, figures.
 
-    ``settings``: the spec's ``model.identification``."""
+    ``settings``: the spec's ``model.identification``; ``reference``: its reference_results."""
     from .identification import (PAPER_TRAINING, WHITENESS_CONFIDENCE, WHITENESS_LAGS,
                                  WINDOW)
 
     method = {"window": f"{WINDOW} samples", "paper_samples": PAPER_TRAINING,
               "gain": settings.small_signal.gain.text,
               "tolerance": settings.small_signal.tolerance.text,
-              "whiteness": f"{WHITENESS_CONFIDENCE:.0%} bounds, {WHITENESS_LAGS} lags"}
+              "whiteness": f"{WHITENESS_CONFIDENCE:.0%} bounds, {WHITENESS_LAGS} lags",
+              "force_unit": units.force, "length_unit": units.length,
+              "reference": _reference_view(reference, units)}
     identification = getattr(evidence, "identification", None)
     if identification is None or not identification.gears:
         return {"available": False, "gears": [], "plant_note": "",
                 "note": "Not run: it needs time histories of at least two drops of a gear unit "
                         "whose drop model can be built from the spec.", **method}
     from .figures import identification_figures
-    from .identification import OUTPUT_LABELS, SEED_RMSE
+    from .identification import OUTPUT_LABELS
 
+    # the static gain of a linear block, mm/kN, in display units per display unit
+    gain_scale = convert(1e-6, "m", units.length) / convert(1.0, "N", units.force)
     gears = []
     for gear in identification.gears:
-        table = []
+        table, with_reference = [], False
         for model in _MODEL_ORDER:
             row = {"model": model, "cells": []}
             for output in ("stroke", "tyre"):
                 for protocol in ("paper", "held-out"):
                     score = next((x for x in gear.scores if (x.model, x.output, x.protocol, x.run)
                                   == (model, output, protocol, gear.held_out[0])), None)
-                    row["cells"].append("—" if score is None else _number(round(score.rmse, 4)))
-                seed_key = ("Wiener" if model.startswith("Wiener (small") else
-                            "governing equation" if model == "governing equation, nominal"
-                            else model)
-                row["cells"].append(_number(SEED_RMSE[output][seed_key])
-                                    if seed_key in SEED_RMSE[output] else "—")
+                    row["cells"].append("—" if score is None
+                                        else _short(score.rmse * 1e-3, "length", units))
+                published = _reference_error(reference, gear.gear_id, output,
+                                             _REFERENCE_MODELS.get(model, ""))
+                row["reference"] = row.get("reference", []) + [
+                    "—" if published is None else _typed_number(published, "length", units)]
+                with_reference = with_reference or published is not None
             table.append(row)
-        details = [{"model": x.model, "protocol": x.protocol, "output": OUTPUT_LABELS[x.output],
-                    "run": x.run, "rmse": f"{x.rmse:.4g}", "nrmse": f"{x.nrmse:.4g}",
-                    "fit": f"{x.fit:.1f}", "max": f"{x.max_error:.4g}"}
+        for row in table:   # the reference column only where the campaign has such figures
+            if with_reference:
+                row["cells"] = row["cells"][:2] + row["reference"][:1] + row["cells"][2:] + \
+                    row["reference"][1:]
+            del row["reference"]
+        details = [{"model": x.model, "protocol": PROTOCOL_NAMES[x.protocol],
+                    "output": OUTPUT_LABELS[x.output], "run": x.run,
+                    "rmse": _short(x.rmse * 1e-3, "length", units), "nrmse": f"{x.nrmse:.4g}",
+                    "fit": f"{x.fit:.1f}", "max": _short(x.max_error * 1e-3, "length", units)}
                    for x in sorted(gear.scores, key=lambda x: (x.output, x.protocol,
                                                                _MODEL_ORDER.index(x.model)))]
         blocks = []
         for (route, output), arx in gear.linear_blocks.items():
             blocks.append({"route": route, "output": OUTPUT_LABELS[output],
                            "a": ", ".join(f"{v:.6g}" for v in arx.a_),
-                           "b": ", ".join(f"{v:.6g}" for v in arx.b_),
-                           "gain": (f"{arx.static_gain_:.6g} mm/kN" if math.isfinite(
-                               arx.static_gain_) else "not determined"),
+                           "b": ", ".join(f"{v * gain_scale:.6g}" for v in arx.b_),
+                           "gain": (f"{number(arx.static_gain_ * gain_scale, 4)} "
+                                    f"{units.length}/{units.force}"
+                                    if math.isfinite(arx.static_gain_) else "not determined"),
                            "stable": "yes" if arx.stable_ else "NO"})
-        steps = [{"output": OUTPUT_LABELS[output], "amplitude": f"{step.amplitude:.4g}",
-                  "mismatch": f"{step.mismatch[output]:.3g}",
+        steps = [{"output": OUTPUT_LABELS[output],
+                  "amplitude": with_unit(step.amplitude, "force", units, 4),
+                  "mismatch": percent(step.mismatch[output]),
                   "accepted": "accepted" if step.accepted else "not linear: shrink"}
                  for output, recorded in gear.small_signal.items() for step in recorded]
-        one_step = [{"model": m, "output": OUTPUT_LABELS[o], "run": r, "rmse": f"{v:.4g}"}
-                    for m, o, r, v in gear.one_step]
+        one_step = [{"model": m, "output": OUTPUT_LABELS[o], "run": r,
+                     "rmse": _mm(v, units)} for m, o, r, v in gear.one_step]
         whiteness = [{"model": m, "output": OUTPUT_LABELS[o],
                       "auto": f"{int(a.autocorrelation_ok.sum())}/{a.autocorrelation_ok.size}",
                       "cross": (f"{int(a.cross_correlation_ok.sum())}/{a.cross_correlation_ok.size}"
                                 if a.cross_correlation_ok is not None else "—"),
                       "white": "yes" if a.white else "no"} for m, o, a in gear.whiteness]
-        rankings = [f"{OUTPUT_LABELS[o]}, {p} protocol, run {gear.held_out[0]}: "
-                    f"{_ranking_sentence(gear.scores, o, p, gear.held_out[0])}"
+        rankings = [f"{OUTPUT_LABELS[o]}, {PROTOCOL_NAMES[p]} protocol, run {gear.held_out[0]}: "
+                    f"{_ranking_sentence(gear.scores, o, p, gear.held_out[0], units)}"
                     for o in ("stroke", "tyre") for p in ("held-out", "paper")]
-        discussion = _discussion(gear)
-        figures = [dict(f, svg=Markup(f["svg"])) for f in identification_figures(gear)]
+        origin = (origins or {}).get(gear.held_out[0], "measured")
+        figures = [dict(f, svg=Markup(f["svg"]))
+                   for f in identification_figures(gear, units, origin)]
         gears.append({"id": gear.gear_id, "training": ", ".join(gear.training),
-                      "held_out": ", ".join(gear.held_out), "table": table, "details": details,
+                      "held_out": ", ".join(gear.held_out), "table": table,
+                      "with_reference": with_reference, "details": details,
                       "blocks": blocks, "steps": steps, "one_step": one_step,
                       "whiteness": whiteness, "rankings": rankings, "figures": figures,
-                      "discussion": discussion,
+                      "discussion": _discussion(gear, reference, units),
                       "ratios": ", ".join(f"{OUTPUT_LABELS[o]} {r:.3g}"
                                           for o, r in gear.hammerstein_ratio.items()),
                       "notes": list(gear.notes)})
@@ -502,18 +554,9 @@ def _identification_view(evidence, settings) -> dict:
 
 
 # --------------------------------------------------------------------------- the gap section
-def _percent(fraction: float | None, digits: int = 1, signed: bool = False) -> str:
-    if fraction is None or not math.isfinite(fraction):
-        return "—"
-    return f"{100.0 * fraction:{'+' if signed else ''}.{digits}f} %"
-
-
-def _short(value: float | None, kind: str, units, digits: int = 4) -> str:
-    """A residual statistic in display units to ``digits`` significant figures (more would
-    be noise)."""
-    if value is None:
-        return "—"
-    return _number(convert(value, SI_UNITS[kind], getattr(units, kind)), digits)
+def _short(value: float | None, kind: str, units, digits: int = SIGNIFICANT) -> str:
+    """A number in display units, without its unit ("—" when None)."""
+    return display(value, kind, units, digits)[0]
 
 
 def _channel_kind(channel: str) -> str:
@@ -538,11 +581,11 @@ def _gap_method(units) -> dict:
                   f"overrides the default."),
         "where": (f"Where: the residual (measured − model) of each channel is cut by the "
                   f"measured run's phases: free fall; tyre-only contact from touchdown; strut "
-                  f"breakout, the first {_with_unit(BREAKOUT_WINDOW, 'time', units)} after the "
-                  f"stroke exceeds {_with_unit(BREAKOUT_TRAVEL, 'length', units)}; compression "
+                  f"breakout, the first {with_unit(BREAKOUT_WINDOW, 'time', units)} after the "
+                  f"stroke exceeds {with_unit(BREAKOUT_TRAVEL, 'length', units)}; compression "
                   f"to peak load; rebound to the end of extension; settling. Per channel, "
                   f"phase and run: RMS, bias (mean of measured − model) and timing lag (the "
-                  f"cross-correlation peak within ±{_with_unit(MAX_LAG, 'time', units)}; "
+                  f"cross-correlation peak within ±{with_unit(MAX_LAG, 'time', units)}; "
                   f"positive: the model is late). The residual's energy from touchdown is split "
                   f"into bands: {bands}."),
         "which": (f"Which: each candidate effect is a one-parameter family that nests the "
@@ -557,11 +600,11 @@ def _gap_method(units) -> dict:
                   f"strength can point the wrong way at zero and still explain the gap). "
                   f"A candidate is relevant when it is among the {LEADING} best scores and "
                   f"would remove at least {RELEVANT:g} σ, or when its profile already cuts the "
-                  f"training cost by {_percent(GAIN, 0)}; the {LEADING} relevant ones with the "
+                  f"training cost by {percent(GAIN, 0)}; the {LEADING} relevant ones with the "
                   f"best profiles are refitted together with the nominal parameters on the "
                   f"training runs, each from its profile's best strength. The refit that cuts the "
                   f"training cost (RMS of the residuals divided by each channel's range) most, "
-                  f"by at least {_percent(GAIN, 0)}, is named. When the two best refits' training costs "
+                  f"by at least {percent(GAIN, 0)}, is named. When the two best refits' training costs "
                   f"lie within a ratio of {TIE_COST:g} and the cosine of their projected "
                   f"signatures is at least {TIE_COSINE:g}, the two cannot be told apart and "
                   f"the diagnosis says so instead of naming one. A second effect is then looked "
@@ -585,9 +628,9 @@ def _gap_cells(before, after, units) -> list[dict]:
             "samples": str(cell.samples), "unit": getattr(units, kind),
             "rms": _short(cell.rms, kind, units), "bias": _short(cell.bias, kind, units),
             "lag": _short(cell.lag, "time", units, 3),
-            "normalised": _percent(cell.normalised),
+            "normalised": percent(cell.normalised),
             "rms_after": _short(remaining.rms, kind, units) if remaining else "—",
-            "normalised_after": _percent(remaining.normalised) if remaining else "—"})
+            "normalised_after": percent(remaining.normalised) if remaining else "—"})
     return rows
 
 
@@ -602,7 +645,7 @@ def _gap_largest(gap_map, units) -> str:
     text = describe(cell, convert(1.0, "N" if cell.channel == "load" else "m", unit), unit)
     shares = gap_map.bands.get((cell.run, cell.channel))
     if shares:
-        parts = [f"{_percent(shares[name], 0)} in the {name} band"
+        parts = [f"{percent(shares[name], 0)} in the {name} band"
                  + (f" ({low:g}-{high:g} Hz)" if math.isfinite(high) else "")
                  for name, low, high in BANDS]
         text += (f" Of the {cell.channel} residual's energy in run {cell.run} from touchdown, "
@@ -629,11 +672,11 @@ def _gap_steps(gap, units) -> list[dict]:
                 status = f"relevant, not among the {LEADING} best profiles"
             elif score.direction < 0:
                 status = ("its score points the other way and its profile cuts the training "
-                          f"cost by less than {_percent(GAIN, 0)}: not relevant")
+                          f"cost by less than {percent(GAIN, 0)}: not relevant")
             else:
                 status = (f"not among the {LEADING} best scores with {RELEVANT:g} σ or more, "
                           f"and its profile cuts the training cost by less than "
-                          f"{_percent(GAIN, 0)}: not relevant")
+                          f"{percent(GAIN, 0)}: not relevant")
             scores.append({"effect": score.name, "statistic": f"{score.statistic:.4g}",
                            "explained": f"{score.explained:.3g}", "status": status,
                            "profile": "—" if not profile else
@@ -658,9 +701,9 @@ def _gap_steps(gap, units) -> list[dict]:
             if fit.effects == named and len(named) == index + 1:
                 outcome = "named"
             elif fit.training_cost > (1 - GAIN) * beat:
-                outcome = f"cuts the training cost by less than {_percent(GAIN, 0)}: not named"
+                outcome = f"cuts the training cost by less than {percent(GAIN, 0)}: not named"
             else:
-                outcome = (f"cuts the training cost by {_percent(GAIN, 0)} or more; not named "
+                outcome = (f"cuts the training cost by {percent(GAIN, 0)} or more; not named "
                            f"(see the statement)")
             checks = gap.refit_held_out.get((index, fit.effects), {})
             held = "; ".join(f"{run} {CHANNEL_LABELS[channel]} "
@@ -669,7 +712,7 @@ def _gap_steps(gap, units) -> list[dict]:
                              for (run, channel), value in checks.items())
             refits.append({"effects": " + ".join(fit.effects), "strengths": strengths,
                            "cost": f"{fit.training_cost:.4g}",
-                           "change": _percent(fit.training_cost / beat - 1, signed=True)
+                           "change": percent(fit.training_cost / beat - 1, signed=True)
                            if beat else "—",
                            "outcome": outcome, "held_out": held or "—"})
         title = ("Step 1: candidates against the calibrated nominal model" if index == 0 else
@@ -694,7 +737,7 @@ def _gap_shrink(gap, units) -> list[dict]:
                      "samples": str(error.samples), "before": _short(error.before, kind, units),
                      "after": _short(error.after, kind, units),
                      "shrink": "—" if shrink is None else
-                     _percent(shrink) + (" (worse)" if shrink < 0 else "")})
+                     percent(shrink) + (" (worse)" if shrink < 0 else "")})
     return rows
 
 
@@ -724,10 +767,10 @@ def _blind_view(campaign) -> dict:
     for key in keys:
         metric = record.metrics[key]
         label, definition = METRICS.get(key, (key.replace("_", " "), "as recorded"))
-        value = "not measured" if metric.value is None else _percent(metric.value)
+        value = "not measured" if metric.value is None else percent(metric.value)
         judged = metric.judged
         target = "no target" if metric.target is None else \
-            f"{metric.direction} {_percent(metric.target)}"
+            f"{metric.direction} {percent(metric.target)}"
         verdict = {True: "met", False: "NOT met", None: "—"}[judged]
         if judged is False:
             short.append(f"{label} {value} against a target of {target}")
@@ -735,7 +778,7 @@ def _blind_view(campaign) -> dict:
                    else f"{metric.cases} cases")
         if metric.interval:
             low, high = metric.interval
-            counted += f" (95 % interval {_percent(low)}–{_percent(high)})"
+            counted += f" (95 % interval {percent(low)}–{percent(high)})"
         metrics.append({"label": label, "definition": definition, "value": value,
                         "cases": counted, "target": target, "verdict": verdict,
                         "css": {True: "pass", False: "fail", None: ""}[judged]})
@@ -778,7 +821,7 @@ def _blind_view(campaign) -> dict:
         "settings": settings, "metrics": metrics, "verdict": verdict,
         "curve_figure": curve_figure,
         "curve": [{"ratio": f"{point.ratio:g}", "cases": str(point.cases),
-                   "top1": _percent(point.top1), "shrink": _percent(point.median_shrink)}
+                   "top1": percent(point.top1), "shrink": percent(point.median_shrink)}
                   for point in record.curve],
         "confusion": {"named": list(confusion.named),
                       "rows": [{"truth": truth, "cells": [str(n) for n in row]}
@@ -813,7 +856,8 @@ def _gap_view(evidence, campaign, units) -> dict:
             figures.append(gap_overlay(
                 gear_id, run_id, gap.before.records[run_id],
                 gap.after.records[run_id] if gap.after else None, gap.before.phases[run_id],
-                answer or None, units, window=_overlay_window(gap.before, run_id)))
+                answer or None, units, window=_overlay_window(gap.before, run_id),
+                origin=_origins(campaign.spec).get(run_id, "measured")))
         remaining = None
         if gap.after is not None:
             remaining = gap_heatmap(
@@ -879,7 +923,7 @@ def _load_factor_view(assessment: Assessment) -> tuple[list[dict], str]:
     checked = [c for c in assessment.comparisons if c.quantity == "impact load factor"]
     if not checked:
         return rows, ""
-    pairs = ", ".join(f"{c.reported_text} → {_number(c.recomputed)}" for c in checked)
+    pairs = ", ".join(f"{c.reported_text} → {number(c.recomputed)}" for c in checked)
     if all(c.agrees for c in checked):
         statement = (f"The source's stated impact load factors are reproduced, to the precision "
                      f"stated, by ΣF_peak(main units)/(m_drop·g) (certkit G2): {pairs}. They are "

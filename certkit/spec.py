@@ -13,7 +13,7 @@ import math
 from typing import Annotated, Literal
 
 from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, PlainSerializer,
-                      PlainValidator, WithJsonSchema, field_validator)
+                      PlainValidator, WithJsonSchema, field_validator, model_validator)
 from pydantic_core import PydanticCustomError
 
 from .units import QuantityError, SpecQuantity, _example_unit, kind_phrase, parse_quantity, parse_unit
@@ -407,6 +407,31 @@ class CampaignReported(_Model):
     required_drop_height: PositiveLength | None = None
 
 
+class ReferenceModelErrors(_Model):
+    """Published free-run RMSEs of one output, per model (each a length with its unit)."""
+
+    governing_equation: Length | None = Field(None, description="the physics (EOM) model")
+    hammerstein: Length | None = None
+    wiener: Length | None = None
+    narx: Length | None = None
+
+
+class ReferenceResults(_Model):
+    """Results a source published for this campaign's drops, shown beside certkit's own.
+
+    Only a campaign that has such a source fills this block; the report shows reference
+    figures nowhere else.
+    """
+
+    source: Text = Field(description="where the figures are published (paper, table, figure)")
+    gear: Identifier | None = Field(None, description="gear unit the figures are for")
+    run: Identifier | None = Field(None, description="run the figures are for (if stated)")
+    window: Duration = Field(description="interval from touchdown the RMSEs are taken over")
+    note: str | None = Field(None, description="caveats of the source (unit not stated, ...)")
+    stroke: ReferenceModelErrors | None = Field(None, description="strut stroke RMSEs")
+    tyre: ReferenceModelErrors | None = Field(None, description="tyre deflection RMSEs")
+
+
 class AuditSettings(_Model):
     asymmetry_threshold: Fraction = Field(parse_quantity("10 %", "dimensionless"))
     reported_tolerance: Fraction = Field(parse_quantity("2 %", "dimensionless"))
@@ -418,7 +443,26 @@ class AuditSettings(_Model):
     zero_travel_tolerance: Length = Field(parse_quantity("1 mm", "length"))
 
 
+#: Display units of each unit system; a unit not given in report.units comes from here.
+UNIT_SYSTEMS = {
+    "SI": {"length": "mm", "force": "N", "mass": "kg", "energy": "J", "velocity": "m/s",
+           "pressure": "kPa", "area": "m^2", "wing_loading": "N/m^2", "time": "ms"},
+    "US": {"length": "in", "force": "lbf", "mass": "lb", "energy": "ft*lbf", "velocity": "ft/s",
+           "pressure": "psi", "area": "ft^2", "wing_loading": "lbf/ft^2", "time": "ms"},
+}
+_US_LENGTHS = {"in", "inch", "inches", "ft", "foot", "feet", "yd", "yard", "mil", "thou"}
+
+
 class DisplayUnits(_Model):
+    """The units every number a person reads is shown in.
+
+    A unit not given follows ``system``; without ``system``, the system of the length unit
+    (US customary for in or ft, else SI), so ``{length: in, force: lbf}`` shows areas in
+    ft^2 and energies in ft*lbf.
+    """
+
+    system: Literal["SI", "US"] | None = Field(
+        None, description="unit system of the units not given (default: the length unit's)")
     length: _unit("length") = "mm"  # type: ignore[valid-type]
     force: _unit("weight") = "N"  # type: ignore[valid-type]
     mass: _unit("mass") = "kg"  # type: ignore[valid-type]
@@ -428,6 +472,18 @@ class DisplayUnits(_Model):
     area: _unit("area") = "m^2"  # type: ignore[valid-type]
     wing_loading: _unit("wing_loading") = "N/m^2"  # type: ignore[valid-type]
     time: _unit("time") = "ms"  # type: ignore[valid-type]
+
+    @model_validator(mode="before")
+    @classmethod
+    def _fill_from_system(cls, data):
+        if not isinstance(data, dict):
+            return data
+        system = data.get("system")
+        if system not in UNIT_SYSTEMS:
+            length = data.get("length")
+            system = ("US" if isinstance(length, str) and length.strip() in _US_LENGTHS
+                      else "SI")
+        return {**UNIT_SYSTEMS[system], **data}
 
 
 Effect = Literal["seal-friction", "rebound-orifice", "metering-pin", "tyre-hysteresis",
@@ -529,6 +585,8 @@ class CampaignSpec(_Model):
     instrumentation: Instrumentation | None = None
     runs: list[Run] = Field(min_length=1)
     reported: CampaignReported | None = None
+    reference_results: ReferenceResults | None = Field(
+        None, description="published model errors for these drops (shown beside certkit's)")
     assumptions: list[str] = []
     audit: AuditSettings = AuditSettings()
     model: ModelSettings = ModelSettings()

@@ -25,7 +25,9 @@ def test_junit_parses_and_lists_every_criterion_and_finding(tmp_path):
     root = ElementTree.parse(junit).getroot()
     suites = {s.get("name"): s for s in root.iter("testsuite")}
     criteria = [case.get("name") for case in suites["criteria"].iter("testcase")]
-    assert criteria == [v.id for v in assessment.verdicts] and len(set(criteria)) == 11
+    # F2245: height 1 + energy 2 gears; 14 CFR 23: 725a 1, 725b 2, 725f 2, 727a 1, 723b 1,
+    # 473g 1, 727b 1 (no reserve drop: one NOT SHOWN row); 726 does not apply
+    assert criteria == [v.id for v in assessment.verdicts] and len(set(criteria)) == 12
     findings = [case.get("name") for case in suites["data quality"].iter("testcase")]
     assert findings == [f.id for f in assessment.findings]
     # a criterion that is not PASS, and an error finding, is a failure with its outcome
@@ -34,7 +36,7 @@ def test_junit_parses_and_lists_every_criterion_and_finding(tmp_path):
               if case.find("failure") is not None}
     assert failed == {**{v.id: v.verdict for v in assessment.verdicts if v.verdict != "PASS"},
                       **{f.id: "error" for f in assessment.findings if f.severity == "error"}}
-    assert int(suites["criteria"].get("failures")) == 7     # 4 of the 11 pass, see below
+    assert int(suites["criteria"].get("failures")) == 8     # 4 of the 12 pass, see below
     # the JSON on standard output has the same rows, values in SI
     rows = json.loads(result.output)
     height = next(r for r in rows if r["id"] == "CFR23.725a-limit-drop-height/D300")
@@ -48,7 +50,7 @@ def test_markdown_summary_counts_and_lists_what_does_not_pass():
     result = runner.invoke(app, ["audit", str(SEED)])
     assert result.exit_code == 1
     # passes: the drop height under F2245 and 23.725(a), and 23.725(b) for both gears
-    assert "**NOT PASSED**: 4 of 11 criteria pass" in result.output
+    assert "**NOT PASSED**: 4 of 12 criteria pass" in result.output
     assert "## Not passing" in result.output and "CFR23.727a-reserve-drop-height" in result.output
 
 

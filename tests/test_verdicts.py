@@ -47,6 +47,11 @@ def test_reserve_drop_with_reduced_mass_uses_23_727b(timeseries_campaign):
     assert found["CFR23.727a-reserve-drop-height/R1"].margin == pytest.approx(0.430 - 1.44 * H_REQ, abs=1e-6)
     assert found["CFR23.723b-reserve-no-failure/R1"].verdict == PASS
     assert found["CFR23.725a-limit-drop-height"].verdict == NOT_SHOWN  # no limit drop left
+    # 250 kg·g = 2451.66 N ≥ W_e = 2032.73 N, cited as 23.727(b) (issue 12, defect 6)
+    reserve = found["CFR23.727b-reserve-effective-weight/R1/left-main"]
+    assert reserve.clause == "14 CFR 23.727(b)" and reserve.verdict == PASS
+    assert reserve.limit == pytest.approx(2600 * 0.43 / 0.55, rel=1e-9)
+    assert found["CFR23.725b-effective-weight"].verdict == NOT_SHOWN
 
 
 def test_reserve_drop_without_lift_drops_the_full_weight(timeseries_campaign):
@@ -56,7 +61,10 @@ def test_reserve_drop_without_lift_drops_the_full_weight(timeseries_campaign):
     gear = assessment.runs[0].gears[0]
     assert gear.get("W_e") == 2600.0
     # 250 kg * g = 2451.66 N < 2600 N: the article was dropped lighter than W
-    verdict = found["CFR23.725b-effective-weight/R1/left-main"]
+    # a reserve drop's effective weight is 14 CFR 23.727(b)'s, not 23.725(b)'s (issue 12, defect 6)
+    verdict = found["CFR23.727b-reserve-effective-weight/R1/left-main"]
+    assert verdict.clause == "14 CFR 23.727(b)"
+    assert "CFR23.725b-effective-weight/R1/left-main" not in found
     assert verdict.verdict == FAIL and verdict.margin == pytest.approx(250 * G - 2600, abs=1e-9)
 
 

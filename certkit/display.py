@@ -1,0 +1,117 @@
+"""Numbers as a person reads them: SI values in the campaign's display units, 4 figures.
+
+Everything a person reads (the report, the terminal, audit Markdown and JUnit messages,
+data-quality findings) is formatted here, so one rule holds everywhere; results.json and
+the CSV tables keep full-precision SI and never pass through this module.
+
+The rule
+--------
+* A value is shown to :data:`SIGNIFICANT` significant figures in the display unit of its
+  kind (``report.units`` of the spec; see :class:`certkit.spec.DisplayUnits`).
+* A margin (value − limit, or limit − value) is shown to the same decimal place as the
+  limit it is measured from, and as a percentage of that limit: a difference finer than
+  the limit's own last shown digit reads 0, never as a float artefact such as 1e-13.
+* A value typed by the user is quoted as typed (its ``text``), not through this module.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .units import convert
+
+#: SI unit in which each physical kind is held inside certkit.
+SI_UNITS = {"length": "m", "force": "N", "mass": "kg", "energy": "J", "velocity": "m/s",
+            "pressure": "Pa", "area": "m^2", "time": "s", "wing_loading": "Pa"}
+#: Significant figures of every computed number a person reads.
+SIGNIFICANT = 4
+DISPLAY_RULE = (f"Computed values are shown to {SIGNIFICANT} significant figures in the units "
+                f"chosen in the campaign's report.units; a margin to the decimal place of its "
+                f"limit, and as a percentage of the limit; values typed in the spec are quoted as "
+                f"typed. results.json and tables/*.csv hold full precision in SI.")
+
+
+def number(value: float, digits: int = SIGNIFICANT) -> str:
+    """``value`` to ``digits`` significant figures, powers of ten written out (1.2×10^-5)."""
+    if value == 0:
+        return "0"
+    if not math.isfinite(value):
+        return str(value)
+    text = f"{value:.{digits}g}"
+    if "e" in text:
+        mantissa, exponent = text.split("e")
+        return f"{mantissa}×10^{int(exponent)}"
+    return text
+
+
+def unit_of(kind: str, units) -> str | None:
+    """The display unit of ``kind`` (None for ratios and kinds without one)."""
+    return getattr(units, kind, None) if kind in SI_UNITS else None
+
+
+def to_display(value_si: float, kind: str, units) -> float:
+    """An SI magnitude of ``kind`` in its display unit (unchanged for a ratio)."""
+    unit = unit_of(kind, units)
+    return value_si if unit is None else convert(value_si, SI_UNITS[kind], unit)
+
+
+def display(value: float | None, kind: str, units, digits: int = SIGNIFICANT
+            ) -> tuple[str, str]:
+    """(number text, unit text) of an SI value in the campaign's display unit."""
+    unit = unit_of(kind, units)
+    if value is None:
+        return "—", unit or ""
+    return number(to_display(value, kind, units), digits), unit or ""
+
+
+def with_unit(value: float | None, kind: str, units, digits: int = SIGNIFICANT) -> str:
+    """``"645.0 lbf"``: an SI value in its display unit, with the unit ("—" when None)."""
+    if value is None:
+        return "—"
+    text, unit = display(value, kind, units, digits)
+    return f"{text} {unit}".strip()
+
+
+def _decimals(reference: float, digits: int = SIGNIFICANT) -> int:
+    """Decimal places of ``reference`` shown to ``digits`` significant figures."""
+    if reference == 0 or not math.isfinite(reference):
+        return digits - 1
+    return digits - 1 - math.floor(math.log10(abs(reference)))
+
+
+def fixed(value: float, decimals: int) -> str:
+    """``value`` rounded to ``decimals`` places (negative: tens, hundreds), no '-0'."""
+    if decimals >= 0:
+        text = f"{value:.{decimals}f}"
+    else:
+        step = 10.0 ** (-decimals)
+        text = f"{round(value / step) * step:.0f}"
+    return text[1:] if text.startswith("-") and float(text) == 0 else text
+
+
+def margin(value: float | None, limit: float | None, kind: str, units) -> str:
+    """A margin in display units, to the limit's last shown digit, and in % of the limit.
+
+    ``value`` is the margin (SI, positive when the criterion holds), ``limit`` the SI
+    limit it is measured from.
+    """
+    if value is None:
+        return "—"
+    unit = unit_of(kind, units) or ""
+    shown = to_display(value, kind, units)
+    if limit is None or limit == 0:
+        return f"{number(shown)} {unit}".strip()
+    text = fixed(shown, _decimals(to_display(limit, kind, units)))
+    if not text.startswith("-") and float(text) != 0:
+        text = "+" + text
+    share = fixed(100.0 * value / abs(limit), 2)
+    if not share.startswith("-") and float(share) != 0:
+        share = "+" + share
+    return f"{text} {unit}".strip() + f" ({share} %)"
+
+
+def percent(fraction: float | None, digits: int = 1, signed: bool = False) -> str:
+    """A fraction as a percentage with ``digits`` decimals ("—" when not finite)."""
+    if fraction is None or not math.isfinite(fraction):
+        return "—"
+    return f"{100.0 * fraction:{'+' if signed else ''}.{digits}f} %"
