@@ -122,7 +122,8 @@ def _shown(row: AuditRow, units) -> dict:
             "margin": margin_text(row.margin, row.limit, row.quantity, units)}
 
 
-def to_markdown(rows: list[AuditRow], title: str, units: DisplayUnits | None = None) -> str:
+def to_markdown(rows: list[AuditRow], title: str, units: DisplayUnits | None = None,
+                planning: bool = False) -> str:
     """A summary fit for a CI job page: the counts, then every row that does not pass,
     then the full table; numbers in ``units`` (the campaign's report.units)."""
     units = units or DisplayUnits()
@@ -134,7 +135,9 @@ def to_markdown(rows: list[AuditRow], title: str, units: DisplayUnits | None = N
 
     failing = [row for row in rows if row.failed]
     criteria = [row for row in rows if row.kind == "criterion"]
-    lines = [f"# Audit: {title}", "",
+    lines = [f"# Audit: {title}", ""] + ([
+        "**PLANNING ON SYNTHETIC DATA: NOT COMPLIANCE EVIDENCE.** The verdicts below are "
+        "predictions for planned drops (campaign.purpose: planning).", ""] if planning else []) + [
              f"**{'PASS' if not failing else 'NOT PASSED'}**: "
              f"{sum(r.outcome == PASS for r in criteria)} of {len(criteria)} criteria pass; "
              f"{sum(r.kind == 'finding' and r.outcome == 'error' for r in rows)} data-quality "
@@ -154,12 +157,14 @@ def to_markdown(rows: list[AuditRow], title: str, units: DisplayUnits | None = N
     return "\n".join(lines)
 
 
-def to_junit(rows: list[AuditRow], title: str, units: DisplayUnits | None = None) -> str:
+def to_junit(rows: list[AuditRow], title: str, units: DisplayUnits | None = None,
+             planning: bool = False) -> str:
     """JUnit XML: a test suite of criteria and one of findings, a test case per row; a
     criterion that does not PASS and a finding of severity error are failures.  Messages
     show numbers in ``units`` (the campaign's report.units)."""
     units = units or DisplayUnits()
-    root = ElementTree.Element("testsuites", name=f"certkit audit: {title}")
+    prefix = "PLANNING (synthetic data, not compliance evidence): " if planning else ""
+    root = ElementTree.Element("testsuites", name=f"certkit audit: {prefix}{title}")
     for kind, name in (("criterion", "criteria"), ("finding", "data quality"),
                        ("baseline", "baseline")):
         chosen = [row for row in rows if row.kind == kind]

@@ -169,7 +169,7 @@ def report(spec: SpecArgument,
               f"{counts['NOT SHOWN']} not shown; data-quality findings: {findings['error']} "
               f"error, {findings['warning']} warning")
     out.print(f"wrote {output}/report.pdf, report.html, results.json, tables/")
-    if strict and (counts["FAIL"] or findings["error"]):
+    if strict and (counts["FAIL"] or findings["error"] or assessment.planning):
         raise typer.Exit(1)
 
 
@@ -497,7 +497,9 @@ def audit(spec: SpecArgument,
         rows += baseline_rows(compare(results_document(assessment, {}), earlier, tolerance))
     title = f"{campaign.spec.campaign.id} ({spec.name})"
     units = campaign.spec.report.units
-    text = to_markdown(rows, title, units) if format == "md" else writers[format](rows)
+    planning = assessment.planning
+    text = (to_markdown(rows, title, units, planning) if format == "md"
+            else writers[format](rows))
     # both files or neither: the table first, then the JUnit; a failed second write puts
     # back what the first replaced (or removes it, if there was nothing)
     written: list[tuple[Path, bytes | None]] = []
@@ -507,7 +509,7 @@ def audit(spec: SpecArgument,
                 continue
             before = path.read_bytes() if path.is_file() else None
             write_text_atomically(path, content if content is not None
-                                  else to_junit(rows, title, units))
+                                  else to_junit(rows, title, units, planning))
             written.append((path, before))
     except OSError as error:
         for path, before in written:

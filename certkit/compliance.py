@@ -24,6 +24,8 @@ from .spec import BasisEntry, GearUnit, Run
 from .units import STANDARD_GRAVITY
 
 g = STANDARD_GRAVITY
+#: The outcome of a planning campaign: it cannot be read as any of the compliance outcomes.
+PLANNING = "PLANNING ONLY: NOT COMPLIANCE EVIDENCE"
 
 
 class _Values:
@@ -75,9 +77,17 @@ class Assessment:
     comparisons: list[Comparison] = field(default_factory=list)
 
     @property
+    def planning(self) -> bool:
+        """A planning campaign (campaign.purpose: planning): its verdicts are predictions."""
+        return self.campaign.spec.campaign.purpose == "planning"
+
+    @property
     def outcome(self) -> str:
         """COMPLIANT only when every criterion passed on evidence free of data-quality errors
-        and from confirmed requirement values; otherwise what stops it."""
+        and from confirmed requirement values; otherwise what stops it.  A planning campaign
+        is never compliant: its outcome is :data:`PLANNING`."""
+        if self.planning:
+            return PLANNING
         states = {verdict.verdict for verdict in self.verdicts}
         if FAIL in states:
             return "NOT COMPLIANT"
@@ -91,6 +101,12 @@ class Assessment:
         """Why the outcome is what it is, in words, for the cover page."""
         counts, findings = self.counts(), self.finding_counts()
         reasons = []
+        if self.planning:
+            reasons.append(
+                f"a planning campaign (campaign.purpose: planning): every value is computed "
+                f"from simulated histories, so the verdicts below are predictions for the "
+                f"planned drops and show no compliance. Predicted: {counts[PASS]} pass, "
+                f"{counts[FAIL]} fail, {counts[NOT_SHOWN]} not shown")
         if counts[FAIL]:
             reasons.append(f"{counts[FAIL]} criterion verdict(s) FAIL")
         if counts[NOT_SHOWN]:
@@ -362,7 +378,8 @@ def _derived_gear_values(result: GearResult, run: Run, unit: GearUnit, cos_theta
 
 def _run_result(campaign: Campaign, run: Run, index: int) -> RunResult:
     series = campaign.series.get(run.id)
-    if run.data is not None and run.data.origin == "synthetic":
+    planning = campaign.spec.campaign.purpose == "planning"
+    if run.data is not None and run.data.origin == "synthetic" and not planning:
         series = None  # simulated histories are not test evidence (quality: synthetic-data)
     gears = [_gear_result(campaign, run, index, gear_id, series) for gear_id in run.gear_units]
     values: dict[str, Value] = {}

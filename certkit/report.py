@@ -247,7 +247,9 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
                                     "description": r.description} for r in doc.revisions]},
         "created": f"{doc.date.isoformat()}T00:00:00Z",
         "outcome": assessment.outcome,
-        "outcome_css": assessment.outcome.replace(" ", "-").lower(),
+        "outcome_css": ("planning" if assessment.planning
+                        else assessment.outcome.replace(" ", "-").lower()),
+        "planning": assessment.planning,
         "outcome_reasons": assessment.outcome_reasons(),
         "counts": counts, "finding_counts": finding_counts,
         "aircraft": {"model": spec.aircraft.model, "notes": (spec.aircraft.notes or "").strip()},

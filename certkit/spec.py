@@ -118,6 +118,11 @@ class CampaignInfo(_Model):
     id: Identifier
     title: Text
     description: str | None = None
+    purpose: Literal["certification", "planning"] = Field(
+        "certification",
+        description="planning: a campaign planned before there is a rig; every value is "
+                    "computed from its (synthetic) histories, every page is marked PLANNING "
+                    "and the outcome is never a compliance statement")
 
 
 class Signatory(_Model):
