@@ -141,15 +141,16 @@ def _design_values(campaign: Campaign) -> dict[str, Value]:
     values = {
         "W": Value("W", "Maximum weight", "W", weight.si, "N", "force", "spec",
                    inputs={"W": _spec_input("aircraft.maximum_weight", weight.text)},
-                   note="a mass is converted with standard gravity"),
+                   note="a mass is converted with standard gravity", typed=weight.text),
         "S": Value("S", "Wing area", "S", area.si, "m^2", "area", "spec",
-                   inputs={"S": _spec_input("aircraft.wing_area", area.text)}),
+                   inputs={"S": _spec_input("aircraft.wing_area", area.text)}, typed=area.text),
         "W/S": Value("W/S", "Wing loading", "W/S", loading, "Pa", "wing_loading",
                      "14 CFR 23.725(a) (W/S)", "W/S", {"W": "W", "S": "S"}),
         "L_design": Value("L_design", "Wing-lift ratio of the loads basis", "L",
                           aircraft.wing_lift_ratio.si, "1", "ratio", "spec",
                           inputs={"L": _spec_input("aircraft.wing_lift_ratio",
-                                                   aircraft.wing_lift_ratio.text)}),
+                                                   aircraft.wing_lift_ratio.text)},
+                          typed=aircraft.wing_lift_ratio.text),
     }
     v_formula, v_bounded = clauses.limit_descent_velocity(loading)
     values["V_descent"] = Value(
@@ -163,7 +164,8 @@ def _design_values(campaign: Campaign) -> dict[str, Value]:
         None if n_limit is None else n_limit.si, "1", "ratio", "spec",
         inputs={"n_limit": _spec_input("aircraft.design_limit_inertia_load_factor",
                                        n_limit.text if n_limit else "not declared")},
-        note=None if n_limit else "not declared: the load-factor criteria cannot be shown")
+        note=None if n_limit else "not declared: the load-factor criteria cannot be shown",
+        typed=n_limit.text if n_limit else None)
     return values
 
 
@@ -219,15 +221,16 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
     values: dict[str, Value] = {}
     measures = None
 
-    def put(key, label, symbol, value, unit_, kind, source, formula="", inputs=None, note=None):
+    def put(key, label, symbol, value, unit_, kind, source, formula="", inputs=None, note=None,
+            typed=None):
         values[key] = Value(key, label, symbol, value, unit_, kind, source, formula,
-                            inputs or {}, note)
+                            inputs or {}, note, typed)
 
     weight = unit.static_weight.si
     put("W", "Static weight on the unit", "W", weight, "N", "force", "spec",
         inputs={"W": _spec_input(f"gear_units[{gear_id}].static_weight", unit.static_weight.text)},
         note=("assumed, not weighed per 23.725(b)" if unit.static_weight_basis == "assumed"
-              else None))
+              else None), typed=unit.static_weight.text)
     drop_weight, drop_formula = _drop_weight_share(run, unit, campaign)
     put("W_drop", "Drop weight acting on the unit", "W_drop", drop_weight, "N", "force",
         "certkit W1", drop_formula,
@@ -270,7 +273,8 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
             put(key, label, symbol, None if quantity is None else quantity.si,
                 {"force": "N", "length": "m", "energy": "J"}[kind], kind, "reported",
                 inputs={symbol: _spec_input(f"{where}.{name}", quantity.text)} if quantity else {},
-                note=None if quantity is not None else "not reported")
+                note=None if quantity is not None else "not reported",
+                typed=None if quantity is None else quantity.text)
 
         rep("F_peak", "Peak vertical load", "F_peak", reported.peak_vertical_load, "force",
             "peak_vertical_load")
@@ -385,10 +389,12 @@ def _run_result(campaign: Campaign, run: Run, index: int) -> RunResult:
     values: dict[str, Value] = {}
     h = run.drop_height
     values["h"] = Value("h", "Free drop height", "h", h.si, "m", "length", "spec",
-                        inputs={"h": _spec_input(f"runs[{index}].drop_height", h.text)})
+                        inputs={"h": _spec_input(f"runs[{index}].drop_height", h.text)},
+                        typed=h.text)
     values["m_drop"] = Value("m_drop", "Drop mass", "m_drop", run.drop_mass.si, "kg", "mass",
                              "spec", inputs={"m": _spec_input(f"runs[{index}].drop_mass",
-                                                              run.drop_mass.text)})
+                                                              run.drop_mass.text)},
+                             typed=run.drop_mass.text)
     values["L"] = Value("L", "Wing-lift ratio simulated in the drop", "L", lift_ratio(run), "1",
                         "ratio", "spec", inputs={"lift": f"runs[{index}].lift.method = "
                                                          f"{run.lift.method}"})

@@ -72,6 +72,18 @@ def with_unit(value: float | None, kind: str, units, digits: int = SIGNIFICANT) 
     return f"{text} {unit}".strip()
 
 
+def typed(text: str | None, value: float | None, kind: str, units,
+          digits: int = SIGNIFICANT) -> tuple[str, str]:
+    """(number, unit) of a value typed in the spec: its own digits when it was typed in the
+    display unit (or is a bare number), otherwise converted like any other value."""
+    if text and value is not None:
+        magnitude, _, written = text.strip().partition(" ")
+        unit = unit_of(kind, units)
+        if written.strip() == (unit or "") and magnitude:
+            return magnitude, unit or ""
+    return display(value, kind, units, digits)
+
+
 def _decimals(reference: float, digits: int = SIGNIFICANT) -> int:
     """Decimal places of ``reference`` shown to ``digits`` significant figures."""
     if reference == 0 or not math.isfinite(reference):

@@ -23,8 +23,8 @@ from markupsafe import Markup
 
 from . import __version__
 from .compliance import Assessment, at_least
-from .display import (DISPLAY_RULE, SI_UNITS, SIGNIFICANT, display, margin, number, percent,
-                      unit_of, with_unit)
+from .display import (DISPLAY_RULE, SIGNIFICANT, display, margin, number, percent,
+                      typed, with_unit)
 from .equations import EQUATIONS, GRAVITY_NOTE
 from .outputs import staged_folder
 from .provenance import provenance
@@ -47,7 +47,7 @@ def fonts_dir() -> Path:
 
 # --------------------------------------------------------------------------- formatting
 def _value_row(value: Value, units) -> dict:
-    number, unit = display(value.value, value.kind, units)
+    number, unit = typed(value.typed, value.value, value.kind, units)
     return {"label": value.label, "symbol": value.symbol, "value": number, "unit": unit,
             "source": value.source, "formula": value.formula,
             "inputs": "; ".join(f"{k}: {v}" for k, v in value.inputs.items()),
@@ -156,11 +156,13 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
     for run in assessment.runs:
         for gear in run.gears:
             def cell(key, kind, gear=gear):
-                return display(gear.get(key), kind, units)[0]
+                value = gear.values.get(key)
+                return ("—" if value is None
+                        else typed(value.typed, value.value, kind, units)[0])
             energy_keys = [k for k in gear.values if k.startswith("n_j_energy[")]
             results_rows.append({
                 "run": run.run.id, "gear": gear.gear_id,
-                "height": display(run.get("h"), "length", units)[0],
+                "height": typed(run.run.drop_height.text, run.get("h"), "length", units)[0],
                 "d_s": cell("d_s", "length"), "d_t": cell("d_t", "length"),
                 "F_peak": cell("F_peak", "force"), "E_s": cell("E_s", "energy"),
                 "E_t": cell("E_t", "energy"), "eta_s": cell("eta_s", "ratio"),
@@ -285,11 +287,6 @@ def _reference_error(reference, gear_id: str, channel: str, model: str):
     return getattr(errors, model, None) if errors is not None else None
 
 
-def _typed_number(quantity, kind: str, units) -> str:
-    """A typed quantity's number in the display unit: as typed when typed in that unit."""
-    magnitude, unit = (quantity.text.split(None, 1) + [""])[:2]
-    return magnitude if unit.strip() == unit_of(kind, units) else display(quantity.si, kind,
-                                                                           units)[0]
 
 
 def _reference_view(reference, units) -> dict | None:
@@ -501,7 +498,7 @@ def _identification_view(evidence, settings, units, reference=None, origins=None
                 published = _reference_error(reference, gear.gear_id, output,
                                              _REFERENCE_MODELS.get(model, ""))
                 row["reference"] = row.get("reference", []) + [
-                    "—" if published is None else _typed_number(published, "length", units)]
+                    "—" if published is None else typed(published.text, published.si, "length", units)[0]]
                 with_reference = with_reference or published is not None
             table.append(row)
         for row in table:   # the reference column only where the campaign has such figures

@@ -41,6 +41,9 @@ class Value:
         Symbol -> where the input came from (spec key or another value's key).
     note : str or None
         Bound applied, reason it is missing, assumption made.
+    typed : str or None
+        For a value typed in the spec (declared or reported), the text as typed
+        (``"831.92 kgf"``): a person reads it as typed, never re-rounded.
     """
 
     key: str
@@ -53,6 +56,7 @@ class Value:
     formula: str = ""
     inputs: dict = field(default_factory=dict)
     note: str | None = None
+    typed: str | None = None
 
     def as_dict(self) -> dict:
         return asdict(self)
