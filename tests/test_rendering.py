@@ -685,8 +685,8 @@ def _pdf_with_helvetica(path: Path, where: str) -> None:
 
 @pytest.mark.parametrize("where, subtype", [
     ("page", "Type1"), ("page tree", "Type1"), ("Form XObject", "Type1"),
-    ("tiling pattern", "Type1"), ("soft-mask group", "Type1"), ("Type 3 glyph", "Type1"), ("Type 0 descendant", "Type0"),
-    ("annotation appearance", "Type1")])
+    ("tiling pattern", "Type1"), ("soft-mask group", "Type1"), ("Type 3 glyph", "Type1"),
+    ("Type 0 descendant", "Type0"), ("annotation appearance", "Type1")])
 def test_font_check_catches_the_standard_helvetica_wherever_the_page_reaches_it(
         tmp_path, where, subtype):
     _pdf_with_helvetica(tmp_path / "helvetica.pdf", where)
