@@ -13,6 +13,9 @@ what else was running.
 
 from __future__ import annotations
 
+import blas_threads  # first: pins the BLAS threads before numpy is loaded
+
+# isort: split
 import argparse
 import statistics
 import subprocess
@@ -46,6 +49,8 @@ def main() -> None:
         return
 
     from certkit.blind_check import battery, blind_check
+
+    print(f"thread pools of this process: {blas_threads.loaded_pools()}")
 
     everything = battery()
     picked = [everything[round(i * (len(everything) - 1) / max(args.cases - 1, 1))]

@@ -10,6 +10,9 @@ user.  Prints every run and the medians; this machine is shared, so quote the me
 
 from __future__ import annotations
 
+import blas_threads  # noqa: F401  first: pins the BLAS threads of the timed commands
+
+# isort: split
 import argparse
 import statistics
 import subprocess

@@ -1,14 +1,15 @@
 """Silverbox: fixed-size LS-SVM NARX, identification cost and free-run RMSE on the test sets.
 
-Run:  .venv/bin/python benchmarks/bench_silverbox.py [--data PATH] [--repeats 3] [--tune]
+Run:  .venv/bin/python benchmarks/bench_silverbox.py [--data FOLDER] [--repeats 3] [--tune]
 
 Data: SNLS80mV.csv of the Silverbox benchmark (columns V1 = u, V2 = y, volts), read from
-``--data`` (default ../shared/data/silverbox/SNLS80mV.csv beside the repository; the data
-are never copied into the repository).  Official split (identification.md §0, as in the
-nonlinear_benchmarks loader): training = multisine samples [40650:105712] (65 062);
-tests = arrow full [100:40575] (its first 32 000 samples: arrow without extrapolation)
-and multisine test [105712:127400]; every test is a free-run simulation from a 50-sample
-initialisation window of measured outputs, RMSE over the samples after it.
+``--data``: the folder that holds it or the file itself (default ../shared/data/silverbox
+beside the repository; the data are never copied into the repository).  Official split
+(identification.md §0, as in the nonlinear_benchmarks loader): training = multisine
+samples [40650:105712] (65 062); tests = arrow full [100:40575] (its first 32 000
+samples: arrow without extrapolation) and multisine test [105712:127400]; every test is
+a free-run simulation from a 50-sample initialisation window of measured outputs, RMSE
+over the samples after it.
 
 Model: ``NARX(na=10, nb=10, delay=0, engine="fixed-size", prototypes=500)``.  Choices
 made on the training part only, by the free-run RMSE on a validation stretch at its end
@@ -24,12 +25,16 @@ made on the training part only, by the free-run RMSE on a validation stretch at 
   constants below are its output.
 The test sets take no part in any choice.  Identification = prototype selection and the
 primal solve on all 65 062 training samples (median wall time of ``--repeats`` runs;
-peak memory of one extra run under tracemalloc, plus the process peak RSS).
-Target: ≤ 30 s and ≤ 2 GB on the 2-core machine.
+peak memory of one extra run under tracemalloc, plus the process peak RSS), with BLAS
+pinned to one thread (blas_threads.py).  Target: ≤ 30 s and ≤ 2 GB on the 2-core
+machine.
 """
 
 from __future__ import annotations
 
+import blas_threads  # first: pins the BLAS threads before numpy is loaded
+
+# isort: split
 import argparse
 import hashlib
 import os
@@ -44,7 +49,8 @@ import numpy as np
 from certkit.lssvm import NARX, rmse, tune
 
 REPO = Path(__file__).resolve().parent.parent
-DATA = REPO.parent / "shared" / "data" / "silverbox" / "SNLS80mV.csv"
+DATA = REPO.parent / "shared" / "data" / "silverbox"
+FILE_NAME = "SNLS80mV.csv"
 SHA256 = "ae62d5a91230c10f76e6dd02c8a4fac3c9d4d8a95fbf50e87cb0c4885003e0f1"
 
 TRAIN = slice(40650, 105712)
@@ -68,6 +74,13 @@ PUBLISHED = [
     ("DT SUBNET (Beintema et al. 2021)", 0.36, 1.4, 0.32),
     ("PNLSS (Paduart 2010; arrow only)", None, 0.26, None),
 ]
+
+
+def data_file(path: Path) -> Path | None:
+    """The Silverbox CSV: FILE_NAME in the folder ``path``, or ``path`` itself; None if
+    there is no such file."""
+    file = path / FILE_NAME if path.is_dir() else path
+    return file if file.is_file() else None
 
 
 def load(path: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -104,14 +117,22 @@ def tune_on_validation(u: np.ndarray, y: np.ndarray) -> tuple[float, float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", type=Path, default=DATA)
+    parser.add_argument("--data", type=Path, default=DATA, metavar="FOLDER",
+                        help=f"the folder holding {FILE_NAME}, or the file (default {DATA})")
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--tune", action="store_true",
                         help="re-tune (gamma, sigma2) on the validation quarter first")
     args = parser.parse_args()
-    u, y = load(args.data)
+    if args.repeats < 1:
+        parser.error(f"--repeats: expected a whole number >= 1, found {args.repeats}")
+    file = data_file(args.data)
+    if file is None:
+        parser.error(f"--data {args.data}: expected the Silverbox data folder holding "
+                     f"{FILE_NAME} (or that file), found no such file")
+    u, y = load(file)
     print("load average at start (1, 5, 15 min): "
-          + ", ".join(f"{v:.1f}" for v in os.getloadavg()) + f" on {os.cpu_count()} cores")
+          + ", ".join(f"{v:.1f}" for v in os.getloadavg()) + f" on {os.cpu_count()} cores; "
+          f"thread pools: {blas_threads.loaded_pools()}")
     u_train, y_train = u[TRAIN], y[TRAIN]
     gamma, sigma2 = tune_on_validation(u_train, y_train) if args.tune else (GAMMA, SIGMA2)
     print(f"model: NARX na={ORDERS['na']} nb={ORDERS['nb']} delay={ORDERS['delay']}, "

@@ -14,6 +14,9 @@ Target (issue 3): >= 500 drops/s and >= 50x.
 
 from __future__ import annotations
 
+import blas_threads  # first: pins the BLAS threads before numpy is loaded
+
+# isort: split
 import argparse
 import statistics
 import time
@@ -55,6 +58,7 @@ def main() -> None:
     parser.add_argument("--reference-drops", type=int, default=5)
     args = parser.parse_args()
     campaign = load_campaign(SPEC)
+    print(f"thread pools: {blas_threads.loaded_pools()}")
     run = campaign.spec.runs[-1]
     velocities = np.sqrt(2 * G * np.linspace(0.2, 0.3, args.drops))
     for label, effects in (("nominal model", []), ("with the campaign's effects",

@@ -3,13 +3,15 @@
 * report.html opened in headless Chromium (Debian's browser, driven by Playwright): every
   figure, its drawing and every table has a non-zero size on screen, and the page asks for
   nothing but itself (no stylesheet, image or font from anywhere).
-* report.pdf rendered page by page to greyscale PNG with pdftoppm and compared with the
-  committed pages in tests/data/report-pages/: a change of the template that moves the
-  layout fails, a changed digit does not.
-* pdffonts: every font of report.pdf is embedded.
+* report.pdf rendered page by page to greyscale PNG with PDFium (the pypdfium2 wheel) and
+  compared with the committed pages in tests/data/report-pages/: a change of the template
+  that moves the layout fails, a changed digit does not.
+* Fonts (read with pikepdf): every font of report.pdf carries its font program; PDFium,
+  a reader written apart, agrees.
 
 Each check is a small function; tests run it on the example report and on tampered copies,
-so that each check is shown to fail when it should.
+so that each check is shown to fail when it should.  Everything but the browser check
+comes from pip packages: `make test` needs no PDF tool from the system.
 """
 
 from __future__ import annotations
@@ -20,8 +22,6 @@ import importlib.util
 import json
 import os
 import re
-import shutil
-import subprocess
 import tempfile
 from collections import Counter
 from html.parser import HTMLParser
@@ -49,14 +49,18 @@ ELEMENTS = ("figure", "figure svg", "table")
 REFERENCE_PAGES = Path(__file__).parent / "data" / "report-pages"
 #: Resolution of the page images: enough to see every line of text, small enough to commit.
 DPI = 30
-#: A pixel "differs" when its grey level moved by more than a quarter of the range: edge
-#: anti-aliasing of another rasteriser stays below it, ink where there was paper does not.
+#: A pixel "differs" when its grey level moved by more than a quarter of the range: a
+#: glyph's anti-aliased edge moved by a fraction of a pixel stays below it, ink where there
+#: was paper does not.  (Another rasteriser is another matter: poppler's pdftoppm and PDFium
+#: differ on 3-8 % of the pixels of a page; the references are PDFium's, pinned in
+#: constraints.txt.)
 GREY_THRESHOLD = 64
-#: Largest share of a page's pixels that may differ.  Measured on the example's pages
-#: (249 x 351 px): three changed digits move 0.002 %, a new 40-digit commit hash in the
-#: provenance table 0.02 %; the last row of the last table removed 0.6 %, the caption's
-#: font 7.5 -> 8 pt 4 %, a figure moved below its table 6.5 %, a figure dropped or a page
-#: break moved 9-23 % of a page.
+#: Largest share of a page's pixels that may differ.  Measured on the example's pages as
+#: PDFium draws them (249 x 351 px; largest share of any page): three changed digits move
+#: 0.011 %, a new 40-digit commit hash in the provenance table 0.014 %; the last row of the
+#: last table removed 0.56 %, the figure caption's font 7.5 -> 8 pt 0.82 %, the figure
+#: moved below the next table 6.4 %, the figure dropped 11-13 % of two pages, body text
+#: 6 % larger 1.6-19 % of every page (and one page more).
 TOLERANCE = 0.002
 
 
@@ -85,14 +89,6 @@ def browser():
         # .ci/run installs Chromium and sets CERTKIT_REQUIRE_BROWSER=1, so CI never skips
         pytest.skip(reason)
     return CHROMIUM
-
-
-def _tool(name: str) -> str:
-    """Path of a poppler-utils program; a missing one is a failure (.ci/run installs it)."""
-    path = shutil.which(name)
-    if path is None:
-        pytest.fail(f"{name} not found: install the Debian package poppler-utils")
-    return path
 
 
 def _inject(html: str, head: str = "", body: str = "") -> str:
@@ -315,11 +311,23 @@ def _page_number(path: Path) -> int:
 
 
 def render_pages(pdf: Path, folder: Path, dpi: int = DPI) -> list[Path]:
-    """Every page of ``pdf`` as greyscale PNG (folder/page-NN.png), in page order."""
+    """Every page of ``pdf`` as greyscale PNG (folder/page-NN.png), in page order.
+
+    PDFium draws each page in colour on white at ``dpi``; Pillow turns it to grey with the
+    ITU-R 601-2 luma weights (L = 0.299 R + 0.587 G + 0.114 B)."""
+    import pypdfium2
+
     folder.mkdir(parents=True, exist_ok=True)
-    subprocess.run([_tool("pdftoppm"), "-r", str(dpi), "-gray", "-png", str(pdf),
-                    str(folder / "page")], check=True, capture_output=True, timeout=300)
-    return sorted(folder.glob("page-*.png"), key=_page_number)
+    document = pypdfium2.PdfDocument(pdf)
+    try:
+        paths = []
+        for number, page in enumerate(document, start=1):
+            path = folder / f"page-{number:02d}.png"
+            page.render(scale=dpi / 72).to_pil().convert("L").save(path)
+            paths.append(path)
+        return paths
+    finally:
+        document.close()
 
 
 def reference_pages(folder: Path = REFERENCE_PAGES) -> list[Path]:
@@ -366,17 +374,18 @@ def _write_differences(actual: list[Path], reference: list[Path]) -> None:
 
 def rendering_versions() -> dict[str, str]:
     """What the page images depend on besides certkit: the PDF writer, the plotting
-    library, Pango (text layout) and poppler (pdftoppm)."""
+    library, Pango (text layout, as WeasyPrint loaded it) and the rasteriser (pypdfium2
+    and the PDFium build it ships)."""
     from importlib import metadata
 
-    versions = {name: metadata.version(name) for name in ("weasyprint", "pydyf", "matplotlib")}
-    for package in ("libpango-1.0-0", "poppler-utils"):
-        try:
-            versions[package] = subprocess.run(
-                ["dpkg-query", "-W", "-f=${Version}", package], capture_output=True,
-                text=True, timeout=30).stdout.strip() or "unknown"
-        except OSError:
-            versions[package] = "unknown"
+    import pypdfium2.version
+    from weasyprint.text.ffi import pango
+
+    versions = {name: metadata.version(name)
+                for name in ("weasyprint", "pydyf", "matplotlib", "pypdfium2")}
+    versions["pdfium"] = pypdfium2.version.PDFIUM_INFO.tag
+    encoded = pango.pango_version()  # major * 10000 + minor * 100 + micro
+    versions["pango"] = f"{encoded // 10000}.{encoded // 100 % 100}.{encoded % 100}"
     return versions
 
 
@@ -458,78 +467,252 @@ def test_page_comparison_reports_a_missing_page():
 
 
 # --------------------------------------------------------------------------- fonts
-_PDFFONTS_COLUMNS = ["name", "type", "encoding", "emb", "sub", "uni", "object", "ID"]
-_PDFFONTS_ROW = re.compile(r"^(?P<name>\S+)\s+(?P<type>.+?)\s+(?P<encoding>\S+)\s+"
-                           r"(?P<emb>yes|no)\s+(?P<sub>yes|no)\s+(?P<uni>yes|no)\s+"
-                           r"(?P<object>\d+)\s+(?P<generation>\d+)\s*$")
+@dataclasses.dataclass(frozen=True)
+class Font:
+    """One font of a PDF, where it was found first, and whether its program is in the file."""
+    name: str       # BaseFont (with its subset prefix), or the resource name if it has none
+    subtype: str    # Type0, Type1, TrueType, Type3, ...
+    embedded: bool
+    page: int       # first page (from 1) whose resources reach it
+
+    def __str__(self) -> str:
+        return f"{self.name} ({self.subtype}, page {self.page})"
 
 
-def parse_pdffonts(text: str) -> list[dict]:
-    """The rows of ``pdffonts`` output as dicts; anything unexpected raises ValueError."""
-    lines = text.splitlines()
-    if len(lines) < 2 or lines[0].split() != _PDFFONTS_COLUMNS or set(lines[1]) != {"-", " "}:
-        raise ValueError(f"not the pdffonts table layout:\n{text}")
-    rows = []
-    for line in lines[2:]:
-        match = _PDFFONTS_ROW.match(line)
-        if match is None:
-            raise ValueError(f"unexpected pdffonts row: {line!r}")
-        rows.append(match.groupdict())
-    return rows
+#: The keys of a font descriptor that hold an embedded font program (ISO 32000-1 §9.9,
+#: Table 126): Type 1, TrueType, and CFF/OpenType programs.
+FONT_PROGRAMS = ("/FontFile", "/FontFile2", "/FontFile3")
 
 
-def unembedded_fonts(text: str) -> list[str]:
-    return [row["name"] for row in parse_pdffonts(text) if row["emb"] != "yes"]
+def _has_font_program(font) -> bool:
+    """Whether ``font`` carries its program.  A Type 3 font is drawn by content streams in
+    the PDF itself (§9.6.5); a Type 0 font's program is in its descendant CIDFont's
+    descriptor (§9.7); any other font's in its own (§9.8).  A font without a descriptor
+    (one of the standard 14, §9.6.2.2) has none."""
+    if font.get("/Subtype") == "/Type3":
+        return True
+    if font.get("/Subtype") == "/Type0":
+        font = font.DescendantFonts[0]
+    descriptor = font.get("/FontDescriptor")
+    return descriptor is not None and any(key in descriptor for key in FONT_PROGRAMS)
 
 
-def test_pdffonts_shows_every_font_embedded(example_report):
-    text = subprocess.run([_tool("pdffonts"), str(example_report / "report.pdf")], check=True,
-                          capture_output=True, text=True, timeout=60).stdout
-    assert parse_pdffonts(text), text
-    assert unembedded_fonts(text) == [], text
-
-
-# pdffonts 22.12 on report.pdf with a page using the standard Helvetica (not embedded) added
-PDFFONTS_WITH_AN_UNEMBEDDED_FONT = """\
-name                                 type              encoding         emb sub uni object ID
------------------------------------- ----------------- ---------------- --- --- --- ---------
-UWGIWA+DejaVu-Sans-Bold              CID TrueType      Identity-H       yes yes yes     99  0
-XKQQSR+DejaVu-Sans                   CID TrueType      Identity-H       yes yes yes    103  0
-IKCJUC+DejaVu-Sans-Mono              CID TrueType      Identity-H       yes yes yes    107  0
-XVXMKB+DejaVu-Sans-Italic            CID TrueType      Identity-H       yes yes yes    111  0
-Helvetica                            Type 1            WinAnsi          no  no  no     143  0
-"""
-
-
-def test_pdffonts_parser_catches_an_unembedded_font():
-    rows = parse_pdffonts(PDFFONTS_WITH_AN_UNEMBEDDED_FONT)
-    assert [row["type"] for row in rows] == ["CID TrueType"] * 4 + ["Type 1"]
-    assert unembedded_fonts(PDFFONTS_WITH_AN_UNEMBEDDED_FONT) == ["Helvetica"]
-    with pytest.raises(ValueError, match="unexpected pdffonts row"):
-        parse_pdffonts(PDFFONTS_WITH_AN_UNEMBEDDED_FONT + "Helvetica  Type 1  WinAnsi  maybe\n")
-
-
-def test_pdffonts_of_a_pdf_with_an_unembedded_font(tmp_path):
-    # the same, from pdffonts itself: a one-page PDF using the standard Helvetica
+def pdf_fonts(pdf: Path) -> list[Font]:
+    """Every font the pages of ``pdf`` can draw with, each once: the fonts of each page's
+    resources (those inherited from the page tree too, §7.7.3.4), and of every resources
+    dictionary they lead to: Form XObjects (§8.10), tiling patterns (§8.7.3.2), soft-mask
+    groups (§11.6.5), Type 3 fonts' glyph procedures (§9.6.5) and annotations' appearance
+    streams (§12.5.5)."""
     import pikepdf
 
-    pdf = pikepdf.new()
-    font = pdf.make_indirect(pikepdf.Dictionary(
-        Type=pikepdf.Name.Font, Subtype=pikepdf.Name.Type1, BaseFont=pikepdf.Name.Helvetica,
-        Encoding=pikepdf.Name.WinAnsiEncoding))
-    pdf.pages.append(pikepdf.Page(pikepdf.Dictionary(
-        Type=pikepdf.Name.Page, MediaBox=[0, 0, 200, 200],
-        Resources=pikepdf.Dictionary(Font=pikepdf.Dictionary(F1=font)),
-        Contents=pdf.make_stream(b"BT /F1 12 Tf 20 100 Td (Hello) Tj ET"))))
-    pdf.save(tmp_path / "helvetica.pdf")
-    text = subprocess.run([_tool("pdffonts"), str(tmp_path / "helvetica.pdf")], check=True,
-                          capture_output=True, text=True, timeout=60).stdout
-    assert unembedded_fonts(text) == ["Helvetica"], text
+    fonts: list[Font] = []
+    seen: set[tuple[int, int]] = set()
+
+    def first_visit(obj) -> bool:
+        # indirect objects can be shared or form cycles; direct ones (0, 0) cannot
+        if obj.objgen == (0, 0):
+            return True
+        if obj.objgen in seen:
+            return False
+        seen.add(obj.objgen)
+        return True
+
+    def walk(resources, page: int) -> None:
+        if resources is None or not first_visit(resources):
+            return
+        for key, font in resources.get("/Font", {}).items():
+            if first_visit(font):
+                fonts.append(Font(str(font.get("/BaseFont", key))[1:],
+                                  str(font.get("/Subtype", "/?"))[1:],
+                                  _has_font_program(font), page))
+                walk(font.get("/Resources"), page)  # a Type 3 font's glyphs may use fonts
+        for category in ("/XObject", "/Pattern"):
+            for obj in resources.get(category, {}).values():
+                if first_visit(obj):
+                    walk(obj.get("/Resources"), page)
+        for state in resources.get("/ExtGState", {}).values():
+            mask = state.get("/SMask")
+            if isinstance(mask, pikepdf.Dictionary) and "/G" in mask:
+                walk(mask.G.get("/Resources"), page)
+
+    with pikepdf.open(pdf) as document:
+        for number, page in enumerate(document.pages, start=1):
+            walk(page.obj.get("/Resources"), number)
+            for annotation in page.obj.get("/Annots", []):
+                appearances = annotation.get("/AP", {}).values()
+                for appearance in appearances:
+                    # an appearance is a stream, or a dictionary of streams by state
+                    streams = ([appearance] if isinstance(appearance, pikepdf.Stream)
+                               else appearance.values())
+                    for stream in streams:
+                        walk(stream.get("/Resources"), number)
+    return fonts
+
+
+def unembedded_fonts(fonts: list[Font]) -> list[str]:
+    return [str(font) for font in fonts if not font.embedded]
+
+
+def fonts_drawn_by_pdfium(pdf: Path) -> set[tuple[str, bool]]:
+    """(base font name, embedded) of the font of every text object PDFium finds on the
+    pages, inside Form XObjects too: a second reader, written apart from pdf_fonts."""
+    import ctypes
+
+    import pypdfium2
+    import pypdfium2.raw as pdfium_c
+
+    found = set()
+    document = pypdfium2.PdfDocument(pdf)
+    try:
+        for page in document:
+            for text in page.get_objects(filter=[pdfium_c.FPDF_PAGEOBJ_TEXT]):
+                font = pdfium_c.FPDFTextObj_GetFont(text.raw)
+                size = pdfium_c.FPDFFont_GetBaseFontName(font, None, 0)
+                name = ctypes.create_string_buffer(size)
+                pdfium_c.FPDFFont_GetBaseFontName(font, name, size)
+                found.add((name.value.decode(), bool(pdfium_c.FPDFFont_GetIsEmbedded(font))))
+    finally:
+        document.close()
+    return found
+
+
+def _check_fonts(pdf: Path) -> None:
+    fonts = pdf_fonts(pdf)
+    assert fonts, f"no font found in {pdf}"  # not vacuous: the report has text
+    assert unembedded_fonts(fonts) == []
+    # PDFium sees the same fonts in use, each embedded
+    assert fonts_drawn_by_pdfium(pdf) == {(font.name, True) for font in fonts}
+
+
+def test_every_font_of_the_report_is_embedded(example_report):
+    _check_fonts(example_report / "report.pdf")
 
 
 @pytest.mark.slow
-def test_pdffonts_shows_every_font_of_the_full_report_embedded(full_report):
-    text = subprocess.run([_tool("pdffonts"), str(full_report / "report.pdf")], check=True,
-                          capture_output=True, text=True, timeout=60).stdout
-    assert parse_pdffonts(text), text
-    assert unembedded_fonts(text) == [], text
+def test_every_font_of_the_full_report_is_embedded(full_report):
+    _check_fonts(full_report / "report.pdf")
+
+
+def test_font_check_catches_a_font_program_removed_from_the_report(example_report, tmp_path):
+    import pikepdf
+
+    with pikepdf.open(example_report / "report.pdf") as pdf:
+        for page in pdf.pages:
+            fonts = page.obj.get("/Resources", {}).get("/Font", {})
+            if fonts:
+                victim = next(iter(fonts.values()))
+                break
+        descriptor = victim.DescendantFonts[0].FontDescriptor  # WeasyPrint writes Type 0
+        del descriptor[next(key for key in FONT_PROGRAMS if key in descriptor)]
+        name = str(victim.BaseFont)[1:]
+        pdf.save(tmp_path / "report.pdf")
+    missing = unembedded_fonts(pdf_fonts(tmp_path / "report.pdf"))
+    assert len(missing) == 1 and missing[0].startswith(f"{name} (Type0, page "), missing
+
+
+_TEXT = b"BT /F1 12 Tf 20 100 Td (Hello) Tj ET"
+
+
+def _form(pdf, content: bytes, fonts):
+    import pikepdf
+
+    return pdf.make_stream(content, Type=pikepdf.Name.XObject, Subtype=pikepdf.Name.Form,
+                           BBox=[0, 0, 200, 200], Resources=pikepdf.Dictionary(Font=fonts))
+
+
+def _pdf_with_helvetica(path: Path, where: str) -> None:
+    """A one-page PDF whose text uses the standard Helvetica (no font program), reached
+    from the page as ``where`` says."""
+    import pikepdf
+    from pikepdf import Dictionary, Name
+
+    pdf = pikepdf.new()
+    helvetica = Dictionary(Type=Name.Font, Subtype=Name.Type1, BaseFont=Name.Helvetica,
+                           Encoding=Name.WinAnsiEncoding)
+    fonts = Dictionary(F1=pdf.make_indirect(helvetica))
+    page = Dictionary(Type=Name.Page, MediaBox=[0, 0, 200, 200], Resources=Dictionary())
+    content = _TEXT
+    if where in ("page", "page tree"):
+        page.Resources.Font = fonts
+    elif where == "Form XObject":
+        page.Resources.XObject = Dictionary(X1=_form(pdf, _TEXT, fonts))
+        content = b"/X1 Do"
+    elif where == "tiling pattern":
+        page.Resources.Pattern = Dictionary(P1=pdf.make_stream(
+            _TEXT, PatternType=1, PaintType=1, TilingType=1, BBox=[0, 0, 200, 200],
+            XStep=200, YStep=200, Resources=Dictionary(Font=fonts)))
+        content = b"/Pattern cs /P1 scn 0 0 200 200 re f"
+    elif where == "soft-mask group":
+        group = _form(pdf, _TEXT, fonts)
+        group.Group = Dictionary(S=Name.Transparency)
+        page.Resources.ExtGState = Dictionary(GS1=Dictionary(
+            Type=Name.ExtGState, SMask=Dictionary(Type=Name.Mask, S=Name.Luminosity, G=group)))
+        content = b"/GS1 gs 0 0 200 200 re f"
+    elif where == "Type 3 glyph":
+        glyph = pdf.make_stream(b"1000 0 d0 " + _TEXT)
+        page.Resources.Font = Dictionary(F1=pdf.make_indirect(Dictionary(
+            Type=Name.Font, Subtype=Name.Type3, FontBBox=[0, 0, 1000, 1000],
+            FontMatrix=[0.001, 0, 0, 0.001, 0, 0], CharProcs=Dictionary(H=glyph),
+            Encoding=Dictionary(Type=Name.Encoding, Differences=[72, Name.H]),
+            FirstChar=72, LastChar=72, Widths=[1000], Resources=Dictionary(Font=fonts))))
+    elif where == "Type 0 descendant":
+        helvetica.FontDescriptor = Dictionary(
+            Type=Name.FontDescriptor, FontName=Name.Helvetica, Flags=32,
+            FontBBox=[-166, -225, 1000, 931], ItalicAngle=0, Ascent=718, Descent=-207,
+            CapHeight=718, StemV=88)
+        descendant = Dictionary(
+            Type=Name.Font, Subtype=Name.CIDFontType2, BaseFont=Name.Helvetica,
+            CIDSystemInfo=Dictionary(Registry=pikepdf.String("Adobe"),
+                                     Ordering=pikepdf.String("Identity"), Supplement=0),
+            FontDescriptor=helvetica.FontDescriptor)
+        page.Resources.Font = Dictionary(F1=pdf.make_indirect(Dictionary(
+            Type=Name.Font, Subtype=Name.Type0, BaseFont=Name.Helvetica,
+            Encoding=Name("/Identity-H"), DescendantFonts=[descendant])))
+        content = b"BT /F1 12 Tf 20 100 Td <0001> Tj ET"
+    elif where == "annotation appearance":
+        page.Annots = [Dictionary(Type=Name.Annot, Subtype=Name.FreeText,
+                                  Rect=[0, 0, 200, 200], Contents=pikepdf.String("Hello"),
+                                  DA=pikepdf.String("/F1 12 Tf"),
+                                  AP=Dictionary(N=_form(pdf, _TEXT, fonts)))]
+        content = b""
+    page.Contents = pdf.make_stream(content)
+    pdf.pages.append(pikepdf.Page(page))
+    if where == "page tree":  # inherited by the page (ISO 32000-1 §7.7.3.4)
+        pdf.Root.Pages.Resources = page.Resources
+        del pdf.pages[0].obj["/Resources"]
+    pdf.save(path)
+
+
+@pytest.mark.parametrize("where, subtype", [
+    ("page", "Type1"), ("page tree", "Type1"), ("Form XObject", "Type1"),
+    ("tiling pattern", "Type1"), ("soft-mask group", "Type1"), ("Type 3 glyph", "Type1"),
+    ("Type 0 descendant", "Type0"), ("annotation appearance", "Type1")])
+def test_font_check_catches_the_standard_helvetica_wherever_the_page_reaches_it(
+        tmp_path, where, subtype):
+    _pdf_with_helvetica(tmp_path / "helvetica.pdf", where)
+    assert unembedded_fonts(pdf_fonts(tmp_path / "helvetica.pdf")) == [
+        f"Helvetica ({subtype}, page 1)"]
+
+
+def test_pdfium_cross_check_sees_an_unembedded_font(tmp_path):
+    _pdf_with_helvetica(tmp_path / "helvetica.pdf", "page")
+    assert fonts_drawn_by_pdfium(tmp_path / "helvetica.pdf") == {("Helvetica", False)}
+
+
+def test_type3_and_a_type0_with_its_program_count_as_embedded(tmp_path):
+    import pikepdf
+
+    _pdf_with_helvetica(tmp_path / "type3.pdf", "Type 3 glyph")
+    _pdf_with_helvetica(tmp_path / "type0.pdf", "Type 0 descendant")
+    with pikepdf.open(tmp_path / "type3.pdf") as pdf:  # the glyph no longer draws text
+        font = pdf.pages[0].Resources.Font.F1
+        del font.Resources.Font
+        pdf.save(tmp_path / "type3-alone.pdf")
+    with pikepdf.open(tmp_path / "type0.pdf") as pdf:  # presence is what counts (§9.9)
+        descriptor = pdf.pages[0].Resources.Font.F1.DescendantFonts[0].FontDescriptor
+        descriptor.FontFile2 = pdf.make_stream(b"a TrueType program")
+        pdf.save(tmp_path / "type0-embedded.pdf")
+    type3 = pdf_fonts(tmp_path / "type3-alone.pdf")
+    assert [(f.subtype, f.embedded) for f in type3] == [("Type3", True)]
+    assert [(str(f), f.embedded) for f in pdf_fonts(tmp_path / "type0-embedded.pdf")] == [
+        ("Helvetica (Type0, page 1)", True)]

@@ -1,11 +1,11 @@
 """Make the reference page images of the example report again, on purpose.
 
 tests/test_rendering.py renders every page of the example campaign's report.pdf (no
-drop-model section) to a greyscale PNG at 30 dpi with pdftoppm and compares it with the
-page-NN.png files in this folder.  When that test fails because the report's template,
-stylesheet or wording changed the layout on purpose, look at the pages it wrote (the failure
-names the folder; diff-NN.png show what moved) and, if they are right, run from the
-repository root
+drop-model section) to a greyscale PNG at 30 dpi with PDFium (the pypdfium2 wheel) and
+compares it with the page-NN.png files in this folder.  When that test fails because the
+report's template, stylesheet or wording changed the layout on purpose, look at the pages
+it wrote (the failure names the folder; diff-NN.png show what moved) and, if they are
+right, run from the repository root
 
     .venv/bin/python tests/data/report-pages/refresh.py
 
@@ -14,8 +14,9 @@ go away that nobody meant: that is the failure the test is there to catch.
 
 It renders the report exactly as the test does (same function, same resolution), replaces
 every page-*.png here and stores them as 8-bit greyscale, optimised (pixel values as
-pdftoppm drew them).  The images depend on WeasyPrint, matplotlib and poppler (pdftoppm)
-versions; make them on Debian bookworm, as CI runs.
+render_pages made them), and records in versions.json what they depend on: WeasyPrint,
+pydyf, matplotlib, Pango and pypdfium2 with the PDFium build it ships.  Install with
+constraints.txt (make install) and make them on Debian bookworm, as CI runs.
 """
 
 from __future__ import annotations
@@ -44,7 +45,7 @@ def main() -> None:
         pages = render_pages(out / "report.pdf", Path(scratch) / "pages", DPI)
         again = render_pages(out / "report.pdf", Path(scratch) / "again", DPI)
         if [p.read_bytes() for p in pages] != [p.read_bytes() for p in again]:
-            sys.exit("pdftoppm drew the pages differently twice; nothing was replaced")
+            sys.exit("PDFium drew the pages differently twice; nothing was replaced")
         before = reference_pages(HERE)
         changes = compare_pages(pages, before) if before else ["no reference pages before"]
         # the new set is made complete beside the old one, then swapped in
