@@ -66,6 +66,14 @@ SPEC_CASES = [
      "runs[0].lift.ratio", "needs the lift ratio", "lift: {method: reduced_mass}"),
     ("test_type: limit", "test_type: limt", "runs[0].test_type", "input should be",
      "test_type: limt"),
+    # 2025 is not a leap year (2025 mod 4 = 1): February has 28 days; 2024 is (mod 4 = 0,
+    # mod 100 != 0): 29 days
+    ("date: 2025-03-01", "date: 2025-02-30", "document.date",
+     '"2025-02-30" is not a date: February 2025 has 28 days', "date: 2025-02-30"),
+    ("test_dates: [2025-02-27]", "test_dates: [2024-02-30]", "document.test_dates[0]",
+     '"2024-02-30" is not a date: February 2024 has 29 days', "test_dates: [2024-02-30]"),
+    ("date: 2025-03-01", "date: 2025-13-01", "document.date",
+     '"2025-13-01" is not a date: there is no month 13', "date: 2025-13-01"),
 ]
 
 
