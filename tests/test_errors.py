@@ -87,6 +87,32 @@ def test_bad_spec_value_names_file_line_and_key(timeseries_campaign, tmp_path, o
     assert_input_error(result, tmp_path / "out", f"campaign.yaml:{line} {key}:", words)
 
 
+MISSPELT_KEYS = [
+    # (old text, new text, key path of the misspelt key, the key meant)
+    ("drop_height: 300 mm", "drop_heigth: 300 mm", "runs[0].drop_heigth", "drop_height"),
+    ("wing_area: 12 m^2", "wing_aera: 12 m^2", "aircraft.wing_aera", "wing_area"),
+    # an optional key: nothing is missing, the unknown one is still named
+    ("file: data/r1.csv", "file: data/r1.csv\n      sampling_rte: 1000 Hz",
+     "runs[0].data.sampling_rte", "sampling_rate"),
+    # inside a mapping keyed by gear id
+    ("vertical_load: {column: Fz_kN, unit: kN}", "vertical_laod: {column: Fz_kN, unit: kN}",
+     "runs[0].data.gears.left-main.vertical_laod", "vertical_load"),
+]
+
+
+@pytest.mark.parametrize("old, new, key, meant", MISSPELT_KEYS, ids=[c[3] for c in MISSPELT_KEYS])
+def test_misspelt_key_is_one_error_naming_the_likely_key(timeseries_campaign, old, new, key,
+                                                         meant):
+    edit_spec(timeseries_campaign, old, new)
+    typo = key.rsplit(".", 1)[1]
+    line = line_of(timeseries_campaign, typo + ":")
+    result = runner.invoke(app, ["validate", str(timeseries_campaign)])
+    assert result.exit_code == 2 and "Traceback" not in result.output, result.output
+    assert f"campaign.yaml:{line} {key}: unknown key {typo!r}: did you mean {meant!r}?" \
+        in result.output, result.output
+    assert result.output.count("error:") == 1, result.output  # no "missing" error beside it
+
+
 def test_yaml_syntax_error_names_the_line(timeseries_campaign, tmp_path):
     edit_spec(timeseries_campaign, "drop_height: 300 mm", "drop_height: [300 mm")
     result = run_report(timeseries_campaign, tmp_path / "out")
