@@ -156,6 +156,33 @@ DATA_CASES = [
 ]
 
 
+TIME_UNIT_SLIPS = [
+    # (factor applied to the seconds in the file, unit declared, rate read in it, unit that
+    # fits): the file steps 1 ms, declared 1000 Hz.  1 ms written as 1 and read in s gives
+    # 1 Hz; written as 0.001 and read in min, 1/(0.06 s) = 16.6667 Hz; written as 1000 (us)
+    # and read in ms, 1/(1 s) = 1 Hz.
+    (1000.0, "s", "1 Hz", "ms"),
+    (1.0, "min", "16.6667 Hz", "s"),
+    (1e6, "ms", "1 Hz", "us"),
+]
+
+
+@pytest.mark.parametrize("factor, declared, rate, fits", TIME_UNIT_SLIPS,
+                         ids=[f"{c[1]} for {c[3]}" for c in TIME_UNIT_SLIPS])
+def test_time_unit_slip_names_the_unit_that_fits(timeseries_campaign, tmp_path, factor, declared,
+                                                 rate, fits):
+    rewrite(timeseries_campaign, lambda c: c["t_s"].__imul__(factor))
+    edit_spec(timeseries_campaign, "time: {column: t_s, unit: s}",
+              f"time: {{column: t_s, unit: {declared}}}")
+    line = line_of(timeseries_campaign, "time: {column: t_s")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out",
+                       f"campaign.yaml:{line} runs[0].data.time.unit:", "data/r1.csv",
+                       f"read in {declared}, give {rate} against the declared 1000 Hz",
+                       "the time unit looks wrong", f"read in {fits} they give 1000 Hz")
+    assert "waiver" not in result.output  # a unit slip is not a rate to accept
+
+
 @pytest.mark.parametrize("name, change, words, row", DATA_CASES, ids=[c[0] for c in DATA_CASES])
 def test_bad_data_names_file_row_and_channel(timeseries_campaign, tmp_path, name, change, words, row):
     rewrite(timeseries_campaign, change)
@@ -247,11 +274,29 @@ def test_non_utf8_spec_names_the_line(timeseries_campaign, tmp_path):
     assert_input_error(result, tmp_path / "out", f"campaign.yaml:{line}", "not UTF-8")
 
 
-def test_semicolon_csv_gets_one_clear_error(timeseries_campaign, tmp_path):
+def test_decimal_commas_in_a_comma_separated_file_name_the_line(timeseries_campaign, tmp_path):
     path = data_file(timeseries_campaign)
-    path.write_text(path.read_text(encoding="utf-8").replace(",", ";"), encoding="utf-8")
+    header, *rows = path.read_text(encoding="utf-8").splitlines()
+    path.write_text("\n".join([header] + [row.replace(".", ",") for row in rows]) + "\n",
+                    encoding="utf-8")
+    # line 2 is t = 0: 0.0, 0.0, 0.0, 0.0, -9.80665, -170.96675 (x = -V0*T0 + g*T0^2/2 in
+    # mm) all have a decimal point, so each of the 6 fields splits in two: 12 fields
     result = run_report(timeseries_campaign, tmp_path / "out")
-    assert_input_error(result, tmp_path / "out", "';' as separator")
+    assert_input_error(result, tmp_path / "out", "data/r1.csv:2",
+                       "line 2 has 12 fields, the header has 6",
+                       "a decimal comma splits a number in two")
+
+
+def test_mixed_decimal_marks_are_refused_naming_both_lines(timeseries_campaign, tmp_path):
+    path = data_file(timeseries_campaign)
+    lines = path.read_text(encoding="utf-8").replace(",", ";").splitlines()
+    lines = [line.replace(".", ",") if number != 10 else line
+             for number, line in enumerate(lines, start=1)]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "data/r1.csv:10",
+                       "semicolon-separated file writes a number with a decimal comma on line 2 "
+                       "and one with a decimal point on line 10")
 
 
 def test_row_with_extra_fields_names_its_line(timeseries_campaign, tmp_path):
