@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
+import difflib
 import hashlib
 import math
 import posixpath
+import types
+import typing
 from dataclasses import dataclass
 from pathlib import Path
 
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 
 from . import requirement_sets
 from .blind_record import BlindCheckRecord, BlindRecordError, read_blind_check
@@ -82,13 +85,64 @@ def _message(error: dict) -> str:
     return message[0].lower() + message[1:]
 
 
+def _unwrap(kind):
+    """The type inside Annotated[...] and ``... | None``."""
+    while typing.get_origin(kind) in (typing.Annotated, typing.Union, types.UnionType):
+        kind = next(arg for arg in typing.get_args(kind) if arg is not type(None))
+    return kind
+
+
+def _is_model(kind) -> bool:
+    return isinstance(kind, type) and issubclass(kind, BaseModel)
+
+
+def _keys_allowed(location: tuple) -> set[str]:
+    """The keys the spec model takes at ``location`` (a mapping's path), from its fields;
+    empty where the spec holds no model there."""
+    kind = CampaignSpec
+    for part in location:
+        kind = _unwrap(kind)
+        if _is_model(kind) and part in kind.model_fields:
+            kind = kind.model_fields[part].annotation
+        elif typing.get_origin(kind) in (list, dict):
+            kind = typing.get_args(kind)[-1]   # list[item] or dict[key, value]
+        else:
+            return set()
+    kind = _unwrap(kind)
+    return set(kind.model_fields) if _is_model(kind) else set()
+
+
+def _misspelt_keys(items: list[tuple[tuple, dict]], lines: LineMap) -> dict[tuple, str]:
+    """Unknown keys that look like a key the model takes there and the spec lacks:
+    location of the unknown key -> the likely key (difflib's closest match)."""
+    likely = {}
+    for location, item in items:
+        if item["type"] != "extra_forbidden" or not isinstance(location[-1], str):
+            continue
+        parent = location[:-1]
+        written = {path[-1] for path in lines if path[:-1] == parent}
+        match = difflib.get_close_matches(location[-1],
+                                          sorted(_keys_allowed(parent) - written), n=1)
+        if match:
+            likely[location] = match[0]
+    return likely
+
+
 def _validation_problems(error: ValidationError, display: str, lines: LineMap) -> list[Problem]:
+    """One problem per validation error, at the line of its key.  A misspelt key gives one
+    problem at its own line naming the likely key, not a second one for that key missing."""
+    items = [(tuple(part for part in item["loc"]
+                    if not (isinstance(part, str) and part.startswith("function-"))), item)
+             for item in error.errors()]
+    likely = _misspelt_keys(items, lines)
+    meant = {location[:-1] + (key,) for location, key in likely.items()}
     problems = []
-    for item in error.errors():
-        location = tuple(part for part in item["loc"]
-                         if not (isinstance(part, str) and part.startswith("function-")))
-        problems.append(Problem(display, line_of(lines, location), key_path(location),
-                                _message(item)))
+    for location, item in items:
+        if item["type"] == "missing" and location in meant:
+            continue
+        message = (f"unknown key {location[-1]!r}: did you mean {likely[location]!r}?"
+                   if location in likely else _message(item))
+        problems.append(Problem(display, line_of(lines, location), key_path(location), message))
     return problems
 
 

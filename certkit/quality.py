@@ -218,6 +218,10 @@ def check_data_waivers(assessment: Assessment) -> None:
         for item in run.series.findings:
             _add(assessment, f"data-{item.check.replace('_', '-')}", "warning", run.run.id, None,
                  f"{item.message} — accepted by waiver: {item.reason}")
+        if run.series.layout is not None:
+            _add(assessment, "data-layout", "info", run.run.id, None,
+                 f"{run.series.file} was read as {run.series.layout} (found from its header "
+                 f"line and its numbers; not the comma-separated CSV of RFC 4180)")
         for gear in run.gears:
             if gear.measures is not None and gear.measures.touchdown_time is None:
                 _add(assessment, "touchdown-not-observed", "error", run.run.id, gear.gear_id,

@@ -11,6 +11,17 @@ Problems that make a file unusable (missing column, time not increasing, unreada
 file) are input errors.  Problems a test engineer may knowingly accept (sample rate
 off, gaps, clipping, implausible values) are input errors too unless the run lists a
 waiver for that check with a reason; a waived problem becomes a data-quality finding.
+A sample rate that another time unit would make agree with the declared one (time in ms
+declared as s) is a unit slip in the spec, not a rate to waive: an input error naming
+the unit that fits.
+
+CSV files: the field separator is read from the header line, a comma (RFC 4180), a
+semicolon or a tab, whichever it holds most (see :func:`_csv_layout`).  A file separated
+by semicolons or tabs may write its numbers with decimal commas, as spreadsheets in many
+locales export them; a comma-separated one cannot (a decimal comma would split every
+number in two, so such a file is refused with the line that shows it).  A file that is
+not comma-separated with decimal points is read and the layout found is stated in the
+data-quality audit (``RunSeries.layout``).
 """
 
 from __future__ import annotations
@@ -22,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import CertkitInputError, Problem, key_path
-from .spec import Column, GearUnit, Run
+from .spec import Column, GearUnit, Run, TimeColumn
 from .units import STANDARD_GRAVITY, scale_to_si
 from .yamlsource import line_of
 
@@ -35,6 +46,11 @@ PLAUSIBLE_STROKE_OVER_DESIGN = 1.2    # stroke above 1.2 x design stroke
 PLAUSIBLE_ACCELERATION = 50.0 * STANDARD_GRAVITY
 CLIP_RUN = 5                          # this many equal samples at a channel's maximum
 GAP_FACTOR = 1.5                      # a time step 1.5 x the nominal one is a gap
+
+#: Field separators recognised in a CSV header line, with their names in messages.
+SEPARATORS = {",": "comma", ";": "semicolon", "\t": "tab"}
+#: Units a time column may be in, tried when its steps disagree with the declared rate.
+TIME_UNITS = ("us", "ms", "s", "min", "h")
 
 
 #: The recorded channels of a gear unit, as reports and messages name them.
@@ -70,6 +86,9 @@ class RunSeries:
     declared_rate: float
     measured_rate: float
     findings: list[DataFinding] = field(default_factory=list)
+    #: how a CSV file was read when it is not comma-separated with decimal points,
+    #: e.g. "semicolon-separated with decimal commas" (None otherwise)
+    layout: str | None = None
 
 
 class _Checker:
@@ -106,8 +125,67 @@ class _Checker:
             raise CertkitInputError(self.errors)
 
 
+def _number_field(body: str, separator: str, mark: str) -> int | None:
+    """Index in ``body`` of the first field that is a number written with the decimal
+    ``mark`` (the whole field: ``12,5``, ``-0.5``, ``1,5e3``), or None."""
+    if mark not in body:  # the quick answer for most files, which use one mark throughout
+        return None
+    sep, mark = re.escape(separator), re.escape(mark)
+    found = re.search(rf"(?:^|{sep}) *[-+]?(?:\d+{mark}\d*|{mark}\d+)(?:[eE][-+]?\d+)? *"
+                      rf"(?={sep}|\r?$)", body, re.MULTILINE)
+    return found.start() if found else None
+
+
+def _csv_layout(path: Path, display: str) -> tuple[str, str]:
+    """The field separator and the decimal mark of a CSV file.
+
+    The separator is the one of ',', ';' and tab that the header line holds most often
+    (a comma on a tie, so a one-column file is read as RFC 4180 CSV).  A comma-separated
+    file has decimal points.  Any other file has decimal commas when one of its fields is
+    a number written with a decimal comma; a file that writes some numbers with a decimal
+    comma and others with a decimal point is refused, naming both lines.
+    """
+    with path.open(encoding="utf-8-sig", errors="replace", newline="") as handle:
+        header = handle.readline()
+        separator = max(SEPARATORS, key=header.count)
+        body = "" if separator == "," else handle.read()
+    comma, point = (_number_field(body, separator, mark) for mark in (",", "."))
+    if comma is not None and point is not None:
+        first, second = sorted((comma, point))
+        lines = [body.count("\n", 0, index) + 2 for index in (first, second)]
+        marks = ("a decimal comma", "a decimal point") if comma < point else (
+            "a decimal point", "a decimal comma")
+        raise CertkitInputError.single(
+            display, lines[1], "", f"this {SEPARATORS[separator]}-separated file writes a "
+                                   f"number with {marks[0]} on line {lines[0]} and one with "
+                                   f"{marks[1]} on line {lines[1]}: write every number with "
+                                   f"the same decimal mark")
+    return separator, "," if comma is not None else "."
+
+
+def _field_count_error(path: Path, display: str, separator: str) -> CertkitInputError | None:
+    """The first line with more fields than the header, as an input error (None if none)."""
+    import csv
+
+    with path.open(newline="", encoding="utf-8-sig", errors="replace") as handle:
+        reader = csv.reader(handle, delimiter=separator)
+        header = next(reader, [])
+        for row in reader:
+            if len(row) > len(header):
+                hint = (" (in a comma-separated file a decimal comma splits a number in two: "
+                        "write decimal points, or separate the fields with ';')"
+                        if separator == "," else "")
+                return CertkitInputError.single(
+                    display, reader.line_num, "",
+                    f"line {reader.line_num} has {len(row)} fields, the header has "
+                    f"{len(header)}: check that row for stray separators or decimal "
+                    f"commas{hint}, and the file for preamble lines above the header")
+    return None
+
+
 def _read_table(path: Path, display: str):
-    """Read CSV or Parquet; returns the frame and the file line of its first data row."""
+    """Read CSV or Parquet; returns the frame, the file line of its first data row and the
+    CSV layout when it is not comma-separated with decimal points (else None)."""
     import warnings
 
     import pandas as pd  # imported here: a campaign of reported values needs no pandas
@@ -118,39 +196,35 @@ def _read_table(path: Path, display: str):
     suffix = path.suffix.lower()
     if suffix not in (".csv", ".parquet", ".pq"):
         raise fail(f"unsupported data format {suffix!r} (expected .csv or .parquet)")
+    separator, decimal = _csv_layout(path, display) if suffix == ".csv" else (",", ".")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error", pd.errors.ParserWarning)
             if suffix == ".csv":
-                frame, first_line = pd.read_csv(path, index_col=False), 2
+                frame = pd.read_csv(path, sep=separator, decimal=decimal, index_col=False)
+                first_line = 2
             else:
                 frame, first_line = pd.read_parquet(path), 0
-    except pd.errors.ParserWarning:
-        raise fail("the data rows have more fields than the header line") from None
+    except (pd.errors.ParserWarning, pd.errors.ParserError) as exc:
+        raise (_field_count_error(path, display, separator)
+               or fail(f"cannot read data file: {exc}")) from None
     except pd.errors.EmptyDataError:
         raise fail("the data file is empty") from None
-    except pd.errors.ParserError as exc:
-        match = re.search(r"Expected (\d+) fields in line (\d+), saw (\d+)", str(exc))
-        if match:
-            header, line, seen = match.groups()
-            raise fail(f"line {line} has {seen} fields, the header has {header}: check that "
-                       f"row for stray or decimal commas, and the file for preamble lines "
-                       f"above the header", int(line)) from None
-        raise fail(f"cannot read data file: {exc}") from None
     except Exception as exc:  # pandas and pyarrow raise many types for malformed files
         raise fail(f"cannot read data file: {exc}") from None
-    if len(frame.columns) == 1 and ";" in str(frame.columns[0]):
-        raise fail("the file appears to use ';' as separator; certkit reads comma-separated "
-                   "CSV")
     if suffix == ".csv":
         import csv
 
         with path.open(newline="", encoding="utf-8-sig", errors="replace") as handle:
-            header = next(csv.reader(handle), [])
+            header = next(csv.reader(handle, delimiter=separator), [])
         repeated = sorted({name for name in header if header.count(name) > 1})
         if repeated:
             raise fail(f"column name(s) repeated in the header: {', '.join(repeated)}", 1)
-    return frame, first_line
+    layout = None
+    if separator != ",":
+        layout = f"{SEPARATORS[separator]}-separated with decimal " + (
+            "commas" if decimal == "," else "points")
+    return frame, first_line, layout
 
 
 def _row(first_line: int, index: int) -> int | None:
@@ -171,7 +245,7 @@ def read_run(path: Path, display: str, spec_file: str, run_index: int, run: Run,
     import pandas as pd
 
     data = run.data
-    frame, first_line = _read_table(path, display)
+    frame, first_line, layout = _read_table(path, display)
     check = _Checker(spec_file, run_index, run, display, lines)
 
     declared = data.sampling_rate.si if data.sampling_rate else default_rate
@@ -232,9 +306,7 @@ def read_run(path: Path, display: str, spec_file: str, run_index: int, run: Run,
     nominal = float(np.median(steps))
     measured_rate = 1.0 / nominal
     if declared and abs(measured_rate - declared) > tolerance * declared:
-        check.waivable("sample_rate", None, check.key("time", "column"),
-                       f"sample rate {measured_rate:.6g} Hz differs from the declared "
-                       f"{declared:.6g} Hz by more than {tolerance:.0%}")
+        _rate_mismatch(check, data.time, measured_rate, declared, tolerance)
     gaps = np.flatnonzero(steps > GAP_FACTOR * nominal)
     if gaps.size:
         i = int(gaps[0]) + 1
@@ -330,7 +402,29 @@ def read_run(path: Path, display: str, spec_file: str, run_index: int, run: Run,
         acceleration_reference=(data.drop_mass_acceleration.reference
                                 if data.drop_mass_acceleration else None),
         displacement=displacement, declared_rate=declared, measured_rate=measured_rate,
-        findings=check.findings)
+        findings=check.findings, layout=layout)
+
+
+def _rate_mismatch(check: _Checker, time: TimeColumn, measured: float, declared: float,
+                   tolerance: float) -> None:
+    """A sample rate off the declared one.  When the time steps read in another unit give
+    the declared rate within ``tolerance`` (a column in ms declared as s reads 1 Hz for
+    1 kHz), the spec's time unit is wrong: an input error naming the unit that fits.
+    Otherwise the off rate is the waivable 'sample_rate' problem."""
+    factor = scale_to_si(time.unit, "time")
+    for unit in TIME_UNITS:
+        rate = measured * factor / scale_to_si(unit, "time")
+        if abs(rate - declared) <= tolerance * declared:
+            check.spec_error(check.key("time", "unit"),
+                             f"the time steps of column {time.column!r} in {check.data_file}, "
+                             f"read in {time.unit}, give {measured:.6g} Hz against the "
+                             f"declared {declared:.6g} Hz: the time unit looks wrong; read in "
+                             f"{unit} they give {rate:.6g} Hz (write unit: {unit}, or correct "
+                             f"the declared sampling rate)")
+            return
+    check.waivable("sample_rate", None, check.key("time", "column"),
+                   f"sample rate {measured:.6g} Hz differs from the declared {declared:.6g} Hz "
+                   f"by more than {tolerance:.0%}")
 
 
 def _longest_run(mask: np.ndarray) -> int:

@@ -93,13 +93,31 @@ Fraction = _quantity("dimensionless", "a fraction between 0 and 1, e.g. 0.667 or
 
 
 def _date(value):
+    """A date written YYYY-MM-DD (ISO 8601 calendar date); one written in that form whose
+    month or day does not exist is refused saying so (February 2025 has 28 days)."""
+    import calendar
+
     if isinstance(value, dt.date) and not isinstance(value, dt.datetime):
         return value
     if isinstance(value, str):
+        text = value.strip()
         try:
-            return dt.date.fromisoformat(value.strip())
+            return dt.date.fromisoformat(text)
         except ValueError:
             pass
+        parts = text.split("-")
+        if [len(part) for part in parts] == [4, 2, 2] and all(
+                part.isascii() and part.isdigit() for part in parts):
+            year, month = int(parts[0]), int(parts[1])
+            if year == 0:
+                why = "there is no year 0000 (the first is 0001)"
+            elif not 1 <= month <= 12:
+                why = f"there is no month {parts[1]} (months are 01 to 12)"
+            else:  # month names written out: calendar.month_name follows the locale
+                name = ("January", "February", "March", "April", "May", "June", "July",
+                        "August", "September", "October", "November", "December")[month - 1]
+                why = f"{name} {year} has {calendar.monthrange(year, month)[1]} days"
+            raise PydanticCustomError("date", f'"{text}" is not a date: {why}')
     raise PydanticCustomError("date", f'expected a date as YYYY-MM-DD, got "{value}"')
 
 

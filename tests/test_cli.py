@@ -70,3 +70,23 @@ def test_blind_check_options_are_checked_before_the_battery_runs(tmp_path, monke
     # an output folder that would swallow the campaign is refused at once, not after hours
     result = runner.invoke(app, ["gap", str(SEED), "--blind-check", "-o", str(SEED.parent)])
     assert result.exit_code == 2 and "would contain the input" in result.output
+
+
+def test_validate_exits_2_with_located_messages_in_a_real_process(timeseries_campaign):
+    text = timeseries_campaign.read_text(encoding="utf-8")
+    text = text.replace("drop_height: 300 mm", "drop_heigth: 300 mm")
+    text = text.replace("date: 2025-03-01", "date: 2025-02-30")  # 2025 is not a leap year
+    timeseries_campaign.write_text(text, encoding="utf-8")
+    lines = text.splitlines()
+    typo = next(n for n, line in enumerate(lines, 1) if "drop_heigth" in line)
+    date = next(n for n, line in enumerate(lines, 1) if "2025-02-30" in line)
+    completed = subprocess.run([sys.executable, "-m", "certkit.cli", "validate",
+                                str(timeseries_campaign)], capture_output=True, text=True,
+                               timeout=120)
+    assert completed.returncode == 2, completed.stderr
+    assert "Traceback" not in completed.stderr
+    assert f"campaign.yaml:{date} document.date: \"2025-02-30\" is not a date: February 2025 " \
+           f"has 28 days" in completed.stderr
+    assert f"campaign.yaml:{typo} runs[0].drop_heigth: unknown key 'drop_heigth': did you " \
+           f"mean 'drop_height'?" in completed.stderr
+    assert "drop_height: required key is missing" not in completed.stderr

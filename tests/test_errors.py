@@ -66,6 +66,14 @@ SPEC_CASES = [
      "runs[0].lift.ratio", "needs the lift ratio", "lift: {method: reduced_mass}"),
     ("test_type: limit", "test_type: limt", "runs[0].test_type", "input should be",
      "test_type: limt"),
+    # 2025 is not a leap year (2025 mod 4 = 1): February has 28 days; 2024 is (mod 4 = 0,
+    # mod 100 != 0): 29 days
+    ("date: 2025-03-01", "date: 2025-02-30", "document.date",
+     '"2025-02-30" is not a date: February 2025 has 28 days', "date: 2025-02-30"),
+    ("test_dates: [2025-02-27]", "test_dates: [2024-02-30]", "document.test_dates[0]",
+     '"2024-02-30" is not a date: February 2024 has 29 days', "test_dates: [2024-02-30]"),
+    ("date: 2025-03-01", "date: 2025-13-01", "document.date",
+     '"2025-13-01" is not a date: there is no month 13', "date: 2025-13-01"),
 ]
 
 
@@ -77,6 +85,32 @@ def test_bad_spec_value_names_file_line_and_key(timeseries_campaign, tmp_path, o
     line = line_of(timeseries_campaign, line_text)
     result = run_report(timeseries_campaign, tmp_path / "out")
     assert_input_error(result, tmp_path / "out", f"campaign.yaml:{line} {key}:", words)
+
+
+MISSPELT_KEYS = [
+    # (old text, new text, key path of the misspelt key, the key meant)
+    ("drop_height: 300 mm", "drop_heigth: 300 mm", "runs[0].drop_heigth", "drop_height"),
+    ("wing_area: 12 m^2", "wing_aera: 12 m^2", "aircraft.wing_aera", "wing_area"),
+    # an optional key: nothing is missing, the unknown one is still named
+    ("file: data/r1.csv", "file: data/r1.csv\n      sampling_rte: 1000 Hz",
+     "runs[0].data.sampling_rte", "sampling_rate"),
+    # inside a mapping keyed by gear id
+    ("vertical_load: {column: Fz_kN, unit: kN}", "vertical_laod: {column: Fz_kN, unit: kN}",
+     "runs[0].data.gears.left-main.vertical_laod", "vertical_load"),
+]
+
+
+@pytest.mark.parametrize("old, new, key, meant", MISSPELT_KEYS, ids=[c[3] for c in MISSPELT_KEYS])
+def test_misspelt_key_is_one_error_naming_the_likely_key(timeseries_campaign, old, new, key,
+                                                         meant):
+    edit_spec(timeseries_campaign, old, new)
+    typo = key.rsplit(".", 1)[1]
+    line = line_of(timeseries_campaign, typo + ":")
+    result = runner.invoke(app, ["validate", str(timeseries_campaign)])
+    assert result.exit_code == 2 and "Traceback" not in result.output, result.output
+    assert f"campaign.yaml:{line} {key}: unknown key {typo!r}: did you mean {meant!r}?" \
+        in result.output, result.output
+    assert result.output.count("error:") == 1, result.output  # no "missing" error beside it
 
 
 def test_yaml_syntax_error_names_the_line(timeseries_campaign, tmp_path):
@@ -120,6 +154,33 @@ DATA_CASES = [
     ("implausible stroke", lambda c: c["stroke_mm"].__imul__(10.0), "outside the plausible range",
      109),
 ]
+
+
+TIME_UNIT_SLIPS = [
+    # (factor applied to the seconds in the file, unit declared, rate read in it, unit that
+    # fits): the file steps 1 ms, declared 1000 Hz.  1 ms written as 1 and read in s gives
+    # 1 Hz; written as 0.001 and read in min, 1/(0.06 s) = 16.6667 Hz; written as 1000 (us)
+    # and read in ms, 1/(1 s) = 1 Hz.
+    (1000.0, "s", "1 Hz", "ms"),
+    (1.0, "min", "16.6667 Hz", "s"),
+    (1e6, "ms", "1 Hz", "us"),
+]
+
+
+@pytest.mark.parametrize("factor, declared, rate, fits", TIME_UNIT_SLIPS,
+                         ids=[f"{c[1]} for {c[3]}" for c in TIME_UNIT_SLIPS])
+def test_time_unit_slip_names_the_unit_that_fits(timeseries_campaign, tmp_path, factor, declared,
+                                                 rate, fits):
+    rewrite(timeseries_campaign, lambda c: c["t_s"].__imul__(factor))
+    edit_spec(timeseries_campaign, "time: {column: t_s, unit: s}",
+              f"time: {{column: t_s, unit: {declared}}}")
+    line = line_of(timeseries_campaign, "time: {column: t_s")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out",
+                       f"campaign.yaml:{line} runs[0].data.time.unit:", "data/r1.csv",
+                       f"read in {declared}, give {rate} against the declared 1000 Hz",
+                       "the time unit looks wrong", f"read in {fits} they give 1000 Hz")
+    assert "waiver" not in result.output  # a unit slip is not a rate to accept
 
 
 @pytest.mark.parametrize("name, change, words, row", DATA_CASES, ids=[c[0] for c in DATA_CASES])
@@ -213,11 +274,29 @@ def test_non_utf8_spec_names_the_line(timeseries_campaign, tmp_path):
     assert_input_error(result, tmp_path / "out", f"campaign.yaml:{line}", "not UTF-8")
 
 
-def test_semicolon_csv_gets_one_clear_error(timeseries_campaign, tmp_path):
+def test_decimal_commas_in_a_comma_separated_file_name_the_line(timeseries_campaign, tmp_path):
     path = data_file(timeseries_campaign)
-    path.write_text(path.read_text(encoding="utf-8").replace(",", ";"), encoding="utf-8")
+    header, *rows = path.read_text(encoding="utf-8").splitlines()
+    path.write_text("\n".join([header] + [row.replace(".", ",") for row in rows]) + "\n",
+                    encoding="utf-8")
+    # line 2 is t = 0: 0.0, 0.0, 0.0, 0.0, -9.80665, -170.96675 (x = -V0*T0 + g*T0^2/2 in
+    # mm) all have a decimal point, so each of the 6 fields splits in two: 12 fields
     result = run_report(timeseries_campaign, tmp_path / "out")
-    assert_input_error(result, tmp_path / "out", "';' as separator")
+    assert_input_error(result, tmp_path / "out", "data/r1.csv:2",
+                       "line 2 has 12 fields, the header has 6",
+                       "a decimal comma splits a number in two")
+
+
+def test_mixed_decimal_marks_are_refused_naming_both_lines(timeseries_campaign, tmp_path):
+    path = data_file(timeseries_campaign)
+    lines = path.read_text(encoding="utf-8").replace(",", ";").splitlines()
+    lines = [line.replace(".", ",") if number != 10 else line
+             for number, line in enumerate(lines, start=1)]
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    result = run_report(timeseries_campaign, tmp_path / "out")
+    assert_input_error(result, tmp_path / "out", "data/r1.csv:10",
+                       "semicolon-separated file writes a number with a decimal comma on line 2 "
+                       "and one with a decimal point on line 10")
 
 
 def test_row_with_extra_fields_names_its_line(timeseries_campaign, tmp_path):

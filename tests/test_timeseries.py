@@ -80,3 +80,29 @@ def test_parquet_data_give_the_same_results_as_csv(timeseries_campaign):
     from_parquet = assess(load_campaign(timeseries_campaign)).runs[0].gears[0]
     for key in ("F_peak", "d_s", "d_t", "E_s", "E_t", "t0"):
         assert from_parquet.get(key) == from_csv.get(key), key
+
+
+LAYOUTS = [
+    # (separator, decimal mark, layout the audit states)
+    (";", ",", "semicolon-separated with decimal commas"),
+    (";", ".", "semicolon-separated with decimal points"),
+    ("\t", ".", "tab-separated with decimal points"),
+    ("\t", ",", "tab-separated with decimal commas"),
+]
+
+
+@pytest.mark.parametrize("separator, decimal, layout", LAYOUTS, ids=[c[2] for c in LAYOUTS])
+def test_semicolon_and_tab_files_give_the_same_results_as_csv(timeseries_campaign, separator,
+                                                              decimal, layout):
+    path = timeseries_campaign.parent / "data" / "r1.csv"
+    from_csv = assess(load_campaign(timeseries_campaign))
+    text = path.read_text(encoding="utf-8").replace(",", separator).replace(".", decimal)
+    path.write_text(text, encoding="utf-8")
+    assessment = assess(load_campaign(timeseries_campaign))
+    for key in ("F_peak", "d_s", "d_t", "E_s", "E_t", "t0"):
+        assert assessment.runs[0].gears[0].get(key) == from_csv.runs[0].gears[0].get(key), key
+    stated = [f for f in assessment.findings if f.check == "data-layout"]
+    message = (f"data/r1.csv was read as {layout} (found from its header line and its "
+               f"numbers; not the comma-separated CSV of RFC 4180)")
+    assert [(f.severity, f.message) for f in stated] == [("info", message)]
+    assert not any(f.check == "data-layout" for f in from_csv.findings)
