@@ -34,7 +34,7 @@ import numpy as np
 
 from .errors import CertkitInputError, Problem, key_path
 from .spec import Column, GearUnit, Run, TimeColumn
-from .units import STANDARD_GRAVITY, scale_to_si
+from .units import STANDARD_GRAVITY, convert, scale_to_si
 from .yamlsource import line_of
 
 # Plausibility limits (not regulatory): values outside are almost surely a unit,
@@ -354,15 +354,17 @@ def read_run(path: Path, display: str, spec_file: str, run_index: int, run: Run,
             tyre = channel(base + ("tyre_deflection",), channels.tyre_deflection, "length")
         weight = unit.static_weight.si
         _plausible(check, first_line, base + ("vertical_load",), load,
-                   -PLAUSIBLE_NEGATIVE_LOAD * weight, PLAUSIBLE_LOAD_FACTOR * weight, "N")
+                   -PLAUSIBLE_NEGATIVE_LOAD * weight, PLAUSIBLE_LOAD_FACTOR * weight, "N",
+                   channels.vertical_load.unit)
         if stroke is not None:
             _plausible(check, first_line, base + ("strut_stroke",), stroke,
                        -PLAUSIBLE_NEGATIVE_TRAVEL,
-                       PLAUSIBLE_STROKE_OVER_DESIGN * unit.design_stroke.si, "m")
+                       PLAUSIBLE_STROKE_OVER_DESIGN * unit.design_stroke.si, "m",
+                       channels.strut_stroke.unit)
         if tyre is not None:
             limit = unit.tyre.diameter.si / 2 if unit.tyre.diameter else 0.5
             _plausible(check, first_line, base + ("tyre_deflection",), tyre,
-                       -PLAUSIBLE_NEGATIVE_TRAVEL, limit, "m")
+                       -PLAUSIBLE_NEGATIVE_TRAVEL, limit, "m", channels.tyre_deflection.unit)
         gears[gear_id] = GearSeries(load, stroke, tyre)
 
     acceleration = displacement = None
@@ -370,7 +372,8 @@ def read_run(path: Path, display: str, spec_file: str, run_index: int, run: Run,
         acceleration = channel(("drop_mass_acceleration",), data.drop_mass_acceleration,
                                "acceleration")
         _plausible(check, first_line, ("drop_mass_acceleration",), acceleration,
-                   -PLAUSIBLE_ACCELERATION, PLAUSIBLE_ACCELERATION, "m/s^2")
+                   -PLAUSIBLE_ACCELERATION, PLAUSIBLE_ACCELERATION, "m/s^2",
+                   data.drop_mass_acceleration.unit)
     if data.drop_mass_displacement is not None:
         displacement = channel(("drop_mass_displacement",), data.drop_mass_displacement, "length")
 
@@ -436,12 +439,15 @@ def _longest_run(mask: np.ndarray) -> int:
 
 
 def _plausible(check: _Checker, first_line: int, location: tuple, values: np.ndarray,
-               low: float, high: float, unit: str) -> None:
+               low: float, high: float, si_unit: str, column_unit: str) -> None:
+    """An input error (waivable) when a channel's SI ``values`` leave [low, high]; the
+    message speaks in the column's own unit, the one the user's file is written in."""
     finite = np.isfinite(values)
     outside = np.flatnonzero(finite & ((values < low) | (values > high)))
     if outside.size:
         i = int(outside[0])
+        shown = [convert(float(v), si_unit, column_unit) for v in (values[i], low, high)]
         check.waivable("implausible_range", _row(first_line, i), check.key(*location, "column"),
-                       f"value {values[i]:.6g} {unit} (after unit, scale, sign and offset) is "
-                       f"outside the plausible range [{low:.6g}, {high:.6g}] {unit} "
-                       f"({outside.size} samples); check the channel mapping")
+                       f"value {shown[0]:.4g} {column_unit} (after scale, sign and offset) is "
+                       f"outside the plausible range [{shown[1]:.4g}, {shown[2]:.4g}] "
+                       f"{column_unit} ({outside.size} samples); check the channel mapping")

@@ -150,9 +150,15 @@ DATA_CASES = [
     ("clipped load", lambda c: c["Fz_kN"].__setitem__(slice(150, 160), c["Fz_kN"].max() * 1.0)
      or c["Fz_kN"].__setitem__(slice(150, 160), 12.5), "flat at its maximum", 152),
     # 10 x stroke passes 1.2 x 120 mm when 0.8 sin(pi tau/0.12) > 0.144, i.e. tau > 6.95 ms:
-    # first at tau = 7 ms, sample 107, CSV line 109
-    ("implausible stroke", lambda c: c["stroke_mm"].__imul__(10.0), "outside the plausible range",
-     109),
+    # first at tau = 7 ms, sample 107, CSV line 109; 10·80 mm·sin(7π/120) = 145.8 mm, said in
+    # the file's own unit (the column is in mm)
+    ("implausible stroke", lambda c: c["stroke_mm"].__imul__(10.0),
+     "value 145.8 mm (after scale, sign and offset) is outside the plausible range [", 109),
+    # 5 x load: F = 60 kN·sin(π/2·sin(πτ/0.12)) passes 20 x 2600 N = 52 kN first at
+    # τ = 28 ms (52.07 kN), sample 128, CSV line 130; the column is in kN, so is the message
+    ("implausible load", lambda c: c["Fz_kN"].__imul__(5.0),
+     "value 52.07 kN (after scale, sign and offset) is outside the plausible range "
+     "[-0.26, 52] kN", 130),
 ]
 
 
