@@ -155,9 +155,10 @@ DATA_CASES = [
     ("implausible stroke", lambda c: c["stroke_mm"].__imul__(10.0),
      "value 145.8 mm (after scale, sign and offset) is outside the plausible range [", 109),
     # 5 x load: F = 60 kN·sin(π/2·sin(πτ/0.12)) passes 20 x 2600 N = 52 kN first at
-    # τ = 28 ms (52.07 kN), sample 128, CSV line 130; the column is in kN, so is the message
+    # τ = 28 ms (60·sin(π/2·0.66913) = 52.077 kN), sample 128, CSV line 130; the column is in kN,
+    # so is the message
     ("implausible load", lambda c: c["Fz_kN"].__imul__(5.0),
-     "value 52.07 kN (after scale, sign and offset) is outside the plausible range "
+     "value 52.08 kN (after scale, sign and offset) is outside the plausible range "
      "[-0.26, 52] kN", 130),
 ]
 
