@@ -25,6 +25,11 @@ SETTLING_BAND = 0.05
 FINAL_SHARE = 0.05
 #: Window before touchdown used to fit the contact velocity from the drop-mass displacement.
 VELOCITY_WINDOW = 0.050
+#: Window before the touchdown sample over which a travel channel's zero is read (median): the
+#: last samples below the touchdown threshold may already follow contact (a soft tyre deflects
+#: about a millimetre before its load clears the threshold), so a single sample's reading
+#: would depend on where the logger's samples happen to fall.
+ZERO_WINDOW = 0.010
 
 
 def _touchdown_threshold(load: np.ndarray, static_weight: float) -> tuple[float, float] | None:
@@ -100,7 +105,7 @@ class GearMeasures:
     min_stroke_after_peak: float | None
     lift_off_duration: float | None
     settling_time: float | None
-    stroke_at_touchdown: float | None = None
+    stroke_at_touchdown: float | None = None    # median over ZERO_WINDOW before touchdown
     tyre_at_touchdown: float | None = None
     #: E_s + E_t each taken from touchdown to the instant of maximum total travel d (certkit E5)
     energy_at_max_travel: float | None = None
@@ -198,9 +203,18 @@ def measure_gear(time: np.ndarray, load: np.ndarray, stroke: np.ndarray | None,
         max_stroke=max_stroke, max_tyre=max_tyre, max_total_travel=total,
         strut_energy=strut_energy, tyre_energy=tyre_energy,
         min_stroke_after_peak=min_after, lift_off_duration=lift_off, settling_time=settling,
-        stroke_at_touchdown=None if stroke is None else float(stroke[i0]),
-        tyre_at_touchdown=None if tyre is None else float(tyre[i0]),
+        stroke_at_touchdown=None if stroke is None else _before_contact(time, stroke, i0),
+        tyre_at_touchdown=None if tyre is None else _before_contact(time, tyre, i0),
         energy_at_max_travel=at_max_travel)
+
+
+def _before_contact(time: np.ndarray, values: np.ndarray, index: int) -> float:
+    """A channel's reading just before contact: its median over :data:`ZERO_WINDOW` before
+    sample ``index`` (the sample at ``index`` itself when the record starts there)."""
+    window = (time >= time[index] - ZERO_WINDOW) & (time < time[index])
+    if not window.any():
+        return float(values[index])
+    return float(np.median(values[window]))
 
 
 def _settling_time(t: np.ndarray, stroke: np.ndarray, max_stroke: float) -> float | None:

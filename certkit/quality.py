@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from .drop_conditions import lift_force_ratio
+from .measures import ZERO_WINDOW
 from .results import Comparison, Finding
 from .units import STANDARD_GRAVITY, convert, ureg
 
@@ -397,7 +398,8 @@ def check_acceleration_against_load(assessment: Assessment) -> None:
 
 
 def check_travel_zero_at_touchdown(assessment: Assessment) -> None:
-    """Stroke and tyre deflection read zero at touchdown (else an offset is missing)."""
+    """Stroke and tyre deflection read zero just before touchdown (else an offset is missing):
+    their median over the :data:`~certkit.measures.ZERO_WINDOW` before the touchdown sample."""
     tolerance = assessment.campaign.spec.audit.zero_travel_tolerance.si
     for run, gear in _gear_items(assessment):
         measures = gear.measures
@@ -409,7 +411,8 @@ def check_travel_zero_at_touchdown(assessment: Assessment) -> None:
                 _add(assessment, f"{name.split()[0]}-not-zero-at-touchdown", "warning",
                      run.run.id, gear.gear_id,
                      f"run {run.run.id}, {gear.gear_id}: {name} reads "
-                     f"{_display(assessment, value, 'length')} at touchdown, not zero; the "
+                     f"{_display(assessment, value, 'length')} just before touchdown (median "
+                     f"over {_display(assessment, ZERO_WINDOW, 'time')}), not zero; the "
                      f"maxima and energies are measured from zero, so set the channel's offset",
                      value=value)
 
