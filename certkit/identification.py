@@ -23,8 +23,9 @@ logger).  The models' lag orders (na, nb), the initialisation window, the whiten
 and the Wiener plant's records count samples at that rate, so every record logged at
 another rate is first resampled to it (:func:`at_model_rate`): the same drops logged at
 2 kHz or at 1 kHz then give the same regressors, with lags that span the same time.
-Scaling the orders with the rate instead would double the regressor and the kernel's
-dimension at 2 kHz, and the spec's orders (the seed's 6/4) would mean half the time.
+Left as they are, the spec's orders (the seed's 6/4) would span half the time at 2 kHz;
+scaled with the rate, they would double the regressor (and the LS-SVM kernel's input
+dimension), which makes other models, not the same ones.
 """
 
 from __future__ import annotations
@@ -163,10 +164,11 @@ def _drops(campaign: Campaign, gear_id: str) -> list[Drop]:
         time, channels = at_model_rate(series.time, {"load": gear.load, "stroke": gear.stroke,
                                                      "tyre": gear.tyre})
         start = touchdown_index(channels["load"], weight)
-        if start is None or start + WINDOW > time.size:
-            continue
         # the touchdown instant of the record as logged, which the drop model is aligned on
-        contact, _ = touchdown_time(series.time, gear.load, weight)
+        found = touchdown_time(series.time, gear.load, weight)
+        if start is None or found is None or start + WINDOW > time.size:
+            continue
+        contact, _ = found
         window = slice(start, start + WINDOW)
         drops.append(Drop(run.id, channels["load"][window] / 1e3,
                           {"stroke": channels["stroke"][window] * 1e3,
