@@ -261,7 +261,8 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
             None if measures.max_total_travel is not None else "needs stroke and tyre channels")
         put("E_s", "Energy absorbed by the strut", "E_s", measures.strut_energy, "J", "energy",
             "certkit E1", "E_s = ∫ F_s ds, F_s/cos θ = F_V − m2·(g − δ̈), loading stroke",
-            source_file | {"m2": f"{unsprung:g} kg (gear_units[{gear_id}].strut.unsprung_mass)"},
+            source_file | {"m2": _spec_input(f"gear_units[{gear_id}].strut.unsprung_mass",
+                                             strut.unsprung_mass.text if unsprung else "not declared")},
             None if unsprung else "unsprung mass not declared: F_s = F_V·cos θ")
         put("E_t", "Energy absorbed by the tyre", "E_t", measures.tyre_energy, "J", "energy",
             "certkit E1", "E_t = ∫ F_V dδ, loading stroke", source_file)

@@ -24,21 +24,29 @@ def absorbed_energy(time: np.ndarray, load: np.ndarray, travel: np.ndarray) -> f
 
     Notes
     -----
-    E = ∫ F(t)·ds/dt dt over [t_0, t(argmax s)].  Load and travel are interpolated by
-    cubic splines in time (the time grid is regular, so nothing divides by a small
-    travel step near maximum compression) and each interval's polynomial product is
-    integrated exactly by 3-point Gauss-Legendre quadrature.  Fourth-order accurate
-    in the sample interval; exact when F is linear in s.
+    E = ∫ F(t)·ds/dt dt over [t_0, t(argmax s)], integrated by :func:`work_until`.
+    """
+    return work_until(time, load, travel, int(np.argmax(np.asarray(travel, dtype=float))))
+
+
+def work_until(time: np.ndarray, load: np.ndarray, travel: np.ndarray, end: int) -> float:
+    """Work of ``load`` on ``travel`` from the first sample to sample ``end``, ∫ F ds [J].
+
+    Notes
+    -----
+    W = ∫ F(t)·ds/dt dt over [t_0, t_end].  Load and travel are interpolated by cubic
+    splines in time (the time grid is regular, so nothing divides by a small travel step
+    near maximum compression) and each interval's polynomial product is integrated
+    exactly by 3-point Gauss-Legendre quadrature.  Fourth-order accurate in the sample
+    interval; exact when F is linear in s.
     """
     from scipy.interpolate import CubicSpline  # imported here: only time series need it
 
-    time = np.asarray(time, dtype=float)
-    load = np.asarray(load, dtype=float)
-    travel = np.asarray(travel, dtype=float)
-    end = int(np.argmax(travel))
     if end < 1:
         return 0.0
-    t, f, s = time[: end + 1], load[: end + 1], travel[: end + 1]
+    t = np.asarray(time, dtype=float)[: end + 1]
+    f = np.asarray(load, dtype=float)[: end + 1]
+    s = np.asarray(travel, dtype=float)[: end + 1]
     if end == 1:
         return float(0.5 * (f[0] + f[1]) * (s[1] - s[0]))
     load_spline = CubicSpline(t, f, bc_type="not-a-knot")

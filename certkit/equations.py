@@ -4,6 +4,8 @@ The report prints this table in its methods section; a value whose source is
 ``certkit E1`` is traceable to the line ``E1`` here.
 """
 
+from .measures import AXLE_WINDOW, VELOCITY_WINDOW, window_samples
+
 EQUATIONS: dict[str, str] = {
     "M1": "F_peak = max F_V(t) after touchdown (platform vertical load of the gear unit)",
     "M2": "d_s = max s(t), d_t = max δ(t); d = max(δ(t) + s(t)·cos θ) "
@@ -13,14 +15,21 @@ EQUATIONS: dict[str, str] = {
           "2 % of the unit's static weight and 6 robust standard deviations of the pre-contact noise",
     "E1": "E = ∫ F d(travel) from touchdown to maximum travel; tyre: F_V over δ; strut: the "
           "axial force F_s over s, F_s/cos θ = F_V − m2·(g − δ̈) (lower-mass equation, m2 the "
-          "declared unsprung mass or 0, δ̈ a Savitzky-Golay second derivative of δ, cubic, 21 "
-          "samples); cubic splines in time, Gauss-Legendre per sample interval",
+          f"declared unsprung mass or 0, δ̈ a Savitzky-Golay second derivative of δ, cubic, over "
+          f"{AXLE_WINDOW * 1e3:g} ms: {window_samples(AXLE_WINDOW, 1e-3)} samples at 1 kHz); cubic "
+          f"splines in time, Gauss-Legendre per sample interval",
     "E2": "η = E/(F·δ_max) with F the peak force through the element (tyre: F_peak; strut: "
           "F_peak·cos θ)",
     "E3": "E_avail = W_drop·(h + d) − L_dev·W_drop·d: potential energy of the drop through h + d, "
           "less the work of a lift force L_dev·W_drop applied by a lift device (L_dev = 0 when "
           "lift is not simulated or is represented by a reduced drop mass, which applies no force)",
     "E4": "W_implied = (E_s + E_t)/(h + (1 − L_dev)·d): the drop weight the absorbed energy implies",
+    "E5": "E_d = E_s(t_d) + E_t(t_d): the work strut and tyre have absorbed at t_d, the instant "
+          "of maximum total travel d (each integral of E1 taken to t_d, not to the element's own "
+          "maximum: the element that peaks first gives energy back before t_d); from reported "
+          "values E_d = E_s + E_t, each to its own maximum. The audit checks E_d ≤ E_avail (E3): "
+          "the upper mass is at rest at t_d, so without lift E_d = W_drop·(h + d) − "
+          "m2·g·(d − δ(t_d)) − ½·m2·δ̇(t_d)²",
     "W1": "W_drop = m_drop·g for a single-unit drop; for a drop of the complete airplane each "
           "unit's share W_drop = W_unit·m_drop·g/W_max",
     "G1": "ground-reaction factor F_peak/W_unit",
@@ -28,7 +37,7 @@ EQUATIONS: dict[str, str] = {
           "peaks, whether or not they coincide in time; nose unit not included)",
     "V1": "v_0 = √(2·g·h), free drop without losses",
     "V2": "v_0 measured: derivative at touchdown of a parabola fitted to the drop-mass "
-          "displacement over the 20 ms before touchdown",
+          f"displacement over the {VELOCITY_WINDOW * 1e3:g} ms before touchdown",
     "B1": "bottoming margin = design stroke − d_s",
     "R1": "rebound: minimum stroke after the maximum; lift-off: time the load stays below 2 % "
           "of the static weight after the peak",

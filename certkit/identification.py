@@ -9,14 +9,23 @@ LS-SVM NARX (:mod:`certkit.lssvm`), and the governing equations, nominal and cal
 
 Two validation protocols:
 
-* the seed paper's: train on the first 200 samples after touchdown of a run and simulate
-  that whole run (0-1 s): in-sample for its first fifth, and it is what the paper did;
+* the seed paper's: train on the first 200 samples (0.2 s) after touchdown of a run and
+  simulate that whole run (0-1 s): in-sample for its first fifth, and it is what the paper did;
 * the honest one: train and tune on some drop heights, simulate the held-out highest
   drop in free run; the held-out run is used for nothing else (calibration included).
 
 Every figure is a free-run simulation (only the input and, for the models that need one,
 an initialisation window of na measured samples); one-step-ahead prediction errors are
 reported separately and labelled.
+
+Identification runs at one sample rate, :data:`MODEL_RATE` (1 kHz, the seed paper's
+logger).  The models' lag orders (na, nb), the initialisation window, the whiteness lags
+and the Wiener plant's records count samples at that rate, so every record logged at
+another rate is first resampled to it (:func:`at_model_rate`): the same drops logged at
+2 kHz or at 1 kHz then give the same regressors, with lags that span the same time.
+Left as they are, the spec's orders (the seed's 6/4) would span half the time at 2 kHz;
+scaled with the rate, they would double the regressor (and the LS-SVM kernel's input
+dimension), which makes other models, not the same ones.
 """
 
 from __future__ import annotations
@@ -30,7 +39,7 @@ from .campaign import Campaign
 from .hammerstein import HammersteinLSSVM
 from .lssvm import (NARX, LSSVMRegressor, fit_percent, kfold_cost, max_abs_error, nrmse,
                     residual_analysis, rmse, tune)
-from .measures import touchdown_index
+from .measures import touchdown_index, touchdown_time
 from .rundata import CHANNEL_LABELS
 from .units import STANDARD_GRAVITY
 from .wiener import (SmallSignalExperiment, WienerModel, best_linear_records, physics_plant,
@@ -38,17 +47,65 @@ from .wiener import (SmallSignalExperiment, WienerModel, best_linear_records, ph
 
 OUTPUTS = ("stroke", "tyre")
 OUTPUT_LABELS = {name: CHANNEL_LABELS[name] for name in OUTPUTS}
-WINDOW = 1000           # samples from touchdown (1 s at 1 kHz, the paper's figures)
-PAPER_TRAINING = 200    # the paper: "the initial 200 data points" after touchdown
-WHITENESS_LAGS = 25     # residual correlation lags examined (identification.md §1.5)
+#: Sample rate every model is identified at [Hz]: the seed paper's logger rate, at which its
+#: orders were chosen.  Records at another rate are resampled to it (:func:`at_model_rate`).
+MODEL_RATE = 1000.0
+WINDOW_DURATION = 1.0           # s from touchdown (the paper's figures: 0-1 s)
+PAPER_TRAINING_DURATION = 0.2   # s: the paper's "initial 200 data points" at its 1 kHz
+PLANT_DURATION = 2.0            # s: each record of the Wiener plant (small-signal, BLA)
+WINDOW = round(WINDOW_DURATION * MODEL_RATE)                    # samples at MODEL_RATE
+PAPER_TRAINING = round(PAPER_TRAINING_DURATION * MODEL_RATE)    # samples at MODEL_RATE
+PLANT_SAMPLES = round(PLANT_DURATION * MODEL_RATE)              # samples at MODEL_RATE
+WHITENESS_LAGS = 25     # residual correlation lags at MODEL_RATE (identification.md §1.5)
 WHITENESS_CONFIDENCE = 0.99
 
 
 @dataclass(frozen=True)
 class Drop:
     run: str
-    load: np.ndarray        # kN, from touchdown
-    outputs: dict           # output -> mm, from touchdown
+    load: np.ndarray        # kN, from touchdown, at MODEL_RATE
+    outputs: dict           # output -> mm, from touchdown, at MODEL_RATE
+    time: np.ndarray = field(repr=False, compare=False)  # s from the touchdown instant
+
+
+#: Anti-alias low-pass applied before a record is brought down to MODEL_RATE: Butterworth,
+#: run forward and backward (no delay), cut-off a share of MODEL_RATE below its Nyquist
+#: frequency (drop dynamics lie below about 100 Hz).
+ANTI_ALIAS_ORDER = 8
+ANTI_ALIAS_CUTOFF = 0.4     # × MODEL_RATE
+#: Rates within this relative distance of MODEL_RATE are taken as MODEL_RATE (no resampling).
+RATE_MATCH = 1e-6
+
+
+def at_model_rate(time: np.ndarray, channels: dict) -> tuple[np.ndarray, dict]:
+    """A record's channels at :data:`MODEL_RATE`, on a grid starting at its first sample.
+
+    The rate is the time column's (``1/median(Δt)``; certkit's reader has checked it
+    against the declared ``sampling_rate``).  A record already at MODEL_RATE is returned
+    as it is.  Otherwise: a faster record is low-passed first (:data:`ANTI_ALIAS_ORDER`-th
+    order Butterworth at :data:`ANTI_ALIAS_CUTOFF`·MODEL_RATE, zero phase), and every
+    channel is interpolated on the MODEL_RATE grid by a cubic spline in time.
+    """
+    from scipy.interpolate import CubicSpline
+    from scipy.signal import butter, sosfiltfilt
+
+    time = np.asarray(time, dtype=float)
+    rate = 1.0 / float(np.median(np.diff(time)))
+    if abs(rate / MODEL_RATE - 1.0) <= RATE_MATCH:
+        return time, channels
+    grid = time[0] + np.arange(int(np.floor((time[-1] - time[0]) * MODEL_RATE)) + 1) / MODEL_RATE
+    low_pass = (butter(ANTI_ALIAS_ORDER, ANTI_ALIAS_CUTOFF * MODEL_RATE, fs=rate, output="sos")
+                if rate > MODEL_RATE else None)
+    resampled = {}
+    for name, values in channels.items():
+        if values is None:
+            resampled[name] = None
+            continue
+        values = np.asarray(values, dtype=float)
+        if low_pass is not None:
+            values = sosfiltfilt(low_pass, values)
+        resampled[name] = CubicSpline(time, values)(grid)
+    return grid, resampled
 
 
 @dataclass(frozen=True)
@@ -99,12 +156,18 @@ def _drops(campaign: Campaign, gear_id: str) -> list[Drop]:
         gear = series.gears[gear_id]
         if gear.stroke is None or gear.tyre is None:
             continue
-        start = touchdown_index(gear.load, weight)
-        if start is None or start + WINDOW > gear.load.size:
+        time, channels = at_model_rate(series.time, {"load": gear.load, "stroke": gear.stroke,
+                                                     "tyre": gear.tyre})
+        start = touchdown_index(channels["load"], weight)
+        # the touchdown instant of the record as logged, which the drop model is aligned on
+        found = touchdown_time(series.time, gear.load, weight)
+        if start is None or found is None or start + WINDOW > time.size:
             continue
+        contact, _ = found
         window = slice(start, start + WINDOW)
-        drops.append(Drop(run.id, gear.load[window] / 1e3,
-                          {"stroke": gear.stroke[window] * 1e3, "tyre": gear.tyre[window] * 1e3}))
+        drops.append(Drop(run.id, channels["load"][window] / 1e3,
+                          {"stroke": channels["stroke"][window] * 1e3,
+                           "tyre": channels["tyre"][window] * 1e3}, time[window] - contact))
     return drops
 
 
@@ -149,7 +212,8 @@ def _hammerstein(train: list[Drop], output: str, settings) -> HammersteinLSSVM:
         folds = [([d for d in train if d is not held], held, 0) for held in train]
     else:
         half = train[0].load.size // 2
-        first = Drop(train[0].run, train[0].load[:half], {output: train[0].outputs[output][:half]})
+        first = Drop(train[0].run, train[0].load[:half], {output: train[0].outputs[output][:half]},
+                     train[0].time[:half])
         folds = [([first], train[0], half)]
 
     def cost(gamma: float, sigma2: float) -> float:
@@ -204,10 +268,11 @@ def _governing_equation(campaign: Campaign, gear_id: str, result: GearIdentifica
                             ("governing equation, calibrated", calibration.apply)):
         simulated = simulate_like_runs(campaign, gear_id, configure, [d.run for d in held])
         for drop in held:
+            run = simulated[drop.run]   # on the logged samples from the touchdown instant
             for output in OUTPUTS:
-                values = simulated[drop.run][output][:WINDOW] * 1e3
+                values = np.interp(drop.time, run["time"], run[output]) * 1e3
                 result.scores.append(_score(name, "held-out", output, drop.run,
-                                            drop.outputs[output][:values.size], values))
+                                            drop.outputs[output], values))
     run = next(r for r in campaign.spec.runs if r.id == held[0].run)
     return calibration.apply(drop_model_for(campaign.spec, run, gear_id))
 
@@ -221,8 +286,10 @@ def _recorded_small_signal(campaign: Campaign, gear_id: str):
         gear = series.gears[gear_id]
         if gear.stroke is None or gear.tyre is None:
             continue
-        return run.id, gear.load - gear.load.mean(), {"stroke": gear.stroke - gear.stroke.mean(),
-                                                      "tyre": gear.tyre - gear.tyre.mean()}
+        _, channels = at_model_rate(series.time, {"load": gear.load, "stroke": gear.stroke,
+                                                  "tyre": gear.tyre})
+        centred = {name: values - values.mean() for name, values in channels.items()}
+        return run.id, centred.pop("load"), centred
     return None
 
 
@@ -256,10 +323,11 @@ def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None
     plant_model = _governing_equation(campaign, gear_id, result, held)
     first = held[0]   # the paper's protocol: the first 200 samples of the highest held-out drop
     paper_train = Drop(first.run, first.load[:PAPER_TRAINING],
-                       {k: v[:PAPER_TRAINING] for k, v in first.outputs.items()})
-    rate = 1000.0
+                       {k: v[:PAPER_TRAINING] for k, v in first.outputs.items()},
+                       first.time[:PAPER_TRAINING])
     recorded = _recorded_small_signal(campaign, gear_id)
-    plant = physics_plant(plant_model, 2000, rate) if plant_model is not None else None
+    plant = (physics_plant(plant_model, PLANT_SAMPLES, MODEL_RATE) if plant_model is not None
+             else None)
     grid = np.linspace(0.0, max(d.load.max() for d in drops), 200)
     for output in OUTPUTS:
         # Hammerstein: tuned on the training runs only, for both protocols
@@ -312,7 +380,7 @@ def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None
                                 f"from recorded run {run_id}; with one record the K-scaling "
                                 f"linearity check cannot be made")
         elif plant is not None:
-            experiment = small_signal_records(plant, [output], 2000, rate,
+            experiment = small_signal_records(plant, [output], PLANT_SAMPLES, MODEL_RATE,
                                               amplitude=small.amplitude.si, gain=small.gain.si,
                                               tolerance=small.tolerance.si)
             result.small_signal[output] = experiment.steps
@@ -335,8 +403,8 @@ def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None
                                     f"model")
         if plant is not None:
             amplitude = float(np.sqrt(np.mean(np.concatenate([d.load for d in train]) ** 2)))
-            routes["Wiener (BLA)"] = best_linear_records(plant, [output], 2000, rate,
-                                                         amplitude=amplitude * 1e3)
+            routes["Wiener (BLA)"] = best_linear_records(plant, [output], PLANT_SAMPLES,
+                                                         MODEL_RATE, amplitude=amplitude * 1e3)
         target = settings.nonlinearity_target.si * 1e3
         for name, records in routes.items():
             wiener = WienerModel(settings.wiener.na, settings.wiener.nb).fit_linear(

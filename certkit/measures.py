@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .clauses import drop_test_load_factor
-from .energy import absorbed_energy
+from .energy import absorbed_energy, work_until
 from .units import STANDARD_GRAVITY
 
 #: Touchdown: load first exceeds this share of the unit's static weight (physics.md §4.1:
@@ -25,6 +25,11 @@ SETTLING_BAND = 0.05
 FINAL_SHARE = 0.05
 #: Window before touchdown used to fit the contact velocity from the drop-mass displacement.
 VELOCITY_WINDOW = 0.050
+#: Window before the touchdown sample over which a travel channel's zero is read (median): the
+#: last samples below the touchdown threshold may already follow contact (a soft tyre deflects
+#: about a millimetre before its load clears the threshold), so a single sample's reading
+#: would depend on where the logger's samples happen to fall.
+ZERO_WINDOW = 0.010
 
 
 def _touchdown_threshold(load: np.ndarray, static_weight: float) -> tuple[float, float] | None:
@@ -100,25 +105,36 @@ class GearMeasures:
     min_stroke_after_peak: float | None
     lift_off_duration: float | None
     settling_time: float | None
-    stroke_at_touchdown: float | None = None
+    stroke_at_touchdown: float | None = None    # median over ZERO_WINDOW before touchdown
     tyre_at_touchdown: float | None = None
+    #: E_s + E_t each taken from touchdown to the instant of maximum total travel d (certkit E5)
+    energy_at_max_travel: float | None = None
 
 
-#: Savitzky-Golay window for the axle acceleration: 21 samples (cubic), about 20 ms at
-#: 1 kHz, passing the tyre/axle motion (< 50 Hz) while suppressing sensor noise, whose
-#: second difference is σ·√6/dt² (300 m/s² for 0.05 mm at 1 kHz).
-AXLE_WINDOW = 21
+#: Savitzky-Golay window for the axle acceleration: 20 ms (cubic; 21 samples at 1 kHz),
+#: passing the tyre/axle motion (< 50 Hz) while suppressing sensor noise, whose second
+#: difference is σ·√6/dt² (300 m/s² for 0.05 mm at 1 kHz).
+AXLE_WINDOW = 0.020   # s
+AXLE_POLYORDER = 3
+
+
+def window_samples(duration: float, step: float, minimum: int = 1) -> int:
+    """The odd number of samples spanning ``duration`` [s] at sample interval ``step`` [s]
+    (first to last sample), at least ``minimum``: 21 for 20 ms at 1 kHz, 41 at 2 kHz."""
+    return max(2 * int(round(0.5 * duration / step)) + 1, minimum)
 
 
 def axle_acceleration(time: np.ndarray, tyre: np.ndarray) -> np.ndarray:
-    """δ̈ from the tyre deflection: Savitzky-Golay second derivative (cubic, 21 samples)
-    on a uniform time base; cubic-spline second derivative otherwise."""
+    """δ̈ from the tyre deflection: Savitzky-Golay second derivative (cubic, over
+    :data:`AXLE_WINDOW`) on a uniform time base; cubic-spline second derivative otherwise."""
     from scipy.interpolate import CubicSpline
     from scipy.signal import savgol_filter
 
     steps = np.diff(time)
-    if len(time) > AXLE_WINDOW and np.ptp(steps) <= 1e-6 * np.mean(steps):
-        return savgol_filter(tyre, AXLE_WINDOW, 3, deriv=2, delta=float(np.mean(steps)))
+    step = float(np.mean(steps))
+    window = window_samples(AXLE_WINDOW, step, AXLE_POLYORDER + 2)
+    if len(time) > window and np.ptp(steps) <= 1e-6 * step:
+        return savgol_filter(tyre, window, AXLE_POLYORDER, deriv=2, delta=step)
     return CubicSpline(time, tyre).derivative(2)(time)
 
 
@@ -143,7 +159,9 @@ def measure_gear(time: np.ndarray, load: np.ndarray, stroke: np.ndarray | None,
 
     Energies over each element's loading stroke: E_t = ∫ F_V dδ and E_s = ∫ F_s ds with
     the strut force from :func:`strut_force` (the unsprung mass's weight and inertia
-    removed when its mass is known).  d = max over time of (δ + s·cosθ), 23.725(b).
+    removed when its mass is known).  d = max over time of (δ + s·cosθ), 23.725(b), reached
+    at t_d; the same two integrals taken to t_d give the work absorbed by then, E_d
+    (certkit E5), the energy the drop had to supply at maximum total travel.
     """
     start = touchdown_index(load, static_weight)
     i0 = 0 if start is None else max(start - 1, 0)
@@ -166,9 +184,12 @@ def measure_gear(time: np.ndarray, load: np.ndarray, stroke: np.ndarray | None,
         d = tyre[i0:]
         max_tyre = float(np.max(d))
         tyre_energy = absorbed_energy(t, f, d)
-    total = None
+    total = at_max_travel = None
     if stroke is not None and tyre is not None:
-        total = float(np.max(tyre[i0:] + stroke[i0:] * cos_theta))
+        travel = tyre[i0:] + stroke[i0:] * cos_theta
+        end = int(np.argmax(travel))
+        total = float(travel[end])
+        at_max_travel = work_until(t, axial, s, end) + work_until(t, f, d, end)
 
     lift_off = None
     contact_threshold = TOUCHDOWN_SHARE * static_weight
@@ -182,8 +203,18 @@ def measure_gear(time: np.ndarray, load: np.ndarray, stroke: np.ndarray | None,
         max_stroke=max_stroke, max_tyre=max_tyre, max_total_travel=total,
         strut_energy=strut_energy, tyre_energy=tyre_energy,
         min_stroke_after_peak=min_after, lift_off_duration=lift_off, settling_time=settling,
-        stroke_at_touchdown=None if stroke is None else float(stroke[i0]),
-        tyre_at_touchdown=None if tyre is None else float(tyre[i0]))
+        stroke_at_touchdown=None if stroke is None else _before_contact(time, stroke, i0),
+        tyre_at_touchdown=None if tyre is None else _before_contact(time, tyre, i0),
+        energy_at_max_travel=at_max_travel)
+
+
+def _before_contact(time: np.ndarray, values: np.ndarray, index: int) -> float:
+    """A channel's reading just before contact: its median over :data:`ZERO_WINDOW` before
+    sample ``index`` (the sample at ``index`` itself when the record starts there)."""
+    window = (time >= time[index] - ZERO_WINDOW) & (time < time[index])
+    if not window.any():
+        return float(values[index])
+    return float(np.median(values[window]))
 
 
 def _settling_time(t: np.ndarray, stroke: np.ndarray, max_stroke: float) -> float | None:

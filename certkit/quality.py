@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from .drop_conditions import lift_force_ratio
+from .measures import ZERO_WINDOW
 from .results import Comparison, Finding
 from .units import STANDARD_GRAVITY, convert, ureg
 
@@ -87,20 +88,47 @@ def check_energy_bounds(assessment: Assessment) -> None:
                      eta=eta)
 
 
+def absorbed_at_max_travel(gear) -> tuple[float | None, str]:
+    """The work absorbed by strut and tyre when the drop reaches its maximum total travel d
+    (certkit E5), and how it was obtained, in words.
+
+    From time histories, E_d = E_s(t_d) + E_t(t_d), each element's work taken to the
+    instant t_d of maximum total travel.  E_s and E_t themselves run to each element's own
+    maximum; the element that peaks first gives energy back before t_d, so their sum would
+    count that energy twice.  From reported values only the sum E_s + E_t is known.
+    """
+    measures = gear.measures
+    if measures is not None and measures.energy_at_max_travel is not None:
+        return measures.energy_at_max_travel, ("E_s(t_d) + E_t(t_d), each element's work from "
+                                               "touchdown to the instant of maximum total travel")
+    e_s, e_t = gear.get("E_s"), gear.get("E_t")
+    if None in (e_s, e_t):
+        return None, ""
+    return e_s + e_t, "E_s + E_t as reported, each element's energy to its own maximum"
+
+
 def check_available_energy(assessment: Assessment) -> None:
-    """E_s + E_t ≤ energy available W_drop·(h + d) − L_dev·W_drop·d, certkit E3 (within the stated tolerance)."""
+    """E_d ≤ E_avail = W_drop·(h + d) − L_dev·W_drop·d: certkit E5 against E3, within the
+    stated tolerance.
+
+    By the instant of maximum total travel the strut and tyre cannot have absorbed more
+    than the drop has supplied: for the two-mass gear on a rigid platform (upper mass m1
+    at rest at t_d, unsprung mass m2), E_s(t_d) + E_t(t_d) = W_drop·h + m1·g·d +
+    m2·g·δ(t_d) − ½·m2·δ̇(t_d)² ≤ W_drop·(h + d), less the lift device's work.
+    """
     tolerance = assessment.campaign.spec.audit.energy_tolerance.si
     for run, gear in _gear_items(assessment):
-        e_s, e_t, available = gear.get("E_s"), gear.get("E_t"), gear.get("E_avail")
-        if None in (e_s, e_t, available):
+        absorbed, how = absorbed_at_max_travel(gear)
+        available = gear.get("E_avail")
+        if absorbed is None or available is None:
             continue
-        absorbed = e_s + e_t
         if absorbed > available * (1 + tolerance):
             _add(assessment, "energy-exceeds-available", "error", run.run.id, gear.gear_id,
-                 f"run {run.run.id}, {gear.gear_id}: absorbed energy E_s + E_t = "
-                 f"{_fmt(absorbed, 'J')} exceeds the energy available W_drop·(h + d) − L_dev·W_drop·d"
-                 f" = {_fmt(available, 'J')} by {absorbed / available - 1:.1%} "
-                 f"(tolerance {tolerance:.0%})", absorbed=absorbed, available=available)
+                 f"run {run.run.id}, {gear.gear_id}: absorbed energy E_d = "
+                 f"{_fmt(absorbed, 'J')} ({how}; certkit E5) exceeds the energy available "
+                 f"W_drop·(h + d) − L_dev·W_drop·d = {_fmt(available, 'J')} by "
+                 f"{absorbed / available - 1:.1%} (tolerance {tolerance:.0%})",
+                 absorbed=absorbed, available=available)
 
 
 def check_implied_drop_weight(assessment: Assessment) -> None:
@@ -374,7 +402,8 @@ def check_acceleration_against_load(assessment: Assessment) -> None:
 
 
 def check_travel_zero_at_touchdown(assessment: Assessment) -> None:
-    """Stroke and tyre deflection read zero at touchdown (else an offset is missing)."""
+    """Stroke and tyre deflection read zero just before touchdown (else an offset is missing):
+    their median over the :data:`~certkit.measures.ZERO_WINDOW` before the touchdown sample."""
     tolerance = assessment.campaign.spec.audit.zero_travel_tolerance.si
     for run, gear in _gear_items(assessment):
         measures = gear.measures
@@ -386,7 +415,8 @@ def check_travel_zero_at_touchdown(assessment: Assessment) -> None:
                 _add(assessment, f"{name.split()[0]}-not-zero-at-touchdown", "warning",
                      run.run.id, gear.gear_id,
                      f"run {run.run.id}, {gear.gear_id}: {name} reads "
-                     f"{_display(assessment, value, 'length')} at touchdown, not zero; the "
+                     f"{_display(assessment, value, 'length')} just before touchdown (median "
+                     f"over {_display(assessment, ZERO_WINDOW, 'time')}), not zero; the "
                      f"maxima and energies are measured from zero, so set the channel's offset",
                      value=value)
 

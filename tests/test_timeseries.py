@@ -1,5 +1,6 @@
 """A campaign with time histories whose energies and peaks are known in closed form."""
 
+import numpy as np
 import pytest
 
 from certkit import assess, load_campaign
@@ -106,3 +107,20 @@ def test_semicolon_and_tab_files_give_the_same_results_as_csv(timeseries_campaig
                f"numbers; not the comma-separated CSV of RFC 4180)")
     assert [(f.severity, f.message) for f in stated] == [("info", message)]
     assert not any(f.check == "data-layout" for f in from_csv.findings)
+
+
+def test_travel_zero_is_read_before_contact_not_on_the_last_sample_below_the_threshold(
+        timeseries_campaign):
+    from .conftest import analytic_signals, write_csv
+
+    # the tyre channel one sample ahead of the load (it deflects before the load clears the
+    # touchdown threshold): on the last sample below the threshold, t = 0.100 s, it reads
+    # δ(τ = 1 ms) = 40·sin(π/2·sin(π·0.001/0.12)) = 1.644 mm, more than the 1 mm tolerance,
+    # although the channel reads exactly zero before contact
+    signals = analytic_signals()
+    signals["tyre_mm"] = np.append(signals["tyre_mm"][1:], signals["tyre_mm"][-1])
+    assert signals["tyre_mm"][100] == pytest.approx(1.644, abs=1e-3)
+    write_csv(timeseries_campaign.parent / "data" / "r1.csv", signals)
+    assessment = assess(load_campaign(timeseries_campaign))
+    assert assessment.runs[0].gears[0].measures.tyre_at_touchdown == 0.0
+    assert not any(f.check == "tyre-not-zero-at-touchdown" for f in assessment.findings)
