@@ -16,7 +16,8 @@ from . import clauses, requirement_sets
 from .campaign import Campaign
 from .quality import audit
 from .drop_conditions import drop_weight_share, lift_force_ratio, lift_ratio
-from .measures import GearMeasures, contact_velocity, drop_mass_load_factor, measure_gear
+from .measures import (SETTLING_BAND, TOUCHDOWN_SHARE, VELOCITY_WINDOW, GearMeasures,
+                       contact_velocity, drop_mass_load_factor, measure_gear)
 from .requirement_sets import Criterion, RequirementSet
 from .results import FAIL, NOT_SHOWN, PASS, Comparison, Finding, Value, Verdict
 from .rundata import RunSeries
@@ -266,6 +267,11 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
             None if unsprung else "unsprung mass not declared: F_s = F_V·cos θ")
         put("E_t", "Energy absorbed by the tyre", "E_t", measures.tyre_energy, "J", "energy",
             "certkit E1", "E_t = ∫ F_V dδ, loading stroke", source_file)
+        put("E_d", "Energy absorbed at maximum total travel", "E_d",
+            measures.energy_at_max_travel, "J", "energy", "certkit E5",
+            "E_d = E_s(t_d) + E_t(t_d), t_d the instant of maximum δ + s·cos θ", source_file,
+            None if measures.energy_at_max_travel is not None
+            else "needs stroke and tyre channels")
     elif reported is not None:
         basis = "reported values"
         where = f"{prefix}.reported.gears.{gear_id}"
@@ -292,6 +298,9 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
             "strut_energy")
         rep("E_t", "Energy absorbed by the tyre", "E_t", reported.tyre_energy, "energy",
             "tyre_energy")
+        put("E_d", "Energy absorbed at maximum total travel", "E_d", None, "J", "energy",
+            "certkit E5", note="not known from reported values: E_s and E_t each run to their "
+                               "own maximum, so their sum is not the work at maximum travel")
     else:
         basis = "no data"
         for key, label, kind, un in (("F_peak", "Peak vertical load", "force", "N"),
@@ -299,7 +308,9 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
                                      ("d_t", "Maximum tyre deflection", "length", "m"),
                                      ("d", "Tyre deflection plus vertical axle travel", "length", "m"),
                                      ("E_s", "Energy absorbed by the strut", "energy", "J"),
-                                     ("E_t", "Energy absorbed by the tyre", "energy", "J")):
+                                     ("E_t", "Energy absorbed by the tyre", "energy", "J"),
+                                     ("E_d", "Energy absorbed at maximum total travel", "energy",
+                                      "J")):
             put(key, label, key, None, un, kind, "none", note="no time series and no reported value")
 
     result = GearResult(run.id, gear_id, basis, values, measures)
@@ -337,14 +348,14 @@ def _derived_gear_values(result: GearResult, run: Run, unit: GearUnit, cos_theta
         "certkit E3", "E_avail = W_drop·(h + d) − L_dev·W_drop·d",
         {"W_drop": "W_drop", "h": f"drop height {run.drop_height.text}", "d": "d",
          "L_dev": f"{lift_force:g} (lift force applied by a device)"})
-    e_s, e_t = get("E_s"), get("E_t")
+    e_d = get("E_d")
     implied = None
-    if None not in (e_s, e_t, d):
-        implied = (e_s + e_t) / (h + (1 - lift_force) * d)
+    if None not in (e_d, d):
+        implied = e_d / (h + (1 - lift_force) * d)
     put("W_implied", "Drop weight implied by the absorbed energy", "W_implied", implied, "N",
-        "force", "certkit E4", "W_implied = (E_s + E_t)/(h + (1 − L_dev)·d)",
-        {"E_s": "E_s", "E_t": "E_t", "h": run.drop_height.text, "d": "d",
-         "L_dev": f"{lift_force:g}"})
+        "force", "certkit E4", "W_implied = E_d/(h + (1 − L_dev)·d)",
+        {"E_d": "E_d", "h": run.drop_height.text, "d": "d", "L_dev": f"{lift_force:g}"},
+        None if implied is not None else "needs E_d (E5), which reported values do not give")
 
     if run.lift.method == "reduced_mass" and run.test_type == "reserve":
         w_e = None if d is None else clauses.reserve_effective_weight(weight, h, d)
@@ -374,9 +385,11 @@ def _derived_gear_values(result: GearResult, run: Run, unit: GearUnit, cos_theta
             {"s": "stroke channel"})
         put("lift_off", "Time the wheel is off the platform after the peak", "t_off",
             measures.lift_off_duration if measures.lift_off_duration is not None else 0.0,
-            "s", "time", "certkit R1", "time with F_V < 2 % W after the peak", {"F_V": "load"})
+            "s", "time", "certkit R1",
+            f"time with F_V < {100 * TOUCHDOWN_SHARE:g} % W after the peak", {"F_V": "load"})
         put("settling_time", "Settling time of the stroke", "t_settle", measures.settling_time,
-            "s", "time", "certkit S1", "±5 % band", {"s": "stroke channel"},
+            "s", "time", "certkit S1",
+            f"±{100 * SETTLING_BAND:g} % band", {"s": "stroke channel"},
             None if measures.settling_time is not None or measures.max_stroke is None
             else "not settled within the record")
 
@@ -407,7 +420,8 @@ def _run_result(campaign: Campaign, run: Run, index: int) -> RunResult:
         velocity = contact_velocity(series.time, series.displacement, min(touchdowns))
         values["v0_measured"] = Value(
             "v0_measured", "Contact velocity measured", "v_0,meas", velocity, "m/s", "velocity",
-            "certkit V2", "dx/dt at touchdown, parabola fitted over the 20 ms before it",
+            "certkit V2", f"dx/dt at touchdown, parabola fitted over the "
+                          f"{VELOCITY_WINDOW * 1e3:g} ms before it",
             {"x": "drop_mass_displacement"},
             None if velocity is not None else "fewer than 5 samples before touchdown")
     n_j = None

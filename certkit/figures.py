@@ -193,7 +193,7 @@ def identification_figures(gear, units, origin: str = "measured") -> list[dict]:
                                    "static gain, up to its offset. Fitted on the training runs "
                                    f"({', '.join(gear.training)}).",
                         "svg": _to_svg(figure)})
-        t_ms = np.arange(held.load.size)
+        t_ms = held.time * 1e3
         for kind in ("response", "error"):
             figure, all_axes = plt.subplots(2, 1, figsize=(_WIDTH, 4.2), sharex=True)
             for axes, output in zip(all_axes, outputs):

@@ -11,8 +11,9 @@ from typing import TYPE_CHECKING
 
 from .drop_conditions import lift_force_ratio
 from .measures import ZERO_WINDOW
+from .display import with_unit
 from .results import Comparison, Finding
-from .units import STANDARD_GRAVITY, convert, ureg
+from .units import STANDARD_GRAVITY, ureg
 
 if TYPE_CHECKING:
     from .compliance import Assessment
@@ -27,18 +28,9 @@ UNIT_SLIP_TOLERANCE = 0.05
 TYRE_EFFICIENCY_CEILING = 0.5
 
 
-def _fmt(value: float, unit: str) -> str:
-    return f"{value:.6g} {unit}"
-
-
 def _display(assessment: Assessment, value: float, kind: str) -> str:
-    units = assessment.campaign.spec.report.units
-    unit = getattr(units, kind, None)
-    if unit is None:
-        return f"{value:.4g}"
-    si = {"length": "m", "force": "N", "energy": "J", "mass": "kg", "wing_loading": "Pa",
-          "velocity": "m/s", "time": "s"}[kind]
-    return _fmt(convert(value, si, unit), unit)
+    """A value in the campaign's display units, as every finding states it."""
+    return with_unit(value, kind, assessment.campaign.spec.report.units)
 
 
 def _add(assessment: Assessment, check: str, severity: str, run: str | None, gear: str | None,
@@ -73,8 +65,9 @@ def check_energy_bounds(assessment: Assessment) -> None:
             where = f"run {run.run.id}, {gear.gear_id}"
             if eta > 1:
                 _add(assessment, f"energy-exceeds-bound-{name}", "error", run.run.id, gear.gear_id,
-                     f"{where}: {name} energy {_fmt(energy, 'J')} exceeds F_peak·d = "
-                     f"{_fmt(bound, 'J')} (η = {eta:.4g} > 1): impossible for any {name}; "
+                     f"{where}: {name} energy {_display(assessment, energy, 'energy')} exceeds "
+                     f"F_peak·d = {_display(assessment, bound, 'energy')} (η = {eta:.4g} > 1): "
+                     f"impossible for any {name}; "
                      f"check the energy integral, the load or the travel",
                      eta=eta, energy=energy, bound=bound)
             elif eta <= 0:
@@ -88,47 +81,43 @@ def check_energy_bounds(assessment: Assessment) -> None:
                      eta=eta)
 
 
-def absorbed_at_max_travel(gear) -> tuple[float | None, str]:
-    """The work absorbed by strut and tyre when the drop reaches its maximum total travel d
-    (certkit E5), and how it was obtained, in words.
-
-    From time histories, E_d = E_s(t_d) + E_t(t_d), each element's work taken to the
-    instant t_d of maximum total travel.  E_s and E_t themselves run to each element's own
-    maximum; the element that peaks first gives energy back before t_d, so their sum would
-    count that energy twice.  From reported values only the sum E_s + E_t is known.
-    """
-    measures = gear.measures
-    if measures is not None and measures.energy_at_max_travel is not None:
-        return measures.energy_at_max_travel, ("E_s(t_d) + E_t(t_d), each element's work from "
-                                               "touchdown to the instant of maximum total travel")
-    e_s, e_t = gear.get("E_s"), gear.get("E_t")
-    if None in (e_s, e_t):
-        return None, ""
-    return e_s + e_t, "E_s + E_t as reported, each element's energy to its own maximum"
-
-
 def check_available_energy(assessment: Assessment) -> None:
-    """E_d ≤ E_avail = W_drop·(h + d) − L_dev·W_drop·d: certkit E5 against E3, within the
-    stated tolerance.
+    """The absorbed energy cannot exceed what the drop supplied (certkit E5 against E3),
+    within the stated tolerance.
 
-    By the instant of maximum total travel the strut and tyre cannot have absorbed more
-    than the drop has supplied: for the two-mass gear on a rigid platform (upper mass m1
-    at rest at t_d, unsprung mass m2), E_s(t_d) + E_t(t_d) = W_drop·h + m1·g·d +
+    From time histories: E_d = E_s(t_d) + E_t(t_d) ≤ E_avail = W_drop·(h + d) − L_dev·W_drop·d.
+    By the instant t_d of maximum total travel the upper mass m1 is at rest, so for the
+    two-mass gear on a rigid platform (unsprung mass m2) E_d = W_drop·h + m1·g·d +
     m2·g·δ(t_d) − ½·m2·δ̇(t_d)² ≤ W_drop·(h + d), less the lift device's work.
+
+    From reported values E_d is not known: E_s and E_t each run to their own maximum and the
+    first element to peak gives energy back before the other peaks, so their sum can exceed
+    E_avail on a valid drop.  What holds for any drop is that each element alone absorbs no
+    more than the drop supplied by maximum travel, E_s ≤ E_avail and E_t ≤ E_avail: each is
+    checked on its own.
     """
     tolerance = assessment.campaign.spec.audit.energy_tolerance.si
     for run, gear in _gear_items(assessment):
-        absorbed, how = absorbed_at_max_travel(gear)
         available = gear.get("E_avail")
-        if absorbed is None or available is None:
+        if available is None:
             continue
-        if absorbed > available * (1 + tolerance):
-            _add(assessment, "energy-exceeds-available", "error", run.run.id, gear.gear_id,
-                 f"run {run.run.id}, {gear.gear_id}: absorbed energy E_d = "
-                 f"{_fmt(absorbed, 'J')} ({how}; certkit E5) exceeds the energy available "
-                 f"W_drop·(h + d) − L_dev·W_drop·d = {_fmt(available, 'J')} by "
-                 f"{absorbed / available - 1:.1%} (tolerance {tolerance:.0%})",
-                 absorbed=absorbed, available=available)
+        where = f"run {run.run.id}, {gear.gear_id}"
+        absorbed = gear.get("E_d")
+        if absorbed is not None:
+            candidates = [("E_d", "the work strut and tyre absorbed up to the instant of "
+                                  "maximum total travel", absorbed)]
+        else:
+            candidates = [(key, f"the {name} energy alone, as reported", gear.get(key))
+                          for key, name in (("E_s", "strut"), ("E_t", "tyre"))
+                          if gear.get(key) is not None]
+        for symbol, what, energy in candidates:
+            if energy > available * (1 + tolerance):
+                _add(assessment, "energy-exceeds-available", "error", run.run.id, gear.gear_id,
+                     f"{where}: {symbol} = {_display(assessment, energy, 'energy')} ({what}; "
+                     f"certkit E5) exceeds the energy available W_drop·(h + d) − L_dev·W_drop·d "
+                     f"= {_display(assessment, available, 'energy')} by "
+                     f"{energy / available - 1:.1%} (tolerance {tolerance:.0%})",
+                     absorbed=energy, available=available)
 
 
 def check_implied_drop_weight(assessment: Assessment) -> None:

@@ -428,7 +428,7 @@ def _ranking_sentence(scores, output: str, protocol: str, run: str, units) -> st
 def _discussion(gear, reference, units) -> list[str]:
     """Where the ranking of the models the campaign's reference results rank differs from
     what the data say here (nothing when the campaign has no reference results)."""
-    from .identification import OUTPUT_LABELS, PAPER_TRAINING
+    from .identification import OUTPUT_LABELS, PAPER_TRAINING, PAPER_TRAINING_DURATION
 
     run = gear.held_out[0]
     sentences = []
@@ -452,7 +452,8 @@ def _discussion(gear, reference, units) -> list[str]:
         if paper_full and held_full:
             best_paper = min(paper_full, key=lambda x: x.rmse)
             best_held = min(held_full, key=lambda x: x.rmse)
-            text += (f" Trained on the first {PAPER_TRAINING} samples of the very drop it then "
+            text += (f" Trained on the first {PAPER_TRAINING} samples ("
+                     f"{with_unit(PAPER_TRAINING_DURATION, 'time', units)}) of the very drop it then "
                      f"simulates, the best model reaches {_mm(best_paper.rmse, units)} "
                      f"({best_paper.model}); trained on other drop heights, "
                      f"{_mm(best_held.rmse, units)} ({best_held.model}).")
@@ -465,10 +466,14 @@ def _identification_view(evidence, settings, units, reference=None, origins=None
     it has some), linear blocks, figures.
 
     ``settings``: the spec's ``model.identification``; ``reference``: its reference_results."""
-    from .identification import (PAPER_TRAINING, WHITENESS_CONFIDENCE, WHITENESS_LAGS,
-                                 WINDOW)
+    from .identification import (MODEL_RATE, PAPER_TRAINING, PAPER_TRAINING_DURATION,
+                                 WHITENESS_CONFIDENCE, WHITENESS_LAGS, WINDOW, WINDOW_DURATION)
 
-    method = {"window": f"{WINDOW} samples", "paper_samples": PAPER_TRAINING,
+    method = {"window": (f"{with_unit(WINDOW_DURATION, 'time', units)} ({WINDOW} samples at "
+                         f"the identification rate of {MODEL_RATE:g} Hz; a record logged at "
+                         f"another rate is low-passed and resampled to it)"),
+              "paper_samples": f"{with_unit(PAPER_TRAINING_DURATION, 'time', units)} "
+                               f"({PAPER_TRAINING} samples)",
               "gain": settings.small_signal.gain.text,
               "tolerance": settings.small_signal.tolerance.text,
               "whiteness": f"{WHITENESS_CONFIDENCE:.0%} bounds, {WHITENESS_LAGS} lags",

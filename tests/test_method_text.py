@@ -1,0 +1,45 @@
+"""The method text is the method: every figure the report's methods state is the constant
+the code applies (issue 12, defect 5)."""
+
+from __future__ import annotations
+
+import html
+import importlib
+
+from certkit import assess, equations, load_campaign, measures, render_report
+
+
+def test_equation_texts_change_with_the_constants_they_state(monkeypatch):
+    monkeypatch.setattr(measures, "VELOCITY_WINDOW", 0.033)
+    monkeypatch.setattr(measures, "TOUCHDOWN_SHARE", 0.015)
+    monkeypatch.setattr(measures, "TOUCHDOWN_SIGMAS", 5.0)
+    monkeypatch.setattr(measures, "SETTLING_BAND", 0.03)
+    monkeypatch.setattr(measures, "FINAL_SHARE", 0.1)
+    monkeypatch.setattr(measures, "AXLE_WINDOW", 0.030)
+    try:
+        text = importlib.reload(equations).EQUATIONS
+        assert "over the 33 ms before touchdown" in text["V2"]
+        assert "1.5 % of the unit's static weight and 5 robust standard deviations" in text["M3"]
+        assert "below 1.5 % of the static weight" in text["R1"]
+        assert "within ±3 % of its maximum" in text["S1"] and "last 10 % of the record" in text["S1"]
+        # 30 ms at 1 kHz: 31 samples (odd, centred)
+        assert "over 30 ms: 31 samples at 1 kHz" in text["E1"]
+    finally:
+        monkeypatch.undo()
+        importlib.reload(equations)
+
+
+def test_the_report_states_the_windows_and_thresholds_the_measures_use(timeseries_campaign,
+                                                                       tmp_path):
+    assessment = assess(load_campaign(timeseries_campaign))
+    render_report(assessment, tmp_path / "out")
+    page = html.unescape((tmp_path / "out" / "report.html").read_text(encoding="utf-8"))
+    for key, text in equations.EQUATIONS.items():
+        assert text in page, key
+    # the value rows' own formulas, from the same constants
+    assert (f"parabola fitted over the {measures.VELOCITY_WINDOW * 1e3:g} ms before it"
+            in page)
+    assert f"time with F_V < {100 * measures.TOUCHDOWN_SHARE:g} % W after the peak" in page
+    assert f"±{100 * measures.SETTLING_BAND:g} % band" in page
+    # what the report said before the text was taken from the code (the code used 50 ms)
+    assert "over the 20 ms before" not in page
