@@ -70,17 +70,16 @@ def test_strut_efficiency_above_one_at_200_mm_is_an_error(assessment):
     assert "QA/energy-exceeds-bound-strut/D200/right-main" in ids
 
 
-def test_absorbed_energy_above_the_available_energy_is_an_error(assessment):
-    # D300 left: 1305.97 + 356.36 = 1662.33 J absorbed; available W_drop*(h + d) with
-    # W_drop = 292.5 kgf * 650 kg / 1430 lb and d = 52.47 + 97.85 mm
+def test_the_sum_of_energies_each_to_its_own_peak_is_not_taken_as_absorbed(assessment):
+    # D300 left: 1305.97 + 356.36 = 1662.33 J against W_drop*(h + d) with W_drop = 292.5 kgf *
+    # 650 kg / 1430 lb and d = 52.47 + 97.85 mm: +28 %, but the tyre gives energy back before
+    # the strut peaks, so the sum is no bound; each element alone is within 1 % (E_s +0.9 %)
     w_drop = 292.5 * G * 650 / (1430 * 0.45359237)
     available = w_drop * (0.300 + 0.15032)
     result = gear(assessment, "D300", "left-main")
     assert result.get("E_avail") == pytest.approx(available, rel=1e-9)
-    finding = next(f for f in assessment.findings
-                   if f.id == "QA/energy-exceeds-available/D300/left-main")
-    assert finding.severity == "error"
-    assert finding.values["absorbed"] == pytest.approx(1662.33)
+    assert (1305.97 + 356.36) / available > 1.28 and 1305.97 / available < 1.01
+    assert not any(f.check == "energy-exceeds-available" for f in assessment.findings)
 
 
 def test_tyre_efficiency_above_one_half_is_flagged(assessment):
@@ -94,13 +93,10 @@ def test_right_strut_stroke_falling_from_250_to_300_mm_is_flagged(assessment):
     assert finding.gear == "right-main" and finding.run == "D300"
 
 
-def test_implied_drop_weight_varies_across_runs(assessment):
-    # left: (596.72+172.67)/(0.2+0.08785)/g = 272.56 kgf ... (1305.97+356.36)/(0.3+0.15032)/g = 376.42 kgf
-    finding = next(f for f in assessment.findings
-                   if f.id == "QA/implied-drop-weight-spread/left-main")
-    low, high = min(finding.values["values"]), max(finding.values["values"])
-    assert low / G == pytest.approx((596.72 + 172.67) / (0.2 + 0.08785) / G, rel=1e-9)
-    assert high / G == pytest.approx((1305.97 + 356.36) / (0.3 + 0.15032) / G, rel=1e-9)
+def test_implied_drop_weight_is_not_made_up_from_reported_energies(assessment):
+    # E4 needs E_d, the work at maximum travel; reported energies each run to their own peak
+    assert all(g.get("W_implied") is None for r in assessment.runs for g in r.gears)
+    assert not any(f.check.startswith("implied-drop-weight") for f in assessment.findings)
 
 
 def test_stated_wing_loading_and_drop_height_are_audited(assessment):
@@ -110,7 +106,8 @@ def test_stated_wing_loading_and_drop_height_are_audited(assessment):
     # 11.69 "feet" is 11.69 in, which is 3.6*sqrt(10.54): a unit slip on a wrong wing loading
     drop = messages["reported-drop-height"]
     assert "read as 11.69 in" in drop and "probable unit slip" in drop
-    assert "296.86 mm" in drop or "296.863 mm" in drop
+    # 3.6*sqrt(10.54) in = 11.6875 in = 296.86 mm, shown to 4 figures
+    assert "gives 296.9 mm" in drop
 
 
 def test_assumed_static_weight_is_flagged(assessment):
