@@ -220,8 +220,18 @@ def check_static_weight_basis(assessment: Assessment) -> None:
 
 
 def check_synthetic_data(assessment: Assessment) -> None:
+    """Synthetic histories are never test evidence: in a certification campaign no value is
+    computed from them; in a planning campaign every value is, as a prediction."""
     for run in assessment.campaign.spec.runs:
-        if run.data is not None and run.data.origin == "synthetic":
+        if run.data is None or run.data.origin != "synthetic":
+            continue
+        if assessment.planning:
+            _add(assessment, "synthetic-data", "info", run.id, None,
+                 f"run {run.id}: the time histories in {run.data.file} are synthetic "
+                 f"(simulated, origin: synthetic); this is a planning campaign, so the values "
+                 f"are computed from them as predictions for the planned drop, not as test "
+                 f"evidence")
+        else:
             _add(assessment, "synthetic-data", "warning", run.id, None,
                  f"run {run.id}: the time histories in {run.data.file} are synthetic "
                  f"(simulated, origin: synthetic); they are not test evidence, so no "
