@@ -19,6 +19,7 @@ from rich.text import Text
 
 from . import __version__, requirement_sets
 from .display import display, to_display, unit_of, with_unit
+from .display import parameter as parameter_text
 from .errors import CertkitInputError
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
@@ -289,9 +290,12 @@ def calibrate(spec: SpecArgument,
                             f"{', '.join(result.effects) or 'none'}")
         for column in ("parameter", "unit", "nominal", "estimate", "standard error"):
             table.add_column(column, justify="left" if column in ("parameter", "unit") else "right")
+        units = campaign.spec.report.units
         for p, e, se in zip(fit_.parameters, fit_.estimate, fit_.standard_error):
-            table.add_row(p.name, p.unit, f"{p.nominal:.6g}", f"{e:.6g}",
-                          "not determined" if se != se else f"{se:.3g}")
+            nominal, unit = parameter_text(p.nominal, p.unit, units)
+            table.add_row(p.name, unit, nominal, parameter_text(float(e), p.unit, units)[0],
+                          "not determined" if se != se
+                          else parameter_text(float(se), p.unit, units, 3)[0])
         out.print(table)
         names = [p.name for p in fit_.parameters]
         corr = Table(title="correlation of the estimates")
@@ -304,7 +308,6 @@ def calibrate(spec: SpecArgument,
         rmse = Table(title="RMSE, nominal → calibrated")
         for column in ("run", "channel", "nominal", "calibrated"):
             rmse.add_column(column, justify="left" if column in ("run", "channel") else "right")
-        units = campaign.spec.report.units
         for e in item.errors:
             kind = "force" if e.unit == "N" else "length"
             rmse.add_row(e.run, CHANNEL_LABELS[e.channel], with_unit(e.nominal, kind, units),

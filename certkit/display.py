@@ -23,6 +23,9 @@ from .units import convert
 #: SI unit in which each physical kind is held inside certkit.
 SI_UNITS = {"length": "m", "force": "N", "mass": "kg", "energy": "J", "velocity": "m/s",
             "pressure": "Pa", "area": "m^2", "time": "s", "wing_loading": "Pa"}
+#: The kind of a quantity held in each SI unit (the inverse of SI_UNITS, where unambiguous).
+KIND_OF_SI_UNIT = {"m": "length", "N": "force", "kg": "mass", "J": "energy", "m/s": "velocity",
+                   "Pa": "pressure", "m^2": "area", "s": "time"}
 #: Significant figures of every computed number a person reads.
 SIGNIFICANT = 4
 DISPLAY_RULE = (f"Computed values are shown to {SIGNIFICANT} significant figures in the units "
@@ -82,6 +85,16 @@ def typed(text: str | None, value: float | None, kind: str, units,
         if written.strip() == (unit or "") and magnitude:
             return magnitude, unit or ""
     return display(value, kind, units, digits)
+
+
+def parameter(value: float, si_unit: str, units, digits: int = SIGNIFICANT
+              ) -> tuple[str, str]:
+    """(number, unit) of a model parameter held in ``si_unit``: in the display unit of its
+    kind where the unit names one, else in the SI unit itself ("" for a ratio)."""
+    kind = KIND_OF_SI_UNIT.get(si_unit)
+    if kind is not None:
+        return display(value, kind, units, digits)
+    return number(value, digits), "" if si_unit == "1" else si_unit
 
 
 def _decimals(reference: float, digits: int = SIGNIFICANT) -> int:

@@ -23,7 +23,7 @@ from markupsafe import Markup
 
 from . import __version__
 from .compliance import Assessment, at_least
-from .display import (DISPLAY_RULE, SIGNIFICANT, display, margin, number, percent,
+from .display import (DISPLAY_RULE, SIGNIFICANT, display, margin, number, parameter, percent,
                       typed, with_unit)
 from .equations import EQUATIONS, GRAVITY_NOTE
 from .outputs import staged_folder
@@ -274,9 +274,6 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
     }
 
 
-_PARAMETER_KINDS = {"Pa": "pressure", "N": "force"}
-
-
 def _reference_error(reference, gear_id: str, channel: str, model: str):
     """A published RMSE (the spec's quantity) of the campaign's reference_results for this
     gear unit, channel and model (a field of :class:`~certkit.spec.ReferenceModelErrors`),
@@ -344,17 +341,12 @@ def _model_view(evidence, units, reference=None, origins=None) -> dict:
         parameters = []
         for knob, p, estimate, error in zip(gear.knobs, fit.parameters, fit.estimate,
                                             fit.standard_error):
-            kind = _PARAMETER_KINDS.get(p.unit)
-            if kind is not None:
-                nominal, unit = display(p.nominal, kind, units)
-                value, _ = display(float(estimate), kind, units)
-                se = "not determined" if not math.isfinite(error) else display(float(error), kind, units)[0]
-                bounds = f"{display(p.lower, kind, units)[0]} to {display(p.upper, kind, units)[0]}"
-            else:
-                unit = p.unit if p.unit != "1" else ""
-                nominal, value = number(p.nominal), number(float(estimate))
-                se = "not determined" if not math.isfinite(error) else number(float(error))
-                bounds = f"{number(p.lower)} to {number(p.upper)}"
+            nominal, unit = parameter(p.nominal, p.unit, units)
+            value = parameter(float(estimate), p.unit, units)[0]
+            se = ("not determined" if not math.isfinite(error)
+                  else parameter(float(error), p.unit, units)[0])
+            bounds = (f"{parameter(p.lower, p.unit, units)[0]} to "
+                      f"{parameter(p.upper, p.unit, units)[0]}")
             parameters.append({"name": knob.label, "unit": unit, "nominal": nominal,
                                "estimate": value, "error": se, "bounds": bounds})
         names = [p.name for p in fit.parameters]
