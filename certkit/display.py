@@ -17,6 +17,7 @@ The rule
 from __future__ import annotations
 
 import math
+import re
 
 from .units import convert
 
@@ -34,8 +35,11 @@ DISPLAY_RULE = (f"Computed values are shown to {SIGNIFICANT} significant figures
                 f"typed. results.json and tables/*.csv hold full precision in SI.")
 
 
+_SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+
+
 def number(value: float, digits: int = SIGNIFICANT) -> str:
-    """``value`` to ``digits`` significant figures, powers of ten written out (1.2×10^-5)."""
+    """``value`` to ``digits`` significant figures, powers of ten written out (1.2×10⁻⁵)."""
     if value == 0:
         return "0"
     if not math.isfinite(value):
@@ -43,8 +47,14 @@ def number(value: float, digits: int = SIGNIFICANT) -> str:
     text = f"{value:.{digits}g}"
     if "e" in text:
         mantissa, exponent = text.split("e")
-        return f"{mantissa}×10^{int(exponent)}"
+        return f"{mantissa}×10{str(int(exponent)).translate(_SUPERSCRIPT)}"
     return text
+
+
+def pretty(unit: str) -> str:
+    """A unit as printed: ``ft*lbf`` -> ``ft·lbf``, ``lbf/ft^2`` -> ``lbf/ft²``."""
+    text = unit.replace("**", "^").replace("*", "·")
+    return re.sub(r"\^(-?\d+)", lambda m: m.group(1).translate(_SUPERSCRIPT), text)
 
 
 def unit_of(kind: str, units) -> str | None:
@@ -61,10 +71,10 @@ def to_display(value_si: float, kind: str, units) -> float:
 def display(value: float | None, kind: str, units, digits: int = SIGNIFICANT
             ) -> tuple[str, str]:
     """(number text, unit text) of an SI value in the campaign's display unit."""
-    unit = unit_of(kind, units)
+    unit = pretty(unit_of(kind, units) or "")
     if value is None:
-        return "—", unit or ""
-    return number(to_display(value, kind, units), digits), unit or ""
+        return "—", unit
+    return number(to_display(value, kind, units), digits), unit
 
 
 def with_unit(value: float | None, kind: str, units, digits: int = SIGNIFICANT) -> str:
@@ -83,7 +93,7 @@ def typed(text: str | None, value: float | None, kind: str, units,
         magnitude, _, written = text.strip().partition(" ")
         unit = unit_of(kind, units)
         if written.strip() == (unit or "") and magnitude:
-            return magnitude, unit or ""
+            return magnitude, pretty(unit or "")
     return display(value, kind, units, digits)
 
 
@@ -94,7 +104,7 @@ def parameter(value: float, si_unit: str, units, digits: int = SIGNIFICANT
     kind = KIND_OF_SI_UNIT.get(si_unit)
     if kind is not None:
         return display(value, kind, units, digits)
-    return number(value, digits), "" if si_unit == "1" else si_unit
+    return number(value, digits), "" if si_unit == "1" else pretty(si_unit)
 
 
 def _decimals(reference: float, digits: int = SIGNIFICANT) -> int:
@@ -122,7 +132,7 @@ def margin(value: float | None, limit: float | None, kind: str, units) -> str:
     """
     if value is None:
         return "—"
-    unit = unit_of(kind, units) or ""
+    unit = pretty(unit_of(kind, units) or "")
     shown = to_display(value, kind, units)
     if limit is None or limit == 0:
         return f"{number(shown)} {unit}".strip()

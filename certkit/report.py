@@ -24,7 +24,7 @@ from markupsafe import Markup
 from . import __version__
 from .compliance import Assessment, at_least
 from .display import (DISPLAY_RULE, SIGNIFICANT, display, margin, number, parameter, percent,
-                      typed, with_unit)
+                      pretty, typed, with_unit)
 from .equations import EQUATIONS, GRAVITY_NOTE
 from .outputs import staged_folder
 from .provenance import provenance
@@ -169,7 +169,8 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
                 "eta_t": cell("eta_t", "ratio"), "FW": cell("F/W", "ratio"),
                 "nE": cell(energy_keys[0], "ratio") if energy_keys else "—",
                 "basis": gear.basis})
-    results_units = {kind: getattr(units, kind) for kind in ("length", "force", "energy")}
+    results_units = {kind: pretty(getattr(units, kind))
+                     for kind in ("length", "force", "energy")}
     load_factors, load_factor_statement = _load_factor_view(assessment)
 
     runs = []
@@ -261,13 +262,17 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
         "matrix": matrix, "completeness": completeness,
         "results_rows": results_rows, "results_units": results_units,
         "load_factors": load_factors, "load_factor_statement": load_factor_statement,
+        # a column only where some run has something in it (a single-gear rig has no ΣF_peak)
+        "load_factor_columns": {column: any(r[column] not in ("", "—") for r in load_factors)
+                                for column in ("stated", "combined", "n_j", "n", "n_energy")},
         "runs": runs, "verdicts": verdicts, "findings": findings, "comparisons": comparisons,
         "equations": sorted(EQUATIONS.items()), "gravity_note": GRAVITY_NOTE,
         "display_rule": DISPLAY_RULE,
         "assumptions": [a.strip() for a in spec.assumptions],
         "audit": _audit_settings(spec.audit, units),
         "provenance": record, "version": __version__,
-        "model": _model_view(model, units, spec.reference_results, _origins(spec)),
+        "model": _model_view(model, units, spec.reference_results, _origins(spec),
+                             spec.model.effects),
         "identification": _identification_view(model, spec.model.identification, units,
                                                spec.reference_results, _origins(spec)),
         "gap": _gap_view(model, campaign, units),
@@ -316,12 +321,18 @@ def _origins(spec) -> dict[str, str]:
     return {run.id: run.data.origin for run in spec.runs if run.data is not None}
 
 
-def _model_view(evidence, units, reference=None, origins=None) -> dict:
+#: What the model sections say when the report was made without the drop model.
+NO_MODEL = ("The drop model was not run for this report (certkit report --no-model, or "
+            "render_report without a model evidence): the governing-equation, identification "
+            "and gap sections are left out of it.")
+
+
+def _model_view(evidence, units, reference=None, origins=None, effects=()) -> dict:
     """The governing-equation model section: calibration per gear unit, or why none."""
     if evidence is None:
-        return {"available": False, "note": "The drop model was not run for this report "
-                                            "(library call without a model evidence).",
-                "synthetic": "", "gears": [], "effects": "—", "reference_rows": [], "reference": None}
+        return {"available": False, "note": NO_MODEL, "synthetic": "", "gears": [],
+                "effects": ", ".join(effects) or "none", "reference_rows": [],
+                "reference": None}
     synthetic = ""
     if evidence.synthetic_runs:
         synthetic = (f"The time histories of run(s) {', '.join(evidence.synthetic_runs)} are "
@@ -469,13 +480,14 @@ def _identification_view(evidence, settings, units, reference=None, origins=None
               "gain": settings.small_signal.gain.text,
               "tolerance": settings.small_signal.tolerance.text,
               "whiteness": f"{WHITENESS_CONFIDENCE:.0%} bounds, {WHITENESS_LAGS} lags",
-              "force_unit": units.force, "length_unit": units.length,
+              "force_unit": pretty(units.force), "length_unit": pretty(units.length),
               "reference": _reference_view(reference, units)}
     identification = getattr(evidence, "identification", None)
     if identification is None or not identification.gears:
         return {"available": False, "gears": [], "plant_note": "",
-                "note": "Not run: it needs time histories of at least two drops of a gear unit "
-                        "whose drop model can be built from the spec.", **method}
+                "note": NO_MODEL if evidence is None else
+                "Not run: it needs time histories of at least two drops of a gear unit "
+                "whose drop model can be built from the spec.", **method}
     from .figures import identification_figures
     from .identification import OUTPUT_LABELS
 

@@ -169,7 +169,5 @@ def test_the_report_shows_imperial_units_and_no_seed_paper_figure(report_html):
     assert "11.94 in" in report_html and "17.19 in" in report_html
 
 
-@pytest.mark.xfail(strict=True, reason="templates/partials/model.html.j2 and identification.html.j2 "
-                   "name the seed paper in every report (reported to the lead)")
 def test_the_report_does_not_name_the_seed_paper(report_html):
     assert "seed" not in report_html.lower()
