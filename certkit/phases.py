@@ -10,7 +10,9 @@ after t_smax, i.e. the strut stops extending).  Phases between them::
     strut breakout       [t_bo, t_bo + BREAKOUT_WINDOW), cut at t_pk
     compression          [end of breakout, t_pk]   (to peak load)
     rebound              (t_pk, t_ext]   (load falling from its peak: the strut reaches
-                                          its maximum stroke and extends)
+                                          its maximum stroke and extends; t_ext is looked
+                                          for once the stroke has come down REBOUND_DROP
+                                          of its travel)
     settling             (t_ext, end]
 
 A phase whose events are missing (a record starting loaded, a strut that never breaks
@@ -30,6 +32,10 @@ PHASES = ("free fall", "tyre-only contact", "strut breakout", "compression", "re
 BREAKOUT_TRAVEL = 0.5e-3    # m, physics.md §4.1: s > 0.5-1 mm
 BREAKOUT_WINDOW = 0.010     # s, the breakout transient examined on its own
 SMOOTHING = 0.005           # s, moving average used to find the stroke minimum
+#: The end of the extension is looked for only once the stroke has come down this share of
+#: its travel from its maximum: a strut held at the top of its stroke by its seals, read
+#: through a noisy sensor, shows local minima on that plateau that end nothing.
+REBOUND_DROP = 0.10
 
 
 @dataclass(frozen=True)
@@ -76,7 +82,9 @@ def segment(time: np.ndarray, load: np.ndarray, stroke: np.ndarray,
     if peak + 1 > breakout_end:
         phases.append(Phase("compression", breakout_end, peak + 1))
     top = peak + int(np.argmax(stroke[peak:]))
-    end = _first_minimum(stroke, top + 1, max(int(round(SMOOTHING / step)), 1))
+    fallen = np.flatnonzero(stroke[top:] < stroke[top] - REBOUND_DROP * (stroke[top] - baseline))
+    end = None if fallen.size == 0 else _first_minimum(
+        stroke, top + int(fallen[0]), max(int(round(SMOOTHING / step)), 1))
     if end is None:
         phases.append(Phase("rebound", peak + 1, load.size))
         return phases

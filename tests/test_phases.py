@@ -57,3 +57,16 @@ def test_a_strut_that_never_breaks_out_has_no_strut_phases():
     drop = simulate_reference(stiff, math.sqrt(2 * G * 0.1), duration=0.5, lead=0.1)
     names = [p.name for p in segment(drop.time, drop.load, drop.stroke, 292.5 * G)]
     assert names == ["free fall", "tyre-only contact"]
+
+
+def test_a_noisy_plateau_at_maximum_stroke_is_not_the_end_of_the_extension():
+    # 1 kHz: contact at 100 ms; the stroke rises to 130 mm by 200 ms, is held there by its
+    # seals for 100 ms (where 0.05 mm of sensor noise makes local minima), extends
+    # linearly to 30 mm by 500 ms and stays: the extension ends at 500 ms, not on the plateau
+    t = np.arange(0.0, 1.0, 1e-3)
+    stroke = np.interp(t, [0.0, 0.1, 0.2, 0.3, 0.5, 1.0], [0.0, 0.0, 0.130, 0.130, 0.030, 0.030])
+    stroke = stroke + np.random.default_rng(3).normal(0.0, 5e-5, t.size)
+    load = np.interp(t, [0.0, 0.1, 0.15, 0.5, 1.0], [0.0, 0.0, 8000.0, 2500.0, 2500.0])
+    phases = {p.name: p for p in segment(t, load, stroke, 2500.0)}
+    end = phases["rebound"].stop - 1
+    assert 0.490 <= t[end] <= 0.515, t[end]
