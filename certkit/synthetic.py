@@ -9,6 +9,7 @@ fixed: the same inputs give the same bytes.
 
 from __future__ import annotations
 
+import argparse
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -178,3 +179,58 @@ def _write_csv(path: Path, columns: dict) -> None:
         handle.write(",".join(names) + "\n")
         for row in zip(*scaled):
             handle.write(",".join(fmt.format(value) for fmt, value in zip(formats, row)) + "\n")
+
+
+# --------------------------------------------------------------------------- example campaigns
+def _merge(target: dict, changes: dict) -> None:
+    for key, value in changes.items():
+        if isinstance(value, dict) and isinstance(target.get(key), dict):
+            _merge(target[key], value)
+        else:
+            target[key] = value
+
+
+def truth_spec(spec: Path, folder: Path, changes: dict[str, dict], effects: list[str]) -> Path:
+    """A campaign's spec as the "truth" a synthetic campaign is simulated from.
+
+    ``changes`` maps a gear unit id to the spec keys in which the simulated gear differs
+    from the spec's (merged into that gear unit, as a real gear differs from its drawing);
+    every run's ``data`` block is dropped and ``model.effects`` set to ``effects``.  Written
+    as ``folder/truth.yaml``; returns its path.
+    """
+    raw = yaml.safe_load(Path(spec).read_text(encoding="utf-8"))
+    for unit in raw["gear_units"]:
+        _merge(unit, changes.get(unit["id"], {}))
+    for run in raw["runs"]:
+        run.pop("data", None)
+    raw["model"] = {"effects": list(effects)}
+    path = Path(folder) / "truth.yaml"
+    path.write_text(yaml.safe_dump(raw, sort_keys=False, allow_unicode=True), encoding="utf-8")
+    return path
+
+
+def check_requested(description: str) -> bool:
+    """The command line of an example's synthesise.py: True for ``--check``."""
+    parser = argparse.ArgumentParser(description=description.splitlines()[0])
+    parser.add_argument("--check", action="store_true",
+                        help="compare with the committed files instead of writing them")
+    return parser.parse_args().check
+
+
+def write_or_check(fresh: list[Path], folder: Path, check: bool) -> int:
+    """Copy freshly simulated data files into ``folder`` or, with ``check``, only compare
+    them with the files there; returns the exit status (1: a file differs)."""
+    folder = Path(folder)
+    differ = [f.name for f in fresh if not (folder / f.name).exists()
+              or (folder / f.name).read_bytes() != f.read_bytes()]
+    if check:
+        if differ:
+            print("differ from a fresh simulation: " + ", ".join(differ))
+            return 1
+        print(f"{len(fresh)} data files match a fresh simulation")
+        return 0
+    folder.mkdir(exist_ok=True)
+    for f in fresh:
+        (folder / f.name).write_bytes(f.read_bytes())
+    print(f"wrote {len(fresh)} files into {folder}")
+    return 0

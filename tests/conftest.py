@@ -14,6 +14,7 @@ kinematic acceleration peaks at A_peak.
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import shutil
 import subprocess
@@ -120,6 +121,14 @@ TIMESERIES_SPEC = textwrap.dedent("""\
           drop_mass_displacement: {column: x_mm, unit: mm}
         inspection: {failure: false}
     """)
+
+
+def load_script(path: Path, name: str):
+    """A campaign folder's script (synthesise.py) imported as a module."""
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def write_campaign(folder: Path, text: str) -> Path:

@@ -2,24 +2,20 @@
 the magnitude range of the seed paper's Tables 2-3, and declared synthetic."""
 
 import filecmp
-import importlib.util
 
 import pytest
 import yaml
 
 from certkit import assess, load_campaign
 
-from .conftest import SEED
+from .conftest import SEED, load_script
 
 G = 9.80665
 
 
 @pytest.fixture(scope="module")
 def synthesise():
-    spec = importlib.util.spec_from_file_location("synthesise", SEED.parent / "synthesise.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(SEED.parent / "synthesise.py", "synthesise")
 
 
 @pytest.fixture(scope="module")

@@ -6,7 +6,6 @@ seed paper."""
 
 import csv
 import filecmp
-import importlib.util
 import math
 import subprocess
 import sys
@@ -16,7 +15,7 @@ import yaml
 
 from certkit import assess, load_campaign, render_report
 
-from .conftest import REPO
+from .conftest import REPO, load_script
 
 SPEC = REPO / "campaigns" / "lsa-main-gear-rig" / "campaign.yaml"
 PLANNING = "PLANNING ONLY: NOT COMPLIANCE EVIDENCE"
@@ -38,10 +37,7 @@ LIFT = 0.667                  # runs[].lift.ratio
 
 @pytest.fixture(scope="module")
 def synthesise():
-    spec = importlib.util.spec_from_file_location("synthesise_lsa", SPEC.parent / "synthesise.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(SPEC.parent / "synthesise.py", "synthesise_lsa")
 
 
 @pytest.fixture(scope="module")

@@ -25,9 +25,7 @@ The truth (the nominal drop model is the spec's: rebound orifice and seal fricti
 
 from __future__ import annotations
 
-import argparse
 import csv
-import filecmp
 import sys
 import tempfile
 from pathlib import Path
@@ -57,25 +55,11 @@ NOISE_SI = {"load": 1.5 * LBF, "travel": 0.001 * INCH, "acceleration": 0.005 * G
 OFFSET_RANGE = {"Fz_lbf": 4.0, "stroke_in": 0.008, "tyre_in": 0.008}   # zero offsets: ±this
 
 
-def _merge(target: dict, changes: dict) -> None:
-    for key, value in changes.items():
-        if isinstance(value, dict) and isinstance(target.get(key), dict):
-            _merge(target[key], value)
-        else:
-            target[key] = value
-
-
 def truth_spec(folder: Path) -> Path:
     """The campaign spec with the truth applied and no data blocks, written into ``folder``."""
-    raw = yaml.safe_load((HERE / "campaign.yaml").read_text(encoding="utf-8"))
-    for unit in raw["gear_units"]:
-        _merge(unit, TRUTH)
-    for run in raw["runs"]:
-        run.pop("data", None)
-    raw["model"] = {"effects": EFFECTS}
-    path = folder / "truth.yaml"
-    path.write_text(yaml.safe_dump(raw, sort_keys=False, allow_unicode=True), encoding="utf-8")
-    return path
+    from certkit.synthetic import truth_spec as write_truth
+
+    return write_truth(HERE / "campaign.yaml", folder, {GEAR: TRUTH}, EFFECTS)
 
 
 def _counts(values: np.ndarray, step: float) -> np.ndarray:
@@ -149,30 +133,18 @@ def generate(out: Path) -> dict[str, dict]:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--check", action="store_true",
-                        help="compare with the committed files instead of writing them")
-    args = parser.parse_args()
+    from certkit.synthetic import check_requested, write_or_check
+
+    check = check_requested(__doc__)
     with tempfile.TemporaryDirectory() as scratch:
         fresh_dir = Path(scratch) / "data"
         blocks = generate(fresh_dir)
-        fresh = sorted(fresh_dir.glob("*.csv"))
-        differ = [f.name for f in fresh
-                  if not (HERE / "data" / f.name).exists()
-                  or not filecmp.cmp(f, HERE / "data" / f.name, shallow=False)]
-        if args.check:
-            if differ:
-                print("differ from a fresh simulation: " + ", ".join(differ))
-                return 1
-            print(f"{len(fresh)} data files match a fresh simulation")
-            return 0
-        (HERE / "data").mkdir(exist_ok=True)
-        for f in fresh:
-            (HERE / "data" / f.name).write_bytes(f.read_bytes())
-        print(f"wrote {len(fresh)} files into {HERE / 'data'}; the runs' data blocks are:")
-        for run_id, block in blocks.items():
-            print(yaml.safe_dump({run_id: block}, sort_keys=False, width=100))
-    return 0
+        status = write_or_check(sorted(fresh_dir.glob("*.csv")), HERE / "data", check)
+        if not check:
+            print("the runs' data blocks are:")
+            for run_id, block in blocks.items():
+                print(yaml.safe_dump({run_id: block}, sort_keys=False, width=100))
+    return status
 
 
 if __name__ == "__main__":

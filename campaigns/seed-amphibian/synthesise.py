@@ -19,8 +19,6 @@ The truth, per gear unit (the nominal model is the spec's: rebound orifice and s
 
 from __future__ import annotations
 
-import argparse
-import filecmp
 import sys
 import tempfile
 from pathlib import Path
@@ -43,25 +41,11 @@ TRUTH = {
 RECORD = {"duration": 1.9, "lead": 0.1}   # 2 s per drop at 1 kHz, as the paper's logger
 
 
-def _merge(target: dict, changes: dict) -> None:
-    for key, value in changes.items():
-        if isinstance(value, dict) and isinstance(target.get(key), dict):
-            _merge(target[key], value)
-        else:
-            target[key] = value
-
-
 def truth_spec(folder: Path) -> Path:
     """The example spec with the truth applied and no data blocks, written into ``folder``."""
-    raw = yaml.safe_load((HERE / "campaign.yaml").read_text(encoding="utf-8"))
-    for unit in raw["gear_units"]:
-        _merge(unit, TRUTH[unit["id"]])
-    for run in raw["runs"]:
-        run.pop("data", None)
-    raw["model"] = {"effects": EFFECTS}
-    path = folder / "truth.yaml"
-    path.write_text(yaml.safe_dump(raw, sort_keys=False, allow_unicode=True), encoding="utf-8")
-    return path
+    from certkit.synthetic import truth_spec as write_truth
+
+    return write_truth(HERE / "campaign.yaml", folder, TRUTH, EFFECTS)
 
 
 def generate(out: Path) -> Path:
@@ -74,30 +58,19 @@ def generate(out: Path) -> Path:
 
 
 def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--check", action="store_true",
-                        help="compare with the committed files instead of writing them")
-    args = parser.parse_args()
+    from certkit.synthetic import check_requested, write_or_check
+
+    check = check_requested(__doc__)
     with tempfile.TemporaryDirectory() as scratch:
         written = generate(Path(scratch) / "synthetic")
-        fresh = sorted((written.parent / "data").glob("*.csv"))
-        differ = [f.name for f in fresh
-                  if not (HERE / "data" / f.name).exists()
-                  or not filecmp.cmp(f, HERE / "data" / f.name, shallow=False)]
-        if args.check:
-            if differ:
-                print("differ from a fresh simulation: " + ", ".join(differ))
-                return 1
-            print(f"{len(fresh)} data files match a fresh simulation")
-            return 0
-        (HERE / "data").mkdir(exist_ok=True)
-        for f in fresh:
-            (HERE / "data" / f.name).write_bytes(f.read_bytes())
-        mapping = yaml.safe_load(written.read_text(encoding="utf-8"))
-        print(f"wrote {len(fresh)} files into {HERE / 'data'}; the runs' data blocks are:")
-        for run in mapping["runs"]:
-            print(yaml.safe_dump({run["id"]: run["data"]}, sort_keys=False, width=100))
-    return 0
+        status = write_or_check(sorted((written.parent / "data").glob("*.csv")), HERE / "data",
+                                check)
+        if not check:
+            mapping = yaml.safe_load(written.read_text(encoding="utf-8"))
+            print("the runs' data blocks are:")
+            for run in mapping["runs"]:
+                print(yaml.safe_dump({run["id"]: run["data"]}, sort_keys=False, width=100))
+    return status
 
 
 if __name__ == "__main__":
