@@ -31,6 +31,9 @@ from .display import margin as margin_text, with_unit
 from .spec import DisplayUnits
 
 PASS = "PASS"
+#: The kind (and id) of the row a planning campaign's audit starts with: it always fails,
+#: so no CI job can turn green on predictions made from synthetic histories.
+PLANNING_ROW = "planning"
 
 
 @dataclass(frozen=True)
@@ -54,7 +57,7 @@ class AuditRow:
     def failed(self) -> bool:
         if self.kind == "criterion":
             return self.outcome != PASS
-        return self.outcome in ("error", "changed")
+        return self.kind == PLANNING_ROW or self.outcome in ("error", "changed")
 
 
 def _number(value):
@@ -62,8 +65,13 @@ def _number(value):
 
 
 def audit_rows(assessment: Assessment) -> list[AuditRow]:
-    """The criteria (in the report's order), then the findings."""
-    rows = [AuditRow(v.id, "criterion", v.clause, v.title, v.run, v.gear, _number(v.value),
+    """The criteria (in the report's order), then the findings; a planning campaign's start
+    with a failing row that says so."""
+    rows = [AuditRow(PLANNING_ROW, PLANNING_ROW, "campaign.purpose", "planning campaign", None,
+                     None, None, None, None, "", "PLANNING",
+                     "campaign.purpose is planning: the verdicts are predictions computed from "
+                     "synthetic histories, not compliance evidence")] if assessment.planning else []
+    rows += [AuditRow(v.id, "criterion", v.clause, v.title, v.run, v.gear, _number(v.value),
                      _number(v.limit), _number(v.margin), v.unit, v.verdict, v.reason, v.kind,
                      v.comparison)
             for v in assessment.verdicts]
@@ -122,8 +130,7 @@ def _shown(row: AuditRow, units) -> dict:
             "margin": margin_text(row.margin, row.limit, row.quantity, units)}
 
 
-def to_markdown(rows: list[AuditRow], title: str, units: DisplayUnits | None = None,
-                planning: bool = False) -> str:
+def to_markdown(rows: list[AuditRow], title: str, units: DisplayUnits | None = None) -> str:
     """A summary fit for a CI job page: the counts, then every row that does not pass,
     then the full table; numbers in ``units`` (the campaign's report.units)."""
     units = units or DisplayUnits()
@@ -135,11 +142,13 @@ def to_markdown(rows: list[AuditRow], title: str, units: DisplayUnits | None = N
 
     failing = [row for row in rows if row.failed]
     criteria = [row for row in rows if row.kind == "criterion"]
-    lines = [f"# Audit: {title}", ""] + ([
-        "**PLANNING ON SYNTHETIC DATA: NOT COMPLIANCE EVIDENCE.** The verdicts below are "
-        "predictions for planned drops (campaign.purpose: planning).", ""] if planning else []) + [
-             f"**{'PASS' if not failing else 'NOT PASSED'}**: "
-             f"{sum(r.outcome == PASS for r in criteria)} of {len(criteria)} criteria pass; "
+    planning = any(r.kind == PLANNING_ROW for r in rows)
+    headline = ("PLANNING ON SYNTHETIC DATA: NOT COMPLIANCE EVIDENCE" if planning
+                else "PASS" if not failing else "NOT PASSED")
+    lines = [f"# Audit: {title}", "",
+             f"**{headline}**: "
+             f"{sum(r.outcome == PASS for r in criteria)} of {len(criteria)} criteria "
+             f"{'predicted to pass' if planning else 'pass'}; "
              f"{sum(r.kind == 'finding' and r.outcome == 'error' for r in rows)} data-quality "
              f"error(s), {sum(r.kind == 'finding' and r.outcome == 'warning' for r in rows)} "
              f"warning(s)"
@@ -157,18 +166,18 @@ def to_markdown(rows: list[AuditRow], title: str, units: DisplayUnits | None = N
     return "\n".join(lines)
 
 
-def to_junit(rows: list[AuditRow], title: str, units: DisplayUnits | None = None,
-             planning: bool = False) -> str:
+def to_junit(rows: list[AuditRow], title: str, units: DisplayUnits | None = None) -> str:
     """JUnit XML: a test suite of criteria and one of findings, a test case per row; a
     criterion that does not PASS and a finding of severity error are failures.  Messages
     show numbers in ``units`` (the campaign's report.units)."""
     units = units or DisplayUnits()
+    planning = any(r.kind == PLANNING_ROW for r in rows)
     prefix = "PLANNING (synthetic data, not compliance evidence): " if planning else ""
     root = ElementTree.Element("testsuites", name=f"certkit audit: {prefix}{title}")
-    for kind, name in (("criterion", "criteria"), ("finding", "data quality"),
-                       ("baseline", "baseline")):
+    for kind, name in ((PLANNING_ROW, PLANNING_ROW), ("criterion", "criteria"),
+                       ("finding", "data quality"), ("baseline", "baseline")):
         chosen = [row for row in rows if row.kind == kind]
-        if kind == "baseline" and not chosen:
+        if kind in ("baseline", PLANNING_ROW) and not chosen:
             continue
         suite = ElementTree.SubElement(root, "testsuite", name=name, tests=str(len(chosen)),
                                        failures=str(sum(row.failed for row in chosen)),

@@ -209,7 +209,7 @@ def _runs_for(campaign: Campaign, gear_id: str, effects, run_ids) -> list[_Run]:
         velocity, source = None, "ideal √(2·g·h) from the drop height"
         if series.displacement is not None:
             velocity = contact_velocity(series.time, series.displacement, t_contact)
-            source = "measured (drop-mass displacement before touchdown)"
+            source = "from the recorded drop-mass displacement before touchdown"
         if velocity is None:
             velocity, source = ideal_impact_velocity(run.drop_height.si), \
                 "ideal √(2·g·h) from the drop height"

@@ -295,7 +295,7 @@ def calibrate(spec: SpecArgument,
             nominal, unit = parameter_text(p.nominal, p.unit, units)
             table.add_row(p.name, unit, nominal, parameter_text(float(e), p.unit, units)[0],
                           "not determined" if se != se
-                          else parameter_text(float(se), p.unit, units, 3)[0])
+                          else parameter_text(float(se), p.unit, units)[0])
         out.print(table)
         names = [p.name for p in fit_.parameters]
         corr = Table(title="correlation of the estimates")
@@ -332,7 +332,7 @@ def identify(spec: SpecArgument,
     from rich.table import Table
 
     from .campaign import load_campaign
-    from .identification import OUTPUT_LABELS, identification_document
+    from .identification import OUTPUT_LABELS, PROTOCOL_NAMES, identification_document
     from .identification import identify as run_identification
     from .fitting import FitError
     from .simulation import SimulationError
@@ -354,8 +354,7 @@ def identify(spec: SpecArgument,
         table.add_column("model")
         columns = [(o, p) for o in ("stroke", "tyre") for p in ("paper", "held-out")]
         for output, protocol in columns:
-            table.add_column(f"{OUTPUT_LABELS[output]}, "
-                             f"{'short training' if protocol == 'paper' else protocol}",
+            table.add_column(f"{OUTPUT_LABELS[output]}, {PROTOCOL_NAMES[protocol]}",
                              justify="right")
         models = list(dict.fromkeys(x.model for x in gear.scores))
         for model in models:
@@ -500,9 +499,7 @@ def audit(spec: SpecArgument,
         rows += baseline_rows(compare(results_document(assessment, {}), earlier, tolerance))
     title = f"{campaign.spec.campaign.id} ({spec.name})"
     units = campaign.spec.report.units
-    planning = assessment.planning
-    text = (to_markdown(rows, title, units, planning) if format == "md"
-            else writers[format](rows))
+    text = to_markdown(rows, title, units) if format == "md" else writers[format](rows)
     # both files or neither: the table first, then the JUnit; a failed second write puts
     # back what the first replaced (or removes it, if there was nothing)
     written: list[tuple[Path, bytes | None]] = []
@@ -512,7 +509,7 @@ def audit(spec: SpecArgument,
                 continue
             before = path.read_bytes() if path.is_file() else None
             write_text_atomically(path, content if content is not None
-                                  else to_junit(rows, title, units, planning))
+                                  else to_junit(rows, title, units))
             written.append((path, before))
     except OSError as error:
         for path, before in written:

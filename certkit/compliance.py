@@ -15,11 +15,13 @@ from dataclasses import dataclass, field
 from . import clauses, requirement_sets
 from .campaign import Campaign
 from .quality import audit
+from .display import with_unit
 from .drop_conditions import drop_weight_share, lift_force_ratio, lift_ratio
 from .measures import (SETTLING_BAND, TOUCHDOWN_SHARE, VELOCITY_WINDOW, GearMeasures,
                        contact_velocity, drop_mass_load_factor, measure_gear)
 from .requirement_sets import Criterion, RequirementSet
-from .results import FAIL, NOT_SHOWN, PASS, Comparison, Finding, Value, Verdict
+from .results import (EQUALITY_TOLERANCE, FAIL, NOT_SHOWN, PASS, Comparison, Finding, Value,
+                      Verdict)
 from .rundata import RunSeries
 from .spec import BasisEntry, GearUnit, Run
 from .units import STANDARD_GRAVITY
@@ -80,7 +82,7 @@ class Assessment:
     @property
     def planning(self) -> bool:
         """A planning campaign (campaign.purpose: planning): its verdicts are predictions."""
-        return self.campaign.spec.campaign.purpose == "planning"
+        return is_planning(self.campaign)
 
     @property
     def outcome(self) -> str:
@@ -130,6 +132,11 @@ class Assessment:
                 for level in ("error", "warning", "info")}
 
 
+def is_planning(campaign: Campaign) -> bool:
+    """campaign.purpose is planning: values come from synthetic histories, as predictions."""
+    return campaign.spec.campaign.purpose == "planning"
+
+
 def _spec_input(location: str, text: str) -> str:
     return f"{location} = {text}"
 
@@ -137,6 +144,7 @@ def _spec_input(location: str, text: str) -> str:
 # --------------------------------------------------------------------------- design quantities
 def _design_values(campaign: Campaign) -> dict[str, Value]:
     aircraft = campaign.spec.aircraft
+    units = campaign.spec.report.units
     weight, area = aircraft.maximum_weight, aircraft.wing_area
     loading = weight.si / area.si
     values = {
@@ -158,7 +166,8 @@ def _design_values(campaign: Campaign) -> dict[str, Value]:
         "V_descent", "Limit descent velocity", "V", v_bounded, "m/s", "velocity",
         "14 CFR 23.473(d)", "V = 4.4·(W/S)^(1/4) ft/s, not less than 7 ft/s, need not exceed 10 ft/s",
         {"W/S": "W/S"}, note=(None if math.isclose(v_formula, v_bounded)
-                              else f"formula gives {v_formula:.6g} m/s; bound applied"))
+                              else f"formula gives {with_unit(v_formula, 'velocity', units)}; "
+                                   f"bound applied"))
     n_limit = aircraft.design_limit_inertia_load_factor
     values["n_limit"] = Value(
         "n_limit", "Design limit inertia load factor", "n_limit",
@@ -170,7 +179,8 @@ def _design_values(campaign: Campaign) -> dict[str, Value]:
     return values
 
 
-def _basis_values(rules: RequirementSet, design: dict[str, Value]) -> dict[str, Value]:
+def _basis_values(rules: RequirementSet, design: dict[str, Value], display_units
+                  ) -> dict[str, Value]:
     params = rules.parameters
     units = params["drop_height_formula_units"]
     height = clauses.required_drop_height(
@@ -179,7 +189,8 @@ def _basis_values(rules: RequirementSet, design: dict[str, Value]) -> dict[str, 
     coefficient = params["drop_height_coefficient"]
     note = None
     if height.bound:
-        note = (f"formula gives {height.formula * 1e3:.6g} mm; the clause's {height.bound} applies")
+        note = (f"formula gives {with_unit(height.formula, 'length', display_units)}; the "
+                f"clause's {height.bound} applies")
     values = {
         "h_formula": Value("h_formula", "Drop height from the formula", "h",
                            height.formula, "m", "length", f"{rules.id}: drop height",
@@ -396,8 +407,7 @@ def _derived_gear_values(result: GearResult, run: Run, unit: GearUnit, cos_theta
 
 def _run_result(campaign: Campaign, run: Run, index: int) -> RunResult:
     series = campaign.series.get(run.id)
-    planning = campaign.spec.campaign.purpose == "planning"
-    if run.data is not None and run.data.origin == "synthetic" and not planning:
+    if run.data is not None and run.data.origin == "synthetic" and not is_planning(campaign):
         series = None  # simulated histories are not test evidence (quality: synthetic-data)
     gears = [_gear_result(campaign, run, index, gear_id, series) for gear_id in run.gear_units]
     values: dict[str, Value] = {}
@@ -485,30 +495,30 @@ def _runs_of(assessment: Assessment, test_type: str) -> list[RunResult]:
     return [run for run in assessment.runs if run.run.test_type == test_type]
 
 
-#: Relative tolerance at which a criterion's value and limit count as equal.  A spec states
-#: its quantities to a handful of significant figures (12471.77 N is seven) and a logger's
-#: samples resolve at best about one part in 10^7 (24 bits), so no difference the inputs can
-#: express is smaller than one part in 10^8 of the value; the float64 round-off of the unit
-#: conversions between them (645 lb·g0 against 645 lbf, each through N) is about 10^-16 per
-#: operation.  A tolerance of 10^-9 lies between the two: it absorbs conversion round-off and
-#: never a difference the inputs state.
-EQUALITY_TOLERANCE = 1e-9
+def _slack(value: float, limit: float, resolution: float | None) -> float:
+    slack = EQUALITY_TOLERANCE * max(abs(value), abs(limit))
+    return slack if resolution is None else min(slack, resolution)
 
 
-def _slack(value: float, limit: float) -> float:
-    return EQUALITY_TOLERANCE * max(abs(value), abs(limit))
+def at_least(value: float, limit: float, resolution: float | None = None) -> str:
+    """PASS when ``value`` is not less than ``limit``: equality holds, as "not less than" in
+    14 CFR 23.725-23.727.  Equal means within :data:`~certkit.results.EQUALITY_TOLERANCE`
+    (relative), and never more than ``resolution``: half a unit in the last digit of the
+    typed value the criterion turns on (its ``stated_resolution_si``)."""
+    return PASS if value >= limit - _slack(value, limit, resolution) else FAIL
 
 
-def at_least(value: float, limit: float) -> str:
-    """PASS when ``value`` is not less than ``limit``: equality holds (within
-    :data:`EQUALITY_TOLERANCE`, relative), as "not less than" in 14 CFR 23.725-23.727."""
-    return PASS if value >= limit - _slack(value, limit) else FAIL
+def at_most(value: float, limit: float, resolution: float | None = None) -> str:
+    """PASS when ``value`` does not exceed ``limit``, equality included (as :func:`at_least`)."""
+    return PASS if value <= limit + _slack(value, limit, resolution) else FAIL
 
 
-def at_most(value: float, limit: float) -> str:
-    """PASS when ``value`` does not exceed ``limit``, equality included (within
-    :data:`EQUALITY_TOLERANCE`, relative)."""
-    return PASS if value <= limit + _slack(value, limit) else FAIL
+def _typed_resolution(quantity, value: float) -> float | None:
+    """Half a unit in the last typed digit of ``quantity``, scaled to ``value`` (the same
+    relative resolution), None for a quantity not typed."""
+    if quantity is None or quantity.si == 0:
+        return None
+    return abs(value) * quantity.stated_resolution_si / abs(quantity.si)
 
 
 def _height_check(ctx: _Context, criterion: Criterion, test_type: str, required_key: str,
@@ -522,7 +532,8 @@ def _height_check(ctx: _Context, criterion: Criterion, test_type: str, required_
     for run in runs:
         h = run.get("h")
         verdicts.append(ctx.verdict(
-            criterion, run.run.id, None, at_least(h, required.value), value=h,
+            criterion, run.run.id, None,
+            at_least(h, required.value, run.run.drop_height.stated_resolution_si), value=h,
             limit=required.value, margin=h - required.value, unit="m", kind="length",
             reason=f"{what} drop from {run.run.drop_height.text}"))
     return verdicts
@@ -544,10 +555,11 @@ def check_dynamic_drop_height(ctx, criterion):
         return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=required.value, unit="m",
                             kind="length", reason="no ground load dynamic drop in the test matrix")]
     n_limit = ctx.assessment.design["n_limit"].value
+    n_limit_typed = ctx.assessment.campaign.spec.aircraft.design_limit_inertia_load_factor
     verdicts = []
     for run in runs:
         h = run.get("h")
-        if at_least(h, required.value) == PASS:
+        if at_least(h, required.value, run.run.drop_height.stated_resolution_si) == PASS:
             verdicts.append(ctx.verdict(criterion, run.run.id, None, PASS, value=h,
                                         limit=required.value, margin=h - required.value,
                                         unit="m", kind="length", reason="option (1): 2.25·h_req"))
@@ -561,7 +573,8 @@ def check_dynamic_drop_height(ctx, criterion):
             continue
         n = max(factors)
         verdicts.append(ctx.verdict(
-            criterion, run.run.id, None, at_least(n, 1.5 * n_limit), value=n,
+            criterion, run.run.id, None,
+            at_least(n, 1.5 * n_limit, _typed_resolution(n_limit_typed, 1.5 * n_limit)), value=n,
             limit=1.5 * n_limit, margin=n - 1.5 * n_limit,
             reason="option (2): height developing 1.5 times the limit load factor"))
     return verdicts
@@ -575,7 +588,12 @@ def check_reserve_no_failure(ctx, criterion):
     verdicts = []
     for run in runs:
         inspection = run.run.inspection
-        if inspection is None or inspection.failure is None:
+        if ctx.assessment.planning:
+            verdicts.append(ctx.verdict(criterion, run.run.id, None, NOT_SHOWN,
+                                        reason="a planning campaign: whether the gear fails is "
+                                               "found by inspecting it after the drop, which no "
+                                               "simulation predicts"))
+        elif inspection is None or inspection.failure is None:
             verdicts.append(ctx.verdict(criterion, run.run.id, None, NOT_SHOWN,
                                         reason="post-test inspection result not recorded"))
         else:
@@ -601,7 +619,8 @@ def _effective_weight_check(ctx, criterion, test_type: str, what: str) -> list[V
         method = run.run.lift.method
         if method != "none" and test_type == "limit":
             verdicts.append(ctx.verdict(
-                criterion, run.run.id, None, at_most(lift, maximum), value=lift,
+                criterion, run.run.id, None,
+                at_most(lift, maximum, _typed_resolution(run.run.lift.ratio, lift)), value=lift,
                 limit=maximum, margin=maximum - lift, comparison="≤",
                 reason=f"wing-lift ratio L represented in the drop ({method})"))
         reason = {"none": "no lift simulated: W_e = W",
@@ -611,13 +630,17 @@ def _effective_weight_check(ctx, criterion, test_type: str, what: str) -> list[V
                                    f"reduced mass, L = {lift:g}, d measured (23.725(d))")}[method]
         for gear in run.gears:
             w_e, w_drop = gear.get("W_e"), gear.get("W_drop")
+            static_weight = ctx.assessment.campaign.gear_units[gear.gear_id].static_weight
             if w_e is None:
                 verdicts.append(ctx.verdict(criterion, run.run.id, gear.gear_id, NOT_SHOWN,
                                             unit="N", kind="force",
                                             reason="d (tyre deflection + axle travel) unknown"))
                 continue
             verdicts.append(ctx.verdict(
-                criterion, run.run.id, gear.gear_id, at_least(w_drop, w_e), value=w_drop,
+                criterion, run.run.id, gear.gear_id,
+                at_least(w_drop, w_e, min(_typed_resolution(run.run.drop_mass, w_drop),
+                                          _typed_resolution(static_weight, w_e))),
+                value=w_drop,
                 limit=w_e, margin=w_drop - w_e, unit="N", kind="force", reason=reason))
     return verdicts
 
@@ -634,6 +657,7 @@ def check_reserve_effective_weight(ctx, criterion):
 
 def check_inertia_load_factor(ctx, criterion):
     n_limit = ctx.assessment.design["n_limit"].value
+    n_limit_typed = ctx.assessment.campaign.spec.aircraft.design_limit_inertia_load_factor
     runs = _runs_of(ctx.assessment, "limit")
     if not runs:
         return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=n_limit,
@@ -653,7 +677,8 @@ def check_inertia_load_factor(ctx, criterion):
                                             reason="design limit inertia load factor not declared"))
             else:
                 verdicts.append(ctx.verdict(
-                    criterion, run.run.id, gear.gear_id, at_most(n, n_limit),
+                    criterion, run.run.id, gear.gear_id,
+                    at_most(n, n_limit, _typed_resolution(n_limit_typed, n_limit)),
                     value=n, limit=n_limit, margin=n_limit - n, comparison="≤",
                     reason="n = n_j·W_e/W + L"))
     return verdicts
@@ -664,6 +689,7 @@ def check_energy_method_load_factor(ctx, criterion):
     lift = rules.number("energy_method_wing_lift_ratio")
     eta_t, eta_s = rules.number("tyre_efficiency"), rules.number("shock_absorber_efficiency")
     n_limit = ctx.assessment.design["n_limit"].value
+    n_limit_typed = ctx.assessment.campaign.spec.aircraft.design_limit_inertia_load_factor
     runs = _runs_of(ctx.assessment, "limit")
     if not runs:
         return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=n_limit, comparison="≤",
@@ -683,7 +709,8 @@ def check_energy_method_load_factor(ctx, criterion):
                            f"(n = n_j + L with L = {lift:.4g}, η_t = {eta_t}, η_s = {eta_s})"))
             else:
                 verdicts.append(ctx.verdict(
-                    criterion, run.run.id, gear.gear_id, at_most(n, n_limit),
+                    criterion, run.run.id, gear.gear_id,
+                    at_most(n, n_limit, _typed_resolution(n_limit_typed, n_limit)),
                     value=n, limit=n_limit, margin=n_limit - n, comparison="≤",
                     reason=f"n = n_j + L, L = {lift:.4g}, η_t = {eta_t}, η_s = {eta_s}"))
     return verdicts
@@ -691,13 +718,16 @@ def check_energy_method_load_factor(ctx, criterion):
 
 def check_design_load_factor_minimum(ctx, criterion):
     n_limit = ctx.assessment.design["n_limit"].value
+    n_limit_typed = ctx.assessment.campaign.spec.aircraft.design_limit_inertia_load_factor
     lift = ctx.assessment.design["L_design"].value
     minimum = max(ctx.rules.number("inertia_load_factor_minimum"),
                   ctx.rules.number("ground_reaction_factor_minimum") + lift)
     if n_limit is None:
         return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=minimum,
                             reason="design limit inertia load factor not declared")]
-    return [ctx.verdict(criterion, None, None, at_least(n_limit, minimum), value=n_limit,
+    return [ctx.verdict(criterion, None, None,
+                        at_least(n_limit, minimum, _typed_resolution(n_limit_typed, n_limit)),
+                        value=n_limit,
                         limit=minimum, margin=n_limit - minimum,
                         reason=f"minimum = max(2.67, 2.0 + L) with L = {lift:g}")]
 
@@ -762,7 +792,8 @@ def assess(campaign: Campaign) -> Assessment:
     basis = []
     for entry in campaign.spec.certification_basis:
         rules = requirement_sets.load(entry.requirement_set)
-        basis.append(BasisResult(entry, rules, _basis_values(rules, design)))
+        basis.append(BasisResult(entry, rules, _basis_values(rules, design,
+                                                             campaign.spec.report.units)))
     runs = [_run_result(campaign, run, index) for index, run in enumerate(campaign.spec.runs)]
     assessment = Assessment(campaign, design, basis, runs)
     _energy_method_values(assessment)

@@ -9,8 +9,10 @@ The rule
 * A value is shown to :data:`SIGNIFICANT` significant figures in the display unit of its
   kind (``report.units`` of the spec; see :class:`certkit.spec.DisplayUnits`).
 * A margin (value − limit, or limit − value) is shown to the same decimal place as the
-  limit it is measured from, and as a percentage of that limit: a difference finer than
-  the limit's own last shown digit reads 0, never as a float artefact such as 1e-13.
+  limit it is measured from, and as a percentage of that limit.  A tie (within
+  :data:`~certkit.results.EQUALITY_TOLERANCE`) reads 0, never a float artefact such as
+  1e-13; any other margin finer than the limit's last shown digit keeps its sign, to two
+  significant figures.
 * A value typed by the user is quoted as typed (its ``text``), not through this module.
 """
 
@@ -19,6 +21,7 @@ from __future__ import annotations
 import math
 import re
 
+from .results import EQUALITY_TOLERANCE
 from .units import convert
 
 #: SI unit in which each physical kind is held inside certkit.
@@ -36,6 +39,7 @@ DISPLAY_RULE = (f"Computed values are shown to {SIGNIFICANT} significant figures
 
 
 _SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+_PLAIN = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-")
 
 
 def number(value: float, digits: int = SIGNIFICANT) -> str:
@@ -44,11 +48,12 @@ def number(value: float, digits: int = SIGNIFICANT) -> str:
         return "0"
     if not math.isfinite(value):
         return str(value)
-    text = f"{value:.{digits}g}"
-    if "e" in text:
-        mantissa, exponent = text.split("e")
-        return f"{mantissa}×10{str(int(exponent)).translate(_SUPERSCRIPT)}"
-    return text
+    rounded = float(f"{value:.{digits}g}")
+    if 1e-3 <= abs(rounded) < 1e6:   # plain decimals: 12470, 0.001234
+        decimals = max(0, digits - 1 - math.floor(math.log10(abs(rounded))))
+        return f"{rounded:.{decimals}f}"   # the zeros are significant: 645.0, 4.000
+    mantissa, exponent = f"{value:.{digits - 1}e}".split("e")
+    return f"{mantissa}×10{str(int(exponent)).translate(_SUPERSCRIPT)}"
 
 
 def pretty(unit: str) -> str:
@@ -78,7 +83,7 @@ def display(value: float | None, kind: str, units, digits: int = SIGNIFICANT
 
 
 def with_unit(value: float | None, kind: str, units, digits: int = SIGNIFICANT) -> str:
-    """``"645.0 lbf"``: an SI value in its display unit, with the unit ("—" when None)."""
+    """``"645 lbf"``: an SI value in its display unit, with the unit ("—" when None)."""
     if value is None:
         return "—"
     text, unit = display(value, kind, units, digits)
@@ -137,10 +142,15 @@ def margin(value: float | None, limit: float | None, kind: str, units) -> str:
     if limit is None or limit == 0:
         return f"{number(shown)} {unit}".strip()
     text = fixed(shown, _decimals(to_display(limit, kind, units)))
-    if not text.startswith("-") and float(text) != 0:
+    if float(text) == 0 and abs(value) > EQUALITY_TOLERANCE * abs(limit):
+        # a real margin finer than the limit's last shown digit keeps its sign and size
+        text = number(shown, 2)
+    if not text.startswith("-") and float(text.replace("×10", "e").translate(_PLAIN)) != 0:
         text = "+" + text
     share = fixed(100.0 * value / abs(limit), 2)
-    if not share.startswith("-") and float(share) != 0:
+    if float(share) == 0 and abs(value) > EQUALITY_TOLERANCE * abs(limit):
+        share = number(100.0 * value / abs(limit), 2)
+    if not share.startswith("-") and float(share.replace("×10", "e").translate(_PLAIN)) != 0:
         share = "+" + share
     return f"{text} {unit}".strip() + f" ({share} %)"
 

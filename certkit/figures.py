@@ -266,7 +266,7 @@ def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: s
                 units, window: float, origin: str = "measured") -> dict:
     """A held-out run's channels against the calibrated nominal model and (``after``) the
     model with the named effects, from just before touchdown to ``window`` s after it, with
-    the measured run's phase boundaries drawn and named.
+    the recorded run's phase boundaries drawn and named.
 
     ``before``, ``after``: :class:`certkit.calibration.AlignedRecord`; ``phases``: the
     measured run's :class:`certkit.phases.Phase` list."""
@@ -306,7 +306,7 @@ def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: s
                          f"drop's phases",
                 "caption": "Grey: the run's channels; dashed: the nominal model calibrated on "
                            "the training runs; solid: refitted with the named effect(s), when "
-                           "one was named. Dotted lines: the measured run's phase boundaries "
+                           "one was named. Dotted lines: the recorded run's phase boundaries "
                            "(certkit.phases), each labelled with the phase it starts. Neither "
                            "model was fitted or tuned on this run.",
                 "svg": _to_svg(figure)}

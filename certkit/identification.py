@@ -36,6 +36,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from .campaign import Campaign
+from .display import with_unit
 from .hammerstein import HammersteinLSSVM
 from .lssvm import (NARX, LSSVMRegressor, fit_percent, kfold_cost, max_abs_error, nrmse,
                     residual_analysis, rmse, tune)
@@ -45,6 +46,8 @@ from .units import STANDARD_GRAVITY
 from .wiener import (SmallSignalExperiment, WienerModel, best_linear_records, physics_plant,
                      small_signal_records)
 
+#: How reports and the terminal name the validation protocols (Score.protocol).
+PROTOCOL_NAMES = {"paper": "short training", "held-out": "held-out"}
 OUTPUTS = ("stroke", "tyre")
 OUTPUT_LABELS = {name: CHANNEL_LABELS[name] for name in OUTPUTS}
 #: Sample rate every model is identified at [Hz]: the seed paper's logger rate, at which its
@@ -306,6 +309,7 @@ def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None
     Orders, hyper-parameters, the held-out runs and the small-signal settings come from
     the spec's ``model.identification`` (defaults: the seed's orders, everything tuned,
     the highest drop held out)."""
+    units = campaign.spec.report.units
     settings = campaign.spec.model.identification
     drops = _drops(campaign, gear_id)
     if len(drops) < 2:
@@ -394,8 +398,9 @@ def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None
                     if 3.0 * accepted < breakout:
                         result.notes.append(
                             f"strut stroke: the small-signal force accepted as linear "
-                            f"({accepted:.3g} N RMS) stays below the seal friction's breakout "
-                            f"(about {breakout:.3g} N): the linear block describes the strut "
+                            f"({with_unit(accepted, 'force', units)} RMS) stays below the seal "
+                            f"friction's breakout (about {with_unit(breakout, 'force', units)}): "
+                            f"the linear block describes the strut "
                             f"held by its seals, not its dynamics in a drop")
             else:
                 result.notes.append(f"{OUTPUT_LABELS[output]}: the small-signal method found no "

@@ -279,16 +279,15 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
     }
 
 
-def _reference_error(reference, gear_id: str, channel: str, model: str):
+def _reference_error(reference, gear_id: str, channel: str, model: str, run: str):
     """A published RMSE (the spec's quantity) of the campaign's reference_results for this
-    gear unit, channel and model (a field of :class:`~certkit.spec.ReferenceModelErrors`),
-    None when it has none."""
-    if reference is None or (reference.gear is not None and reference.gear != gear_id):
+    gear unit, run, channel and model (a field of
+    :class:`~certkit.spec.ReferenceModelErrors`), None when it has none."""
+    if reference is None or (reference.gear is not None and reference.gear != gear_id) or (
+            reference.run is not None and reference.run != run):
         return None
     errors = getattr(reference, channel, None) if channel in ("stroke", "tyre") else None
     return getattr(errors, model, None) if errors is not None else None
-
-
 
 
 def _reference_view(reference, units) -> dict | None:
@@ -375,8 +374,8 @@ def _model_view(evidence, units, reference=None, origins=None, effects=()) -> di
                          "change": f"{change:+.1%}" if math.isfinite(change) else "—"})
         for trace in gear.traces:
             published = _reference_error(reference, gear.gear_id, trace.channel,
-                                         "governing_equation")
-            if published is None or (reference.run is not None and trace.run != reference.run):
+                                         "governing_equation", trace.run)
+            if published is None:
                 continue
             first = trace.time <= reference.window.si
             nominal = math.sqrt(float(((trace.nominal - trace.measured)[first] ** 2).mean()))
@@ -384,7 +383,7 @@ def _model_view(evidence, units, reference=None, origins=None, effects=()) -> di
             reference_rows.append({
                 "gear": gear.gear_id, "run": trace.run,
                 "channel": CHANNEL_LABELS[trace.channel],
-                "reference": published.text,
+                "reference": " ".join(typed(published.text, published.si, "length", units)),
                 "nominal": with_unit(nominal, "length", units),
                 "calibrated": with_unit(fitted, "length", units)})
         figures = [model_figure(gear.gear_id, run, [t for t in gear.traces if t.run == run], units,
@@ -409,8 +408,6 @@ _MODEL_ORDER = ("governing equation, nominal", "governing equation, calibrated",
                 "Wiener (small-signal)", "Wiener (BLA)", "NARX")
 
 
-#: How the report names the identification protocols (Score.protocol).
-PROTOCOL_NAMES = {"paper": "short training", "held-out": "held-out"}
 #: Fields of the spec's reference_results that correspond to certkit's models.
 _REFERENCE_MODELS = {"governing equation, nominal": "governing_equation",
                      "Hammerstein": "hammerstein", "Wiener (small-signal)": "wiener",
@@ -436,7 +433,7 @@ def _discussion(gear, reference, units) -> list[str]:
     run = gear.held_out[0]
     sentences = []
     for output in ("stroke", "tyre"):
-        published = {model: _reference_error(reference, gear.gear_id, output, field)
+        published = {model: _reference_error(reference, gear.gear_id, output, field, run)
                      for model, field in _REFERENCE_MODELS.items()}
         published = {model: value.si for model, value in published.items() if value is not None}
         if len(published) < 2:
@@ -470,7 +467,8 @@ def _identification_view(evidence, settings, units, reference=None, origins=None
 
     ``settings``: the spec's ``model.identification``; ``reference``: its reference_results."""
     from .identification import (MODEL_RATE, PAPER_TRAINING, PAPER_TRAINING_DURATION,
-                                 WHITENESS_CONFIDENCE, WHITENESS_LAGS, WINDOW, WINDOW_DURATION)
+                                 PROTOCOL_NAMES, WHITENESS_CONFIDENCE, WHITENESS_LAGS, WINDOW,
+                                 WINDOW_DURATION)
 
     method = {"window": (f"{with_unit(WINDOW_DURATION, 'time', units)} ({WINDOW} samples at "
                          f"the identification rate of {MODEL_RATE:g} Hz; a record logged at "
@@ -505,7 +503,8 @@ def _identification_view(evidence, settings, units, reference=None, origins=None
                     row["cells"].append("—" if score is None
                                         else _short(score.rmse * 1e-3, "length", units))
                 published = _reference_error(reference, gear.gear_id, output,
-                                             _REFERENCE_MODELS.get(model, ""))
+                                             _REFERENCE_MODELS.get(model, ""),
+                                             gear.held_out[0])
                 row["reference"] = row.get("reference", []) + [
                     "—" if published is None else typed(published.text, published.si, "length", units)[0]]
                 with_reference = with_reference or published is not None
@@ -524,8 +523,8 @@ def _identification_view(evidence, settings, units, reference=None, origins=None
         blocks = []
         for (route, output), arx in gear.linear_blocks.items():
             blocks.append({"route": route, "output": OUTPUT_LABELS[output],
-                           "a": ", ".join(f"{v:.6g}" for v in arx.a_),
-                           "b": ", ".join(f"{v * gain_scale:.6g}" for v in arx.b_),
+                           "a": ", ".join(number(v, 6) for v in arx.a_),
+                           "b": ", ".join(number(v * gain_scale, 6) for v in arx.b_),
                            "gain": (f"{number(arx.static_gain_ * gain_scale, 4)} "
                                     f"{units.length}/{units.force}"
                                     if math.isfinite(arx.static_gain_) else "not determined"),
@@ -575,7 +574,7 @@ def _gap_method(units) -> dict:
     """The method in words, every threshold taken from the code that applies it."""
     from .attribution import CANDIDATES, GAIN, LEADING, RELEVANT, STARTS, TIE_COSINE, TIE_COST
     from .holdout import MIDDLE_FROM
-    from .phases import BREAKOUT_TRAVEL, BREAKOUT_WINDOW
+    from .phases import BREAKOUT_TRAVEL, BREAKOUT_WINDOW, REBOUND_DROP
     from .residuals import BANDS, MAX_LAG
 
     bands = ", ".join(f"{name} ({low:g}-{high:g} Hz)" if math.isfinite(high)
@@ -591,7 +590,9 @@ def _gap_method(units) -> dict:
                   f"measured run's phases: free fall; tyre-only contact from touchdown; strut "
                   f"breakout, the first {with_unit(BREAKOUT_WINDOW, 'time', units)} after the "
                   f"stroke exceeds {with_unit(BREAKOUT_TRAVEL, 'length', units)}; compression "
-                  f"to peak load; rebound to the end of extension; settling. Per channel, "
+                  f"to peak load; rebound to the end of the extension (the first stroke "
+                  f"minimum once the stroke has come down {percent(REBOUND_DROP, 0)} of its "
+                  f"travel); settling. Per channel, "
                   f"phase and run: RMS, bias (mean of measured − model) and timing lag (the "
                   f"cross-correlation peak within ±{with_unit(MAX_LAG, 'time', units)}; "
                   f"positive: the model is late). The residual's energy from touchdown is split "

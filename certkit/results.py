@@ -10,6 +10,13 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field
 
 PASS, FAIL, NOT_SHOWN = "PASS", "FAIL", "NOT SHOWN"
+#: Relative tolerance at which a criterion's value and limit count as equal ("not less
+#: than" holds at equality).  It absorbs the float64 round-off of unit conversions (645 lb·g0
+#: against 645 lbf, each taken through N: about 10^-16 per operation) and is coarser than
+#: that by seven orders; a criterion never applies more than half a unit in the last digit
+#: of the typed value it turns on (compliance.at_least), so a value typed with more than nine
+#: significant figures is still resolved to its last digit.
+EQUALITY_TOLERANCE = 1e-9
 #: The ``format`` of results.json; a baseline or an archive of another format is refused.
 RESULTS_FORMAT = "certkit-results/1"
 

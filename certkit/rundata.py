@@ -26,6 +26,7 @@ data-quality audit (``RunSeries.layout``).
 
 from __future__ import annotations
 
+import csv
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -165,7 +166,6 @@ def _csv_layout(path: Path, display: str) -> tuple[str, str]:
 
 def _field_count_error(path: Path, display: str, separator: str) -> CertkitInputError | None:
     """The first line with more fields than the header, as an input error (None if none)."""
-    import csv
 
     with path.open(newline="", encoding="utf-8-sig", errors="replace") as handle:
         reader = csv.reader(handle, delimiter=separator)
@@ -213,7 +213,6 @@ def _read_table(path: Path, display: str):
     except Exception as exc:  # pandas and pyarrow raise many types for malformed files
         raise fail(f"cannot read data file: {exc}") from None
     if suffix == ".csv":
-        import csv
 
         with path.open(newline="", encoding="utf-8-sig", errors="replace") as handle:
             header = next(csv.reader(handle, delimiter=separator), [])

@@ -8,8 +8,10 @@ naming a gear unit that does not exist, ...) are checked in
 
 from __future__ import annotations
 
+import calendar
 import datetime as dt
 import math
+import re
 from typing import Annotated, Literal
 
 from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, PlainSerializer,
@@ -61,7 +63,7 @@ def _unit(kind: str):
         if not isinstance(value, str):
             raise PydanticCustomError("unit", f"expected a unit of {kind} as text, got {value!r}")
         try:
-            return parse_unit(value, kind)
+            return parse_unit(re.sub(r"\s*([*/·^])\s*", r"\1", value.strip()), kind)
         except QuantityError as exc:
             raise PydanticCustomError("unit", str(exc)) from None
 
@@ -95,7 +97,6 @@ Fraction = _quantity("dimensionless", "a fraction between 0 and 1, e.g. 0.667 or
 def _date(value):
     """A date written YYYY-MM-DD (ISO 8601 calendar date); one written in that form whose
     month or day does not exist is refused saying so (February 2025 has 28 days)."""
-    import calendar
 
     if isinstance(value, dt.date) and not isinstance(value, dt.datetime):
         return value
@@ -474,14 +475,22 @@ UNIT_SYSTEMS = {
            "pressure": "psi", "area": "ft^2", "wing_loading": "lbf/ft^2", "time": "ms"},
 }
 _US_LENGTHS = {"in", "inch", "inches", "ft", "foot", "feet", "yd", "yard", "mil", "thou"}
+_US_UNITS = _US_LENGTHS | {"lbf", "lb", "lbs", "pound", "pounds", "psi", "ksi", "mph", "kip",
+                           "slug", "ozf", "oz"}
+
+
+def _is_us(unit: object) -> bool:
+    """Whether a unit text names a US customary unit (in, ft, lbf, psi, ...)."""
+    return isinstance(unit, str) and bool(set(re.split(r"[\s*/·^0-9+\-]+", unit)) & _US_UNITS)
 
 
 class DisplayUnits(_Model):
     """The units every number a person reads is shown in.
 
     A unit not given follows ``system``; without ``system``, the system of the length unit
-    (US customary for in or ft, else SI), so ``{length: in, force: lbf}`` shows areas in
-    ft^2 and energies in ft*lbf.
+    (US customary for in or ft, else SI), or without a length unit the system of the units
+    given, so ``{length: in, force: lbf}`` and ``{force: lbf}`` show areas in ft^2 and
+    energies in ft*lbf.
     """
 
     system: Literal["SI", "US"] | None = Field(
@@ -503,9 +512,8 @@ class DisplayUnits(_Model):
             return data
         system = data.get("system")
         if system not in UNIT_SYSTEMS:
-            length = data.get("length")
-            system = ("US" if isinstance(length, str) and length.strip() in _US_LENGTHS
-                      else "SI")
+            given = [data["length"]] if "length" in data else list(data.values())
+            system = "US" if any(_is_us(unit) for unit in given) else "SI"
         return {**UNIT_SYSTEMS[system], **data}
 
 

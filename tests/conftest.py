@@ -28,6 +28,10 @@ import pytest
 REPO = Path(__file__).resolve().parent.parent
 SEED = REPO / "campaigns" / "seed-amphibian" / "campaign.yaml"
 
+#: The seed paper's published figures (the first example's reference results): none may
+#: appear in the report of a campaign that does not declare them.
+SEED_FIGURES = ("9.7364", "11.3473", "0.88522", "0.48805", "0.71204", "0.38246")
+
 G = 9.80665
 RATE = 1000.0
 T0 = 0.100          # touchdown [s]

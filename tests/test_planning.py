@@ -63,5 +63,11 @@ def test_every_page_and_table_says_planning_and_strict_never_passes(timeseries_c
                                  "--strict"])
     assert result.exit_code == 1, result.output
     assert result.output.startswith(PLANNING)
-    result = runner.invoke(app, ["audit", str(spec)])
-    assert MARK in result.output
+    result = runner.invoke(app, ["audit", str(spec), "--junit", str(tmp_path / "a.xml")])
+    assert MARK in result.output and "criteria predicted to pass" in result.output
+    # no CI job turns green on predictions: exit 1, and a failing planning row in every table
+    assert result.exit_code == 1, result.output
+    junit = (tmp_path / "a.xml").read_text(encoding="utf-8")
+    assert '<testcase name="planning"' in junit and 'type="PLANNING"' in junit
+    result = runner.invoke(app, ["audit", str(spec), "--format", "csv"])
+    assert result.output.splitlines()[1].startswith("planning,planning,campaign.purpose,")

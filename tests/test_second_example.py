@@ -7,6 +7,7 @@ seed paper."""
 import csv
 import filecmp
 import math
+import re
 import subprocess
 import sys
 
@@ -15,7 +16,7 @@ import yaml
 
 from certkit import assess, load_campaign, render_report
 
-from .conftest import REPO, load_script
+from .conftest import REPO, SEED_FIGURES, load_script
 
 SPEC = REPO / "campaigns" / "lsa-main-gear-rig" / "campaign.yaml"
 PLANNING = "PLANNING ONLY: NOT COMPLIANCE EVIDENCE"
@@ -100,15 +101,17 @@ def test_a_planning_campaign_predicts_every_verdict_from_its_time_series(assessm
         for gear in run.gears:
             assert gear.basis.startswith("time series"), (run.run.id, gear.basis)
     states = {verdict.id: verdict.verdict for verdict in assessment.verdicts}
-    assert "NOT SHOWN" not in states.values(), states
-    # the plan was sized to meet each criterion (drop heights, ballast, n_limit = 4.0)
+    # the one thing no simulation predicts: whether the gear fails in the reserve drop
+    # (23.723(b) is found by inspection after it)
+    assert states.pop("CFR23.723b-reserve-no-failure/D17.5") == "NOT SHOWN"
+    # the plan was sized to meet each other criterion (drop heights, ballast, n_limit = 4.0)
     assert set(states.values()) == {"PASS"}, states
     assert set(states) == {
         "CFR23.725a-limit-drop-height/D12.5", "CFR23.725b-effective-weight/D12.5",
         "CFR23.725b-effective-weight/D12.5/main-right",
         "CFR23.727b-reserve-effective-weight/D17.5/main-right",
         "CFR23.725f-load-factor/D12.5/main-right", "CFR23.727a-reserve-drop-height/D17.5",
-        "CFR23.723b-reserve-no-failure/D17.5", "CFR23.473g-design-load-factor"}
+        "CFR23.473g-design-load-factor"}
 
 
 def test_required_drop_heights_are_those_of_the_regulation(assessment):
@@ -154,12 +157,10 @@ def test_the_load_factor_comes_from_the_carriage_accelerometer(assessment, raw_s
     assert verdict.limit == 4.0
 
 
-SEED_FIGURES = ("9.7364", "11.3473", "0.88522", "0.48805", "0.71204", "0.38246")
-
-
 def test_the_report_shows_imperial_units_and_no_seed_paper_figure(report_html):
+    text = re.sub(r"<svg.*?</svg>", "", report_html, flags=re.S)   # coordinates are digits
     for figure in SEED_FIGURES:
-        assert figure not in report_html, figure
+        assert figure not in text, figure
     assert "PLANNING ON SYNTHETIC DATA" in report_html and PLANNING in report_html
     assert ">lbf<" in report_html and ">in<" in report_html      # unit cells of the tables
     assert "11.94 in" in report_html and "17.19 in" in report_html
@@ -167,3 +168,21 @@ def test_the_report_shows_imperial_units_and_no_seed_paper_figure(report_html):
 
 def test_the_report_does_not_name_the_seed_paper(report_html):
     assert "seed" not in report_html.lower()
+
+
+@pytest.mark.slow
+def test_the_full_report_with_the_model_sections_borrows_nothing(tmp_path):
+    # the sections where the seed paper's figures used to leak are the model's (9-11)
+    from certkit.model_evidence import model_evidence
+
+    campaign = load_campaign(SPEC)
+    render_report(assess(campaign), tmp_path / "out", model=model_evidence(campaign))
+    html = (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
+    assert "9. Governing-equation model" in html and "10. Identification" in html
+    # figures are inline SVG: their path coordinates are digits that mean nothing here
+    text = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
+    for figure in SEED_FIGURES:
+        assert figure not in text, figure
+    assert "seed" not in html.lower()
+    assert "reference results" not in html        # the campaign declares none
+    assert "synthetic record" in html and ">measured<" not in html
