@@ -309,7 +309,7 @@ def _audit_settings(settings, units) -> dict[str, str]:
         if name in settings.model_fields_set:
             shown[name] = quantity.text
         elif quantity.unit == "m":
-            shown[name] = f"{with_unit(quantity.si, 'length', units)} (default)"
+            shown[name] = f"{' '.join(typed(quantity.text, quantity.si, 'length', units))} (default)"
         else:
             shown[name] = f"{quantity.text} (default)"
     return shown
