@@ -377,7 +377,7 @@ def _derived_gear_values(result: GearResult, run: Run, unit: GearUnit, cos_theta
         w_e = None if d is None else clauses.effective_weight(weight, h, d, lift)
         put("W_e", "Effective weight", "W_e", w_e, "N", "force", "14 CFR 23.725(b)",
             "W_e = W·(h + (1 − L)·d)/(h + d)",
-            {"W": "W", "h": run.drop_height.text, "d": "d (measured, 23.725(d))", "L": f"{lift:g}"},
+            {"W": "W", "h": run.drop_height.text, "d": "d (as recorded, 23.725(d))", "L": f"{lift:g}"},
             None if d is not None else "needs d")
     else:
         reason = ("no lift simulated" if run.lift.method == "none"
@@ -429,7 +429,7 @@ def _run_result(campaign: Campaign, run: Run, index: int) -> RunResult:
     if series is not None and series.displacement is not None and touchdowns:
         velocity = contact_velocity(series.time, series.displacement, min(touchdowns))
         values["v0_measured"] = Value(
-            "v0_measured", "Contact velocity measured", "v_0,meas", velocity, "m/s", "velocity",
+            "v0_measured", "Contact velocity from the recorded drop", "v_0,meas", velocity, "m/s", "velocity",
             "certkit V2", f"dx/dt at touchdown, parabola fitted over the "
                           f"{VELOCITY_WINDOW * 1e3:g} ms before it",
             {"x": "drop_mass_displacement"},
@@ -625,9 +625,9 @@ def _effective_weight_check(ctx, criterion, test_type: str, what: str) -> list[V
                 reason=f"wing-lift ratio L represented in the drop ({method})"))
         reason = {"none": "no lift simulated: W_e = W",
                   "lift_device": "lift by a device: the full weight W is dropped",
-                  "reduced_mass": ("reserve drop, W_e = W·h/(h + d), d measured"
+                  "reduced_mass": ("reserve drop, W_e = W·h/(h + d), d as recorded"
                                    if test_type == "reserve" else
-                                   f"reduced mass, L = {lift:g}, d measured (23.725(d))")}[method]
+                                   f"reduced mass, L = {lift:g}, d as recorded (23.725(d))")}[method]
         for gear in run.gears:
             w_e, w_drop = gear.get("W_e"), gear.get("W_drop")
             static_weight = ctx.assessment.campaign.gear_units[gear.gear_id].static_weight
