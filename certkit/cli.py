@@ -345,7 +345,8 @@ def identify(spec: SpecArgument,
     except (SimulationError, FitError) as error:
         _fail(spec, str(error))
     if not result.gears:
-        _fail(spec, "no gear unit has two drops with time histories; nothing to identify")
+        _fail(spec, "no gear unit has two usable drops with time histories; nothing to "
+                    "identify" + (": " + "; ".join(result.skipped) if result.skipped else ""))
     out.print(result.plant_note)
     for gear in result.gears:
         units = campaign.spec.report.units

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from . import clauses, requirement_sets
 from .campaign import Campaign
 from .quality import audit
-from .display import with_unit
+from .display import number, with_unit
 from .drop_conditions import drop_weight_share, lift_force_ratio, lift_ratio
 from .measures import (SETTLING_BAND, TOUCHDOWN_SHARE, VELOCITY_WINDOW, GearMeasures,
                        contact_velocity, drop_mass_load_factor, measure_gear)
@@ -468,7 +468,7 @@ def _run_result(campaign: Campaign, run: Run, index: int) -> RunResult:
             gear.values["n"] = Value(
                 "n", "Limit inertia load factor from the drop", "n", n, "1", "ratio",
                 "14 CFR 23.725(e)", formula,
-                {"n_j": "n_j", "W_e/W": f"{ratio:.6g}", "L": lift_text})
+                {"n_j": "n_j", "W_e/W": number(ratio), "L": lift_text})
     return result
 
 
@@ -680,7 +680,7 @@ def check_inertia_load_factor(ctx, criterion):
                     criterion, run.run.id, gear.gear_id,
                     at_most(n, n_limit, _typed_resolution(n_limit_typed, n_limit)),
                     value=n, limit=n_limit, margin=n_limit - n, comparison="≤",
-                    reason="n = n_j·W_e/W + L"))
+                    reason=gear.values["n"].formula))
     return verdicts
 
 

@@ -26,7 +26,9 @@ EQUATIONS: dict[str, str] = {
     "E1": "E = ∫ F d(travel) from touchdown to maximum travel; tyre: F_V over δ; strut: the "
           "axial force F_s over s, F_s/cos θ = F_V − m2·(g − δ̈) (lower-mass equation, m2 the "
           f"declared unsprung mass or 0, δ̈ a Savitzky-Golay second derivative of δ, {_ORDER}, over "
-          f"{AXLE_WINDOW * 1e3:g} ms: {window_samples(AXLE_WINDOW, 1e-3)} samples at 1 kHz); cubic "
+          f"{AXLE_WINDOW * 1e3:g} ms, the odd number of samples spanning it at the run's rate: "
+          f"{window_samples(AXLE_WINDOW, 1e-3)} at 1 kHz, {window_samples(AXLE_WINDOW, 5e-4)} at "
+          f"2 kHz); cubic "
           f"splines in time, Gauss-Legendre per sample interval",
     "E2": "η = E/(F·δ_max) with F the peak force through the element (tyre: F_peak; strut: "
           "F_peak·cos θ)",

@@ -146,25 +146,36 @@ class GearIdentification:
 class Identification:
     gears: list
     plant_note: str
+    #: why a gear unit was not identified (runs too short, too few drops), in words
+    skipped: list = field(default_factory=list)
 
 
 
-def _drops(campaign: Campaign, gear_id: str) -> list[Drop]:
+def _drops(campaign: Campaign, gear_id: str, unused: list | None = None) -> list[Drop]:
+    """The drops of ``gear_id`` the models are fitted on; why a recorded run is not one of
+    them is appended to ``unused``."""
     weight = campaign.gear_units[gear_id].static_weight.si
     drops = []
+    unused = [] if unused is None else unused
     for run in campaign.spec.runs:
         series = campaign.series.get(run.id)
         if series is None or gear_id not in series.gears or run.test_type == "small-signal":
             continue
         gear = series.gears[gear_id]
         if gear.stroke is None or gear.tyre is None:
+            unused.append(f"run {run.id} records no stroke or no tyre deflection")
             continue
         time, channels = at_model_rate(series.time, {"load": gear.load, "stroke": gear.stroke,
                                                      "tyre": gear.tyre})
         start = touchdown_index(channels["load"], weight)
         # the touchdown instant of the record as logged, which the drop model is aligned on
         found = touchdown_time(series.time, gear.load, weight)
-        if start is None or found is None or start + WINDOW > time.size:
+        if start is None or found is None:
+            unused.append(f"run {run.id} shows no touchdown")
+            continue
+        if start + WINDOW > time.size:
+            unused.append(f"run {run.id} has {(time.size - start) / MODEL_RATE:.3g} s recorded "
+                          f"after touchdown, identification needs {WINDOW_DURATION:g} s")
             continue
         contact, _ = found
         window = slice(start, start + WINDOW)
@@ -455,7 +466,16 @@ def identify(campaign: Campaign, gears: list[str] | None = None) -> Identificati
     # one BLAS thread: the results must not depend on the machine's core count
     with threadpool_limits(limits=1):
         found = [g for g in (identify_gear(campaign, gear_id) for gear_id in chosen) if g]
-    return Identification(found, plant_note)
+    skipped = []
+    for gear_id in chosen:
+        if any(g.gear_id == gear_id for g in found):
+            continue
+        unused: list[str] = []
+        usable = _drops(campaign, gear_id, unused)
+        if unused or usable:
+            skipped.append(f"{gear_id}: {len(usable)} usable drop(s), two needed"
+                           + (f" ({'; '.join(unused)})" if unused else ""))
+    return Identification(found, plant_note, skipped)
 
 
 def identification_document(identification) -> dict | None:

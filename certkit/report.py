@@ -482,10 +482,13 @@ def _identification_view(evidence, settings, units, reference=None, origins=None
               "reference": _reference_view(reference, units)}
     identification = getattr(evidence, "identification", None)
     if identification is None or not identification.gears:
+        skipped = list(getattr(identification, "skipped", []) or [])
         return {"available": False, "gears": [], "plant_note": "",
                 "note": NO_MODEL if evidence is None else
                 "Not run: it needs time histories of at least two drops of a gear unit "
-                "whose drop model can be built from the spec.", **method}
+                "whose drop model can be built from the spec, each recorded for "
+                f"{with_unit(WINDOW_DURATION, 'time', units)} after touchdown."
+                + (" " + "; ".join(skipped) + "." if skipped else ""), **method}
     from .figures import identification_figures
     from .identification import OUTPUT_LABELS
 

@@ -194,3 +194,29 @@ def test_reported_energies_are_each_checked_alone_not_their_sum(seed_copy):
     assert found[0].message.startswith("run D300, left-main: E_s = 1320 J (the strut energy "
                                        "alone, as reported; certkit E5)")
     assert found[0].values["absorbed"] == pytest.approx(1320.0)
+
+
+def test_a_lighter_drop_is_no_spread_of_the_implied_drop_weight(timeseries_campaign):
+    """Two drops of one gear, the second with 70 % of the load (a reserve drop made lighter,
+    23.727(b)): each implies the weight it dropped, so nothing varies across runs; before,
+    the implied weights themselves were compared (a 35 % 'spread')."""
+    from certkit import assess, load_campaign
+
+    from .conftest import analytic_signals, write_csv
+
+    signals = analytic_signals()
+    signals["Fz_kN"] = signals["Fz_kN"] * 0.7
+    write_csv(timeseries_campaign.parent / "data" / "r2.csv", signals)
+    text = timeseries_campaign.read_text(encoding="utf-8")
+    run = text[text.index("  - id: R1"):]
+    second = (run.replace("id: R1", "id: R2").replace("data/r1.csv", "data/r2.csv")
+              .replace("drop_mass: 250 kg", "drop_mass: 175 kg"))
+    timeseries_campaign.write_text(text + second, encoding="utf-8")
+    assessment = assess(load_campaign(timeseries_campaign))
+    implied = {r.run.id: (r.gears[0].get("W_implied"), r.gears[0].get("W_drop"))
+               for r in assessment.runs}
+    # the same share of the weight dropped in both runs (the load scales the energy)
+    assert implied["R2"][0] / implied["R2"][1] == pytest.approx(
+        implied["R1"][0] / implied["R1"][1], rel=1e-6)
+    assert implied["R2"][0] / implied["R1"][0] == pytest.approx(0.7, rel=1e-6)
+    assert not any(f.check == "implied-drop-weight-spread" for f in assessment.findings)

@@ -117,3 +117,15 @@ def test_identify_command_needs_two_recorded_drops(physics_campaign):
 
     outcome = CliRunner().invoke(app, ["identify", str(physics_campaign)])
     assert outcome.exit_code == 2 and "nothing to identify" in outcome.output
+
+
+def test_a_gear_not_identified_says_which_runs_were_too_short(timeseries_campaign):
+    # conftest's analytic run: 0.6 s logged, touchdown at 0.1 s, so 0.5 s after it (the
+    # first sample past the touchdown threshold is at 0.101 s: 0.499 s, shown as 0.499)
+    from certkit import load_campaign
+    from certkit.identification import identify
+
+    result = identify(load_campaign(timeseries_campaign))
+    assert result.gears == []
+    assert result.skipped == ["left-main: 0 usable drop(s), two needed (run R1 has 0.499 s "
+                              "recorded after touchdown, identification needs 1 s)"]

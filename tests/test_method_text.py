@@ -23,7 +23,8 @@ def test_equation_texts_change_with_the_constants_they_state(monkeypatch):
         assert "below 1.5 % of the static weight" in text["R1"]
         assert "within ±3 % of its maximum" in text["S1"] and "last 10 % of the record" in text["S1"]
         # 30 ms at 1 kHz: 31 samples (odd, centred)
-        assert "over 30 ms: 31 samples at 1 kHz" in text["E1"]
+        assert "over 30 ms, the odd number of samples spanning it at the run's rate: 31 at 1 kHz, " \
+               "61 at 2 kHz" in text["E1"]
     finally:
         monkeypatch.undo()
         importlib.reload(equations)

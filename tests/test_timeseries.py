@@ -124,3 +124,15 @@ def test_travel_zero_is_read_before_contact_not_on_the_last_sample_below_the_thr
     assessment = assess(load_campaign(timeseries_campaign))
     assert assessment.runs[0].gears[0].measures.tyre_at_touchdown == 0.0
     assert not any(f.check == "tyre-not-zero-at-touchdown" for f in assessment.findings)
+
+
+def test_a_lift_device_drop_states_the_load_factor_formula_it_used(timeseries_campaign):
+    # with the lift applied by a device, n = n_j·W_drop/W (the lift is already in n_j): the
+    # verdict's basis must say that formula, not the reduced-mass one with + L
+    text = timeseries_campaign.read_text(encoding="utf-8")
+    timeseries_campaign.write_text(text.replace("lift: {method: reduced_mass, ratio: 0.667}",
+                                                "lift: {method: lift_device, ratio: 0.5}"),
+                                   encoding="utf-8")
+    assessment = assess(load_campaign(timeseries_campaign))
+    verdict = next(v for v in assessment.verdicts if v.id == "CFR23.725f-load-factor/R1/left-main")
+    assert verdict.reason == "n = n_j·W_drop/W (lift applied by a device is already in n_j)"
