@@ -18,7 +18,7 @@ from rich.console import Console
 from rich.text import Text
 
 from . import __version__, requirement_sets
-from .display import display, to_display, unit_of, with_unit
+from .display import display, with_unit
 from .display import parameter as parameter_text
 from .errors import CertkitInputError
 
@@ -405,7 +405,7 @@ def gap(spec: SpecArgument,
     from .campaign import load_campaign
     from .fitting import FitError
     from .gap import gap_diagnosis
-    from .residuals import describe
+    from .report import largest_disagreement
     from .simulation import SimulationError
 
     try:
@@ -426,10 +426,7 @@ def gap(spec: SpecArgument,
                       f"{', '.join(result.held_out)}"
                       f" ({'declared in model.gap.held_out' if result.declared else 'default'})")
             units = campaign.spec.report.units
-            cell = result.before.largest
-            kind = "force" if cell is not None and cell.channel == "load" else "length"
-            out.print(describe(cell, to_display(1.0, kind, units), unit_of(kind, units))
-                      if cell is not None else "No residual to map.")
+            out.print(largest_disagreement(result.before.largest, units))
             table = Table(title="candidate effects, first step (score test on the training runs)")
             for column in ("effect", "LM statistic", "explained RMS [noise]"):
                 table.add_column(column, justify="left" if column == "effect" else "right")

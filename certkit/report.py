@@ -24,7 +24,7 @@ from markupsafe import Markup
 from . import __version__
 from .compliance import Assessment, at_least
 from .display import (DISPLAY_RULE, SIGNIFICANT, display, margin, number, parameter, percent,
-                      pretty, typed, with_unit)
+                      pretty, to_display, typed, with_unit)
 from .equations import EQUATIONS, GRAVITY_NOTE
 from .outputs import staged_folder
 from .provenance import provenance
@@ -496,27 +496,28 @@ def _identification_view(evidence, settings, units, reference=None, origins=None
     gain_scale = convert(1e-6, "m", units.length) / convert(1.0, "N", units.force)
     gears = []
     for gear in identification.gears:
-        table, with_reference = [], False
+        run = gear.held_out[0]
+
+        def published(model: str, output: str):
+            return _reference_error(reference, gear.gear_id, output,
+                                    _REFERENCE_MODELS.get(model, ""), run)
+
+        # the reference column only where the campaign has such figures for this gear
+        with_reference = any(published(m, o) for m in _MODEL_ORDER for o in ("stroke", "tyre"))
+        table = []
         for model in _MODEL_ORDER:
-            row = {"model": model, "cells": []}
+            cells = []
             for output in ("stroke", "tyre"):
                 for protocol in ("paper", "held-out"):
                     score = next((x for x in gear.scores if (x.model, x.output, x.protocol, x.run)
-                                  == (model, output, protocol, gear.held_out[0])), None)
-                    row["cells"].append("—" if score is None
-                                        else _short(score.rmse * 1e-3, "length", units))
-                published = _reference_error(reference, gear.gear_id, output,
-                                             _REFERENCE_MODELS.get(model, ""),
-                                             gear.held_out[0])
-                row["reference"] = row.get("reference", []) + [
-                    "—" if published is None else typed(published.text, published.si, "length", units)[0]]
-                with_reference = with_reference or published is not None
-            table.append(row)
-        for row in table:   # the reference column only where the campaign has such figures
-            if with_reference:
-                row["cells"] = row["cells"][:2] + row["reference"][:1] + row["cells"][2:] + \
-                    row["reference"][1:]
-            del row["reference"]
+                                  == (model, output, protocol, run)), None)
+                    cells.append("—" if score is None
+                                 else _short(score.rmse * 1e-3, "length", units))
+                if with_reference:
+                    quantity = published(model, output)
+                    cells.append("—" if quantity is None
+                                 else typed(quantity.text, quantity.si, "length", units)[0])
+            table.append({"model": model, "cells": cells})
         details = [{"model": x.model, "protocol": PROTOCOL_NAMES[x.protocol],
                     "output": OUTPUT_LABELS[x.output], "run": x.run,
                     "rmse": _short(x.rmse * 1e-3, "length", units), "nrmse": f"{x.nrmse:.4g}",
@@ -646,15 +647,24 @@ def _gap_cells(before, after, units) -> list[dict]:
     return rows
 
 
+def largest_disagreement(cell, units) -> str:
+    """A residual map's largest cell in words, in the display units (report and terminal)."""
+    from .residuals import describe
+
+    if cell is None:
+        return "No residual to map."
+    kind = _channel_kind(cell.channel)
+    return describe(cell, to_display(1.0, kind, units), pretty(getattr(units, kind)))
+
+
 def _gap_largest(gap_map, units) -> str:
     """The largest disagreement (training runs) in words, in display units, with its bands."""
-    from .residuals import BANDS, describe
+    from .residuals import BANDS
 
     cell = gap_map.largest
     if cell is None:
         return "No residual to map."
-    unit = getattr(units, _channel_kind(cell.channel))
-    text = describe(cell, convert(1.0, "N" if cell.channel == "load" else "m", unit), unit)
+    text = largest_disagreement(cell, units)
     shares = gap_map.bands.get((cell.run, cell.channel))
     if shares:
         parts = [f"{percent(shares[name], 0)} in the {name} band"
