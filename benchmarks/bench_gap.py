@@ -48,7 +48,7 @@ def main() -> None:
     if args.skip_blind:
         return
 
-    from certkit.blind_check import battery, blind_check
+    from certkit.gap.blind_check import battery, blind_check
 
     print(f"thread pools of this process: {blas_threads.loaded_pools()}")
 

@@ -20,7 +20,7 @@ made on the training part only, by the free-run RMSE on a validation stretch at 
   gave 0.22-0.25 mV;
 * prototypes (validation = last quarter, tuned γ, σ²): 500 → 0.218 mV, 1 000 → 0.214
   mV, 2 000 → 0.214 mV; 500 kept (fastest);
-* (γ, σ²): ``--tune`` reruns :func:`certkit.lssvm.tune` (4 x 4 log grid, Nelder-Mead)
+* (γ, σ²): ``--tune`` reruns :func:`certkit.ident.lssvm.tune` (4 x 4 log grid, Nelder-Mead)
   with the last quarter [89447:105712] as validation and prints the result; the
   constants below are its output.
 The test sets take no part in any choice.  Identification = prototype selection and the
@@ -46,7 +46,7 @@ from pathlib import Path
 
 import numpy as np
 
-from certkit.lssvm import NARX, rmse, tune
+from certkit.ident.lssvm import NARX, rmse, tune
 
 REPO = Path(__file__).resolve().parent.parent
 DATA = REPO.parent / "shared" / "data" / "silverbox"

@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from certkit import load_campaign
-from certkit.gear_model import drop_model_for
-from certkit.simulation import simulate_batch, simulate_reference
+from certkit.physics.gear_model import drop_model_for
+from certkit.physics.simulation import simulate_batch, simulate_reference
 
 G = 9.80665
 SPEC = Path(__file__).resolve().parent.parent / "campaigns" / "seed-amphibian" / "campaign.yaml"

@@ -17,10 +17,11 @@ import typer
 from rich.console import Console
 from rich.text import Text
 
-from . import __version__, requirement_sets
-from .display import display, with_unit
-from .display import parameter as parameter_text
-from .errors import CertkitInputError
+from certkit import __version__
+from certkit.spec import requirement_sets
+from certkit.display import display, with_unit
+from certkit.display import parameter as parameter_text
+from certkit.errors import CertkitInputError
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="Turn a landing-gear drop-test campaign into airworthiness evidence.")
@@ -98,7 +99,7 @@ def run() -> None:
 @app.command()
 def validate(spec: SpecArgument) -> None:
     """Check a campaign spec and its data files; print what was found wrong."""
-    from .campaign import load_campaign
+    from certkit.spec.campaign import load_campaign
     try:
         campaign = load_campaign(spec)
     except CertkitInputError as error:
@@ -121,9 +122,9 @@ def report(spec: SpecArgument,
     """Write report.html, report.pdf (PDF/A-3b), results.json and tables/*.csv."""
     from rich.status import Status
 
-    from .campaign import load_campaign
-    from .compliance import assess
-    from .report import render_report
+    from certkit.spec.campaign import load_campaign
+    from certkit.compliance.engine import assess
+    from certkit.evidence.report import render_report
 
     status = Status("loading campaign", console=err) if err.is_terminal else None
     if status:
@@ -143,9 +144,9 @@ def report(spec: SpecArgument,
         assessment = assess(campaign)
         evidence = None
         if model:  # the model's compiled kernel loads only when it is asked for
-            from .model_evidence import model_evidence
-            from .fitting import FitError
-            from .simulation import SimulationError
+            from certkit.evidence.model_evidence import model_evidence
+            from certkit.physics.fitting import FitError
+            from certkit.physics.simulation import SimulationError
 
             progress("calibrating the drop model")
             try:
@@ -188,10 +189,10 @@ def _blind_check(spec: Path, gear: str | None, output: Path, workers, scheduler,
                  ratios: str) -> None:
     from rich.table import Table
 
-    from .blind_check import BlindCheckError, Settings, blind_check, write_blind_check
-    from .fitting import FitError
-    from .outputs import check_target, staged_folder
-    from .simulation import SimulationError
+    from certkit.gap.blind_check import BlindCheckError, Settings, blind_check, write_blind_check
+    from certkit.physics.fitting import FitError
+    from certkit.outputs import check_target, staged_folder
+    from certkit.physics.simulation import SimulationError
 
     settings = Settings(ratios=_numbers(ratios, "ratios"), seeds=_numbers(seeds, "seeds", int))
     if workers is not None and workers < 1:
@@ -238,9 +239,9 @@ def simulate(spec: SpecArgument,
                  "--noise/--no-noise", help="add sensor noise, quantisation and offsets")] = True,
              ) -> None:
     """Simulate every run with the gear's drop model; write data files and a campaign file."""
-    from .campaign import load_campaign
-    from .simulation import SimulationError
-    from .synthetic import NO_SENSOR_EFFECTS, SensorModel, simulate_campaign
+    from certkit.spec.campaign import load_campaign
+    from certkit.physics.simulation import SimulationError
+    from certkit.physics.synthetic import NO_SENSOR_EFFECTS, SensorModel, simulate_campaign
 
     try:
         campaign = load_campaign(spec)
@@ -268,12 +269,12 @@ def calibrate(spec: SpecArgument,
     """Fit the drop model's parameters to the measured runs, all drop heights jointly."""
     from rich.table import Table
 
-    from .calibration import calibrate as run_calibration
-    from .calibration import calibration_document
-    from .rundata import CHANNEL_LABELS
-    from .campaign import load_campaign
-    from .fitting import FitError
-    from .simulation import SimulationError
+    from certkit.physics.calibration import calibrate as run_calibration
+    from certkit.physics.calibration import calibration_document
+    from certkit.spec.rundata import CHANNEL_LABELS
+    from certkit.spec.campaign import load_campaign
+    from certkit.physics.fitting import FitError
+    from certkit.physics.simulation import SimulationError
 
     try:
         campaign = load_campaign(spec)
@@ -331,11 +332,11 @@ def identify(spec: SpecArgument,
     """Identify Hammerstein, Wiener and NARX models of each gear and validate them."""
     from rich.table import Table
 
-    from .campaign import load_campaign
-    from .identification import OUTPUT_LABELS, PROTOCOL_NAMES, identification_document
-    from .identification import identify as run_identification
-    from .fitting import FitError
-    from .simulation import SimulationError
+    from certkit.spec.campaign import load_campaign
+    from certkit.ident.protocol import OUTPUT_LABELS, PROTOCOL_NAMES, identification_document
+    from certkit.ident.protocol import identify as run_identification
+    from certkit.physics.fitting import FitError
+    from certkit.physics.simulation import SimulationError
 
     try:
         campaign = load_campaign(spec)
@@ -402,11 +403,11 @@ def gap(spec: SpecArgument,
         _blind_check(spec, gear[0] if gear else None, output, workers, scheduler, seeds, ratios)
         return
 
-    from .campaign import load_campaign
-    from .fitting import FitError
-    from .gap import gap_diagnosis
-    from .report import largest_disagreement
-    from .simulation import SimulationError
+    from certkit.spec.campaign import load_campaign
+    from certkit.physics.fitting import FitError
+    from certkit.gap.diagnosis import gap_diagnosis
+    from certkit.evidence.report import largest_disagreement
+    from certkit.physics.simulation import SimulationError
 
     try:
         campaign = load_campaign(spec)
@@ -469,11 +470,11 @@ def audit(spec: SpecArgument,
     """One row per criterion per run and per data-quality finding (and per change since a
     baseline); exit 0 when every criterion passes, no finding is an error and nothing
     changed, 1 otherwise, 2 on bad input."""
-    from .audit import (audit_rows, baseline_rows, passed, to_csv, to_json, to_junit,
+    from certkit.evidence.audit import (audit_rows, baseline_rows, passed, to_csv, to_json, to_junit,
                         to_markdown)
-    from .campaign import load_campaign
-    from .compliance import assess
-    from .outputs import write_text_atomically
+    from certkit.spec.campaign import load_campaign
+    from certkit.compliance.engine import assess
+    from certkit.outputs import write_text_atomically
 
     writers = {"md": None, "csv": to_csv, "json": to_json}
     if format not in writers:
@@ -485,8 +486,8 @@ def audit(spec: SpecArgument,
     assessment = assess(campaign)
     rows = audit_rows(assessment)
     if baseline is not None:
-        from .baseline import compare, read_baseline
-        from .report import results_document
+        from certkit.evidence.baseline import compare, read_baseline
+        from certkit.evidence.report import results_document
 
         if not tolerance >= 0:
             _bad_option("tolerance", "a share ≥ 0", tolerance)
@@ -532,9 +533,9 @@ def archive(spec: SpecArgument,
             ) -> None:
     """Archive the campaign as a BagIt bag: spec, raw data, results, tables, report and the
     software environment, with SHA-256 manifests; the same inputs give the same bytes."""
-    from .archive import archive_campaign
-    from .fitting import FitError
-    from .simulation import SimulationError
+    from certkit.archive.campaign_bag import archive_campaign
+    from certkit.physics.fitting import FitError
+    from certkit.physics.simulation import SimulationError
 
     try:
         archived = archive_campaign(spec, output, model=model,
@@ -562,10 +563,10 @@ def verify(bag: Annotated[Path, typer.Argument(help="a bag folder or a .zip of o
            ) -> None:
     """Check an archive against its manifests: every added, removed or modified file is
     named (exit 1); exit 0 when it is intact (and, with --recompute, reproduces)."""
-    from .archive import verify_archive
-    from .bag import BagError
-    from .fitting import FitError
-    from .simulation import SimulationError
+    from certkit.archive.campaign_bag import verify_archive
+    from certkit.archive.bag import BagError
+    from certkit.physics.fitting import FitError
+    from certkit.physics.simulation import SimulationError
 
     if not tolerance >= 0:
         _bad_option("tolerance", "a share ≥ 0", tolerance)
@@ -645,8 +646,8 @@ def catalog_add(bag: Annotated[list[Path], typer.Argument(help="bag folder(s) or
                 catalog: CatalogOption = DEFAULT_CATALOG) -> None:
     """Verify each bag and add it to the catalog (a bag already there is left as it is);
     exit 1 when a bag is not intact, 2 when one is not a certkit bag (neither is added)."""
-    from .bag import BagError
-    from .catalog import CatalogRefusal, add
+    from certkit.archive.bag import BagError
+    from certkit.archive.catalog import CatalogRefusal, add
 
     status = 0
     for item in bag:
@@ -675,7 +676,7 @@ def catalog_list(catalog: CatalogOption = DEFAULT_CATALOG,
                  as_json: Annotated[bool, typer.Option("--json", help="print JSON")] = False,
                  ) -> None:
     """Every catalogued campaign, by aircraft."""
-    from .catalog import search as run_search
+    from certkit.archive.catalog import search as run_search
 
     try:
         _show_entries(run_search(catalog), as_json, catalog)
@@ -714,7 +715,7 @@ def catalog_search(text: Annotated[str | None, typer.Argument(
                    as_json: Annotated[bool, typer.Option("--json", help="print JSON")] = False,
                    ) -> None:
     """Catalogued campaigns matching every filter given."""
-    from .catalog import search as run_search
+    from certkit.archive.catalog import search as run_search
 
     if verdict is not None and verdict.upper() not in ("PASS", "FAIL", "NOT SHOWN"):
         _bad_option("verdict", "PASS, FAIL or NOT SHOWN", repr(verdict))
@@ -730,7 +731,7 @@ def catalog_search(text: Annotated[str | None, typer.Argument(
 @app.command()
 def schema() -> None:
     """Print the JSON Schema of the campaign spec (for editors and CI)."""
-    from .spec import json_schema
+    from certkit.spec.schema import json_schema
     sys.stdout.write(json.dumps(json_schema(), indent=2, ensure_ascii=False) + "\n")
 
 

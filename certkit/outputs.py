@@ -16,7 +16,7 @@ import stat
 import tempfile
 from pathlib import Path
 
-from .errors import CertkitInputError
+from certkit.errors import CertkitInputError
 
 
 def _refuse(target: str | Path, message: str) -> CertkitInputError:

@@ -21,8 +21,8 @@ from hypothesis import strategies as st
 
 from certkit import assess, load_campaign, render_report
 from certkit.display import margin
-from certkit.results import FAIL, PASS
-from certkit.spec import DisplayUnits
+from certkit.compliance.results import FAIL, PASS
+from certkit.spec.schema import DisplayUnits
 
 from . import conftest
 from .conftest import SEED_FIGURES

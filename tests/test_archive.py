@@ -17,8 +17,8 @@ import bagit
 import pytest
 from typer.testing import CliRunner
 
-from certkit.archive import archive_campaign, compare_results, verify_archive
-from certkit.bag import BagError, check_bag, extract_zip, read_info, write_bag, write_zip
+from certkit.archive.campaign_bag import archive_campaign, compare_results, verify_archive
+from certkit.archive.bag import BagError, check_bag, extract_zip, read_info, write_bag, write_zip
 from certkit.cli import app
 
 from .conftest import SEED
@@ -265,7 +265,7 @@ def test_an_existing_target_is_never_replaced(bag, tmp_path):
 
 
 def test_a_failed_archive_leaves_nothing_behind(tmp_path, monkeypatch):
-    import certkit.report as report
+    import certkit.evidence.report as report
 
     def broken(*args, **kwargs):
         raise RuntimeError("renderer failed")
@@ -454,7 +454,7 @@ def test_an_input_behind_a_link_is_archived_where_the_spec_names_it(seed_copy, t
 
 @pytest.mark.parametrize("intruder", ["empty folder", "folder", "file"])
 def test_a_target_that_appears_while_archiving_is_left_alone(tmp_path, monkeypatch, intruder):
-    import certkit.archive as archive_module
+    import certkit.archive.campaign_bag as archive_module
 
     target = tmp_path / "bag"
     original = archive_module.write_bag

@@ -3,9 +3,9 @@
 import pytest
 
 from certkit import load_campaign
-from certkit.attribution import nominal_jacobian, score_candidates
-from certkit.calibration import RunResiduals, calibrate_gear
-from certkit.synthetic import simulate_campaign
+from certkit.gap.attribution import nominal_jacobian, score_candidates
+from certkit.physics.calibration import RunResiduals, calibrate_gear
+from certkit.physics.synthetic import simulate_campaign
 
 
 def _truth(tmp_path_factory, name, effects, extra=""):
@@ -58,7 +58,7 @@ def test_without_a_withheld_effect_no_candidate_stands_out(tmp_path_factory):
 
 
 def _diagnosis(spec):
-    from certkit.attribution import diagnose
+    from certkit.gap.attribution import diagnose
 
     return diagnose(load_campaign(spec), "left-main")
 
@@ -113,8 +113,8 @@ def test_sensor_lag_acts_alike_on_both_paths():
 
     import numpy as np
 
-    from certkit.effects import SensorLag
-    from certkit.simulation import simulate_batch, simulate_reference
+    from certkit.physics.effects import SensorLag
+    from certkit.physics.simulation import simulate_batch, simulate_reference
 
     from .test_drop_model import seed_gear
 

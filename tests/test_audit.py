@@ -8,7 +8,7 @@ from xml.etree import ElementTree
 from typer.testing import CliRunner
 
 from certkit import assess, load_campaign
-from certkit.audit import AuditRow, audit_rows, passed, to_junit
+from certkit.evidence.audit import AuditRow, audit_rows, passed, to_junit
 from certkit.cli import app
 
 from .conftest import SEED
@@ -100,13 +100,13 @@ BASELINE = SEED.parent / "audit-baseline" / "results.json"
 
 
 def _current():
-    from certkit.report import results_document
+    from certkit.evidence.report import results_document
 
     return results_document(assess(load_campaign(SEED)), {})
 
 
 def test_a_one_percent_change_in_a_peak_load_is_caught():
-    from certkit.baseline import compare
+    from certkit.evidence.baseline import compare
 
     current = _current()
     baseline = json.loads(json.dumps(current))
@@ -124,7 +124,7 @@ def test_a_one_percent_change_in_a_peak_load_is_caught():
 
 
 def test_verdicts_changed_added_and_removed_are_caught():
-    from certkit.baseline import compare
+    from certkit.evidence.baseline import compare
 
     current = _current()
     baseline = json.loads(json.dumps(current))
@@ -185,7 +185,7 @@ def test_table_values_are_not_rounded(tmp_path):
 
 
 def test_new_findings_changed_severities_and_the_outcome_are_caught():
-    from certkit.baseline import compare
+    from certkit.evidence.baseline import compare
 
     current = _current()
     baseline = json.loads(json.dumps(current))
@@ -219,7 +219,7 @@ def test_a_malformed_baseline_is_bad_input_not_a_crash(tmp_path):
 def test_a_repeated_finding_gets_its_own_id():
     from types import SimpleNamespace
 
-    from certkit.quality import _add
+    from certkit.compliance.quality import _add
 
     assessment = SimpleNamespace(findings=[])
     for channel in ("load", "stroke", "tyre"):   # one check, one run, three channels

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from certkit import load_campaign
-from certkit.blind_check import (TRUTHS, Case, Settings, battery, blind_check,
+from certkit.gap.blind_check import (TRUTHS, Case, Settings, battery, blind_check,
                                  run_case, score, size_for, write_case)
-from certkit.clauses import ideal_impact_velocity
-from certkit.gear_model import drop_model_for
-from certkit.simulation import simulate_reference
+from certkit.compliance.clauses import ideal_impact_velocity
+from certkit.physics.gear_model import drop_model_for
+from certkit.physics.simulation import simulate_reference
 
 EXAMPLE = "campaigns/seed-amphibian/campaign.yaml"
 
@@ -36,7 +36,7 @@ def test_the_default_battery_meets_the_issues_minimum_and_hides_the_truth():
 
 
 def test_every_truth_differs_from_its_candidate_where_the_library_allows():
-    from certkit.attribution import CANDIDATES
+    from certkit.gap.attribution import CANDIDATES
 
     assert set(TRUTHS) <= {c.name for c in CANDIDATES}
     differs = [name for name, t in TRUTHS.items() if "own form" not in t.form]
@@ -201,7 +201,7 @@ def test_an_effect_whose_score_points_the_wrong_way_is_found_by_its_profile():
 
 
 def test_wilson_intervals_match_their_closed_forms():
-    from certkit.blind_check import wilson
+    from certkit.gap.blind_check import wilson
 
     z2 = 1.959964 ** 2
     # none of n: upper bound z²/(n + z²); all of n: lower bound n/(n + z²)
@@ -218,8 +218,8 @@ def test_the_record_and_its_case_table_are_written_as_the_report_reads_them(pool
                                                                             tmp_path):
     import csv
 
-    from certkit.blind_check import write_blind_check
-    from certkit.blind_record import BlindCheckRecord
+    from certkit.gap.blind_check import write_blind_check
+    from certkit.spec.blind_record import BlindCheckRecord
 
     _, document = pool_outcome
     write_blind_check(document, tmp_path)
@@ -259,7 +259,7 @@ def test_the_examples_blind_check_record_is_what_this_code_gives():
     that the file was not edited by hand, not of score(), which is checked above)."""
     with open(RECORD, encoding="utf-8") as handle:
         record = json.load(handle)
-    from certkit.blind_record import code_fingerprint, template_fingerprint
+    from certkit.spec.blind_record import code_fingerprint, template_fingerprint
 
     # made from this spec (its content without the key naming the record); whether by this
     # code the report says in words (code_fingerprint), the two cases below check outcomes

@@ -7,9 +7,9 @@ import pytest
 from typer.testing import CliRunner
 
 from certkit import load_campaign
-from certkit.calibration import calibrate
+from certkit.physics.calibration import calibrate
 from certkit.cli import app
-from certkit.synthetic import SensorModel, simulate_campaign
+from certkit.physics.synthetic import SensorModel, simulate_campaign
 
 from .conftest import PHYSICS_SPEC, write_campaign
 
@@ -78,7 +78,7 @@ def test_cli_prints_estimates_correlations_and_writes_json(measured, tmp_path):
 
 def test_a_parameter_ending_on_its_bound_is_flagged(measured):
     # the truth has C_d = 0.65: bounds that stop it at 0.62 leave it on the bound
-    from certkit.calibration import KNOBS, Knob
+    from certkit.physics.calibration import KNOBS, Knob
 
     campaign = load_campaign(measured)
     narrow = Knob(**{**KNOBS["discharge-coefficient"].__dict__,
@@ -103,13 +103,13 @@ def test_unknown_parameter_and_missing_effect_are_input_errors(measured, physics
 
 def test_a_fit_that_meets_non_finite_residuals_is_reported_not_a_traceback(measured,
                                                                            monkeypatch):
-    import certkit.calibration
-    from certkit.fitting import FitError
+    import certkit.physics.calibration
+    from certkit.physics.fitting import FitError
 
     def failing(*args, **kwargs):
         raise FitError("4 of 9 residuals are not finite at gas-precharge = 1.2e5 Pa")
 
-    monkeypatch.setattr(certkit.calibration, "calibrate", failing)
+    monkeypatch.setattr(certkit.physics.calibration, "calibrate", failing)
     outcome = runner.invoke(app, ["calibrate", str(measured)])
     assert outcome.exit_code == 2
     assert "residuals are not finite at gas-precharge" in outcome.output

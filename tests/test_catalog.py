@@ -12,9 +12,9 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from certkit.archive import archive_campaign
-from certkit.bag import write_bag
-from certkit.catalog import add, search
+from certkit.archive.campaign_bag import archive_campaign
+from certkit.archive.bag import write_bag
+from certkit.archive.catalog import add, search
 from certkit.cli import app
 
 from .conftest import SEED
@@ -185,7 +185,7 @@ def test_listing_a_catalog_that_does_not_exist_creates_nothing(tmp_path):
 ADDER = textwrap.dedent("""
     import sys, time
     from pathlib import Path
-    from certkit.catalog import add
+    from certkit.archive.catalog import add
     catalog, bag, go = sys.argv[1:4]
     print("ready", flush=True)
     while not Path(go).exists():

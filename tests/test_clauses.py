@@ -4,8 +4,8 @@ import math
 
 import pytest
 
-from certkit import clauses
-from certkit.requirement_sets import load
+from certkit.compliance import clauses
+from certkit.spec.requirement_sets import load
 from certkit.units import ureg
 
 LB_FT2 = ureg.Quantity(1.0, "lbf/ft^2").to("Pa").magnitude  # 47.880 Pa

@@ -57,12 +57,12 @@ def test_timeseries_campaign_reports_with_exit_0(timeseries_campaign, tmp_path):
 
 
 def test_blind_check_options_are_checked_before_the_battery_runs(tmp_path, monkeypatch):
-    import certkit.blind_check
+    import certkit.gap.blind_check
 
     def battery(*args, **kwargs):
         raise AssertionError("the battery ran before its options were checked")
 
-    monkeypatch.setattr(certkit.blind_check, "blind_check", battery)
+    monkeypatch.setattr(certkit.gap.blind_check, "blind_check", battery)
     result = runner.invoke(app, ["gap", str(SEED), "--blind-check", "--workers", "0",
                                  "-o", str(tmp_path / "bc")])
     assert result.exit_code == 2 and "--workers: expected a whole number ≥ 1, found 0" \

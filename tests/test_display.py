@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from certkit.display import number, parameter, pretty, typed, with_unit
-from certkit.spec import DisplayUnits
+from certkit.spec.schema import DisplayUnits
 
 LBF = 4.4482216152605      # N, exact (0.45359237 kg · 9.80665 m/s²)
 US = DisplayUnits.model_validate({"length": "in", "force": "lbf"})

@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from certkit.dynamics import V1, V2, Z1, Z2
-from certkit.drop_model import P_ATM, DropModel, EndStops, GasSpring, Orifice, Tyre
-from certkit.effects import ReboundOrifice, SealFriction
-from certkit.simulation import simulate_reference
+from certkit.physics.dynamics import V1, V2, Z1, Z2
+from certkit.physics.drop_model import P_ATM, DropModel, EndStops, GasSpring, Orifice, Tyre
+from certkit.physics.effects import ReboundOrifice, SealFriction
+from certkit.physics.simulation import simulate_reference
 
 G = 9.80665
 PISTON = math.pi * 0.060 ** 2 / 4
@@ -104,7 +104,7 @@ def test_strut_stays_topped_out_until_the_load_exceeds_its_preload(drops):
 def test_foundation_energy_integrals_match_the_simulators_truth(drops):
     # certkit E1 works from the channels a lab records (platform load, stroke, tyre
     # deflection) and the declared unsprung mass; the simulator integrates the true forces
-    from certkit.measures import measure_gear
+    from certkit.compliance.measures import measure_gear
 
     for drop in drops.values():
         measured = measure_gear(drop.time, drop.load, drop.stroke, drop.tyre, 292.5 * G,
@@ -116,7 +116,7 @@ def test_foundation_energy_integrals_match_the_simulators_truth(drops):
 
 
 def metering_pin():
-    from certkit.effects import MeteringPin
+    from certkit.physics.effects import MeteringPin
 
     nominal = math.pi * 0.0094 ** 2 / 4
     # the pin closes the orifice to 60 % of its area over the stroke
@@ -129,8 +129,8 @@ def metering_pin():
 def test_fast_path_agrees_with_the_reference(effects):
     from dataclasses import replace
 
-    from certkit.effects import TyreHysteresis
-    from certkit.simulation import simulate_batch
+    from certkit.physics.effects import TyreHysteresis
+    from certkit.physics.simulation import simulate_batch
 
     full = seed_gear()
     chosen = {"none": (), "seal friction": full.effects[1:], "rebound orifice": full.effects[:1],
@@ -150,7 +150,7 @@ def test_fast_path_agrees_with_the_reference(effects):
 def test_batch_of_parameter_sets_matches_single_runs():
     from dataclasses import replace
 
-    from certkit.simulation import simulate_batch
+    from certkit.physics.simulation import simulate_batch
 
     base = seed_gear(friction=False)
     volumes = np.array([0.95, 1.0, 1.05]) * base.gas.volume
@@ -180,7 +180,7 @@ def test_metering_pin_raises_the_load_late_in_the_stroke():
 def test_tyre_hysteresis_dissipates_and_is_accounted():
     from dataclasses import replace
 
-    from certkit.effects import TyreHysteresis
+    from certkit.physics.effects import TyreHysteresis
 
     base = seed_gear(damping=False, friction=False, tyre_damping=0.0, stop_damping=0.0)
     lossy = replace(base, effects=(TyreHysteresis(0.05),))
@@ -192,7 +192,7 @@ def test_tyre_hysteresis_dissipates_and_is_accounted():
 def test_sensor_dynamics_delays_and_attenuates_a_contact_spike():
     from scipy.signal import butter, group_delay
 
-    from certkit.effects import SensorDynamics
+    from certkit.physics.effects import SensorDynamics
 
     time = np.arange(0.0, 0.5, 0.001)
     spike = np.where((time > 0.1) & (time < 0.14), np.sin(math.pi * (time - 0.1) / 0.04), 0.0)
@@ -208,7 +208,7 @@ def test_sensor_dynamics_delays_and_attenuates_a_contact_spike():
 
 
 def test_a_prescribed_ground_load_holds_the_static_stroke_and_follows_the_gas_stiffness():
-    from certkit.simulation import simulate_driven
+    from certkit.physics.simulation import simulate_driven
 
     model = seed_gear(friction=False)
     weight = 292.5 * G

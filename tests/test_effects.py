@@ -8,9 +8,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from certkit.effects import (GasHeatTransfer, LegFlexibility, OilCompressibility,
+from certkit.physics.effects import (GasHeatTransfer, LegFlexibility, OilCompressibility,
                              PlatformCompliance)
-from certkit.simulation import simulate_batch, simulate_reference
+from certkit.physics.simulation import simulate_batch, simulate_reference
 
 from .test_drop_model import PISTON, seed_gear
 
@@ -71,7 +71,7 @@ def test_gas_at_wall_temperature_holds_the_isothermal_static_stroke():
     # law's with n = 1: s = V0/A·(1 − p_a0/p_st), p_st = p_atm + m1·g/A (no friction)
     from scipy.optimize import fsolve
 
-    from certkit.dynamics import V1, V2, Z1, Z2
+    from certkit.physics.dynamics import V1, V2, Z1, Z2
 
     base = seed_gear(friction=False)
     model = replace(base, effects=base.effects + (GasHeatTransfer(0.02),))
@@ -157,7 +157,7 @@ def _agree(model, height, duration=1.0):
 
 
 def test_fast_path_follows_a_sharp_tyre_hysteresis_loop():
-    from certkit.effects import TyreHysteresis
+    from certkit.physics.effects import TyreHysteresis
 
     base = seed_gear(friction=False)
     _agree(replace(base, effects=(TyreHysteresis(0.1, smoothing_velocity=0.002),)), 0.1)
@@ -169,7 +169,7 @@ def test_fast_path_follows_friction_on_a_strut_that_never_breaks_out():
 
 
 def test_fast_path_follows_oil_compressibility_behind_a_metering_pin():
-    from certkit.effects import MeteringPin
+    from certkit.physics.effects import MeteringPin
 
     base = seed_gear(friction=False)
     nominal = math.pi * 0.0094 ** 2 / 4
@@ -180,7 +180,7 @@ def test_fast_path_follows_oil_compressibility_behind_a_metering_pin():
 
 
 def test_resting_state_with_heat_transfer_is_isothermal():
-    from certkit.simulation import simulate_driven
+    from certkit.physics.simulation import simulate_driven
 
     base = seed_gear(friction=False)
     model = replace(base, effects=base.effects + (GasHeatTransfer(0.5),))

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from certkit.energy import absorbed_energy, efficiency
+from certkit.compliance.energy import absorbed_energy, efficiency
 
 
 def test_triangle_load_stroke_curve_is_integrated_exactly():

@@ -3,14 +3,14 @@ covariance of a nonlinear model, models that determine only a product or a ratio
 analytically known correlation and a bound that decides a parameter.
 
 Every expected value is computed here from the model's own algebra (design matrices,
-analytic derivatives, closed-form constrained estimates), not from certkit.fitting."""
+analytic derivatives, closed-form constrained estimates), not from certkit.physics.fitting."""
 
 import math
 
 import numpy as np
 import pytest
 
-from certkit.fitting import FitError, FitParameter, fit
+from certkit.physics.fitting import FitError, FitParameter, fit
 
 SIGMA = 0.2  # noise standard deviation; residuals are normalised by it
 

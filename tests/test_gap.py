@@ -13,13 +13,13 @@ import numpy as np
 import pytest
 
 from certkit import assess, load_campaign, render_report
-from certkit import report as report_module
-from certkit.calibration import AlignedRecord
+from certkit.evidence import report as report_module
+from certkit.physics.calibration import AlignedRecord
 from certkit.errors import CertkitInputError
-from certkit.gap import WHOLE, default_split, gap_diagnosis, gap_document, held_out_errors
-from certkit.holdout import split_for
-from certkit.phases import PHASES, Phase
-from certkit.synthetic import simulate_campaign
+from certkit.gap.diagnosis import WHOLE, default_split, gap_diagnosis, gap_document, held_out_errors
+from certkit.gap.holdout import split_for
+from certkit.gap.phases import PHASES, Phase
+from certkit.physics.synthetic import simulate_campaign
 
 BLIND = Path(__file__).parent / "data" / "blind_check.json"
 # synthetic truth below: the spec's gear with these effects, none of them in the nominal model
@@ -208,8 +208,8 @@ def test_held_out_shrink_per_channel_and_phase(diagnosed):
 
 
 def test_the_gap_results_are_plain_json_and_csv(diagnosed, with_hysteresis, tmp_path):
-    from certkit.calibration import Calibration
-    from certkit.model_evidence import ModelEvidence
+    from certkit.physics.calibration import Calibration
+    from certkit.evidence.model_evidence import ModelEvidence
 
     document = gap_document(diagnosed)
     text = json.dumps(document, allow_nan=False)
@@ -231,9 +231,9 @@ def test_the_gap_results_are_plain_json_and_csv(diagnosed, with_hysteresis, tmp_
 
 
 def test_the_gap_section_lays_out_the_diagnosis(diagnosed, with_hysteresis):
-    from certkit.calibration import Calibration
-    from certkit.model_evidence import ModelEvidence
-    from certkit.provenance import provenance
+    from certkit.physics.calibration import Calibration
+    from certkit.evidence.model_evidence import ModelEvidence
+    from certkit.evidence.provenance import provenance
 
     campaign = load_campaign(with_hysteresis)
     evidence = ModelEvidence(Calibration((), ()), "", gap={"left-main": diagnosed},
@@ -250,7 +250,7 @@ def test_the_gap_section_lays_out_the_diagnosis(diagnosed, with_hysteresis):
     assert ("the default (every drop at the highest drop height held out, and at the middle "
             "one from 4 heights up)") in section          # holdout.MIDDLE_FROM = 4
     # thresholds are the code's, not typed into the template
-    from certkit.attribution import RELEVANT
+    from certkit.gap.attribution import RELEVANT
     assert f"would remove at least {RELEVANT:g} σ" in section
     # no blind check recorded for this campaign: the section says how to make one
     assert "has not been recorded for this campaign" in section

@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from certkit.hammerstein import HammersteinLSSVM, ar_poles, is_stable
+from certkit.ident.hammerstein import HammersteinLSSVM, ar_poles, is_stable
 
 A_TRUE = np.array([1.2, -0.5])        # poles 0.6 ± 0.374i, |p| = sqrt(0.5)
 B_TRUE = np.array([1.0, 0.5])

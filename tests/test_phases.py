@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from certkit.phases import PHASES, segment
-from certkit.simulation import simulate_reference
+from certkit.gap.phases import PHASES, segment
+from certkit.physics.simulation import simulate_reference
 
 from .test_drop_model import seed_gear
 

@@ -31,7 +31,7 @@ import numpy as np
 import pytest
 
 from certkit import assess, load_campaign, render_report
-from certkit import report as report_module
+from certkit.evidence import report as report_module
 
 from .conftest import SEED
 

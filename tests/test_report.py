@@ -11,7 +11,7 @@ import pikepdf
 import pytest
 
 from certkit import assess, load_campaign, render_report
-from certkit import report as report_module
+from certkit.evidence import report as report_module
 
 from .conftest import SEED
 

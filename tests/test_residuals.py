@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from certkit.phases import Phase
-from certkit.residuals import band_shares, describe, largest, residual_cells, timing_lag
+from certkit.gap.phases import Phase
+from certkit.gap.residuals import band_shares, describe, largest, residual_cells, timing_lag
 
 STEP = 0.001
 TIME = np.arange(0.0, 1.0, STEP)

@@ -173,7 +173,7 @@ def test_the_report_does_not_name_the_seed_paper(report_html):
 @pytest.mark.slow
 def test_the_full_report_with_the_model_sections_borrows_nothing(tmp_path):
     # the sections where the seed paper's figures used to leak are the model's (9-11)
-    from certkit.model_evidence import model_evidence
+    from certkit.evidence.model_evidence import model_evidence
 
     campaign = load_campaign(SPEC)
     render_report(assess(campaign), tmp_path / "out", model=model_evidence(campaign))

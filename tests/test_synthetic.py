@@ -11,9 +11,9 @@ from typer.testing import CliRunner
 
 from certkit import assess, load_campaign
 from certkit.cli import app
-from certkit.gear_model import drop_model_for
-from certkit.simulation import simulate_reference
-from certkit.synthetic import NO_SENSOR_EFFECTS, simulate_campaign
+from certkit.physics.gear_model import drop_model_for
+from certkit.physics.simulation import simulate_reference
+from certkit.physics.synthetic import NO_SENSOR_EFFECTS, simulate_campaign
 
 G = 9.80665
 runner = CliRunner()
@@ -155,7 +155,7 @@ def test_sensor_dynamics_needs_its_parameters(physics_campaign, tmp_path):
 
 def test_a_failed_integration_names_the_run_and_time_and_writes_nothing(physics_campaign, tmp_path,
                                                                        monkeypatch):
-    import certkit.simulation as simulation
+    import certkit.physics.simulation as simulation
 
     class Failed:
         success, t, message = False, np.array([0.0, 0.0123]), "step size too small"

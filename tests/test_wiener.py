@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 from scipy.signal import lfilter
 
-from certkit.linear_models import ARX
-from certkit.wiener import best_linear_records, excitation, small_signal_records
+from certkit.ident.linear_models import ARX
+from certkit.ident.wiener import best_linear_records, excitation, small_signal_records
 
 # a stable second-order block with static gain (0.3 + 0.2)/(1 − 1.2 + 0.5) = 5/3
 B, A = [0.3, 0.2], [1.0, -1.2, 0.5]

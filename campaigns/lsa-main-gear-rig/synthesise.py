@@ -6,7 +6,7 @@ The rig does not exist yet: this campaign plans its drops.  Its logger files are
 here, as the rig's 2 kHz logger would write them, in the rig's own imperial units.  The
 script takes the campaign's spec, applies the "truth" below (how the simulated strut differs
 from the spec's nominal drop model, as a serviced strut differs from its drawing), simulates
-every run with certkit's library call (:func:`certkit.synthetic.simulate_campaign`, which
+every run with certkit's library call (:func:`certkit.physics.synthetic.simulate_campaign`, which
 writes SI columns t_s / N / mm with sensor noise but without offsets or quantisation), then
 rewrites each file as the logger would: time in ms from the start of the record, load in lbf
 (0.1 lbf steps), stroke, tyre deflection and drop-carriage displacement in inches (0.001 in
@@ -57,7 +57,7 @@ OFFSET_RANGE = {"Fz_lbf": 4.0, "stroke_in": 0.008, "tyre_in": 0.008}   # zero of
 
 def truth_spec(folder: Path) -> Path:
     """The campaign spec with the truth applied and no data blocks, written into ``folder``."""
-    from certkit.synthetic import truth_spec as write_truth
+    from certkit.physics.synthetic import truth_spec as write_truth
 
     return write_truth(HERE / "campaign.yaml", folder, {GEAR: TRUTH}, EFFECTS)
 
@@ -112,7 +112,7 @@ def _imperial(si_file: Path, out_file: Path, rng: np.random.Generator) -> dict:
 def generate(out: Path) -> dict[str, dict]:
     """Write the logger files into ``out`` (a new folder); returns run id -> data block."""
     from certkit import load_campaign
-    from certkit.synthetic import SensorModel, simulate_campaign
+    from certkit.physics.synthetic import SensorModel, simulate_campaign
 
     sensors = SensorModel(load_noise=NOISE_SI["load"], load_step=0.0, load_offset=0.0,
                           travel_noise=NOISE_SI["travel"], travel_step=0.0, travel_offset=0.0,
@@ -133,7 +133,7 @@ def generate(out: Path) -> dict[str, dict]:
 
 
 def main() -> int:
-    from certkit.synthetic import check_requested, write_or_check
+    from certkit.physics.synthetic import check_requested, write_or_check
 
     check = check_requested(__doc__)
     with tempfile.TemporaryDirectory() as scratch:

@@ -43,14 +43,14 @@ RECORD = {"duration": 1.9, "lead": 0.1}   # 2 s per drop at 1 kHz, as the paper'
 
 def truth_spec(folder: Path) -> Path:
     """The example spec with the truth applied and no data blocks, written into ``folder``."""
-    from certkit.synthetic import truth_spec as write_truth
+    from certkit.physics.synthetic import truth_spec as write_truth
 
     return write_truth(HERE / "campaign.yaml", folder, TRUTH, EFFECTS)
 
 
 def generate(out: Path) -> Path:
     from certkit import load_campaign
-    from certkit.synthetic import simulate_campaign
+    from certkit.physics.synthetic import simulate_campaign
 
     with tempfile.TemporaryDirectory() as scratch:
         spec = truth_spec(Path(scratch))
@@ -58,7 +58,7 @@ def generate(out: Path) -> Path:
 
 
 def main() -> int:
-    from certkit.synthetic import check_requested, write_or_check
+    from certkit.physics.synthetic import check_requested, write_or_check
 
     check = check_requested(__doc__)
     with tempfile.TemporaryDirectory() as scratch:

@@ -1,0 +1,245 @@
+"""An SQLite index of archived campaigns, so that a lab finds every campaign of an
+aircraft type, a date range or a failed clause without opening the bags (issue 6).
+
+A bag is catalogued only after it verifies intact; what is indexed comes from its
+bag-info.txt and its archived results.json (a row per criterion).  A bag is keyed by its
+hash (SHA-256 of its tag manifest) and its location, so the same bag added twice is one
+entry and a copy elsewhere is another.  Each addition is one ``BEGIN IMMEDIATE``
+transaction with a generous busy timeout: two processes adding at once both land.
+"""
+
+from __future__ import annotations
+
+import sqlite3
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from certkit.archive.campaign_bag import archived_results, opened_bag
+from certkit.archive.bag import BagError, bag_hash, check_bag, read_info
+from certkit.errors import CertkitInputError
+
+SCHEMA_VERSION = 1
+SCHEMA = """
+CREATE TABLE IF NOT EXISTS campaigns (
+    bag_hash        TEXT NOT NULL,
+    location        TEXT NOT NULL,
+    campaign_id     TEXT NOT NULL,
+    title           TEXT NOT NULL,
+    aircraft        TEXT NOT NULL,
+    report_number   TEXT NOT NULL,
+    revision        TEXT NOT NULL,
+    issue_date      TEXT NOT NULL,
+    first_test_date TEXT NOT NULL,
+    last_test_date  TEXT NOT NULL,
+    outcome         TEXT NOT NULL,
+    passed          INTEGER NOT NULL,
+    failed          INTEGER NOT NULL,
+    not_shown       INTEGER NOT NULL,
+    dq_errors       INTEGER NOT NULL,
+    dq_warnings     INTEGER NOT NULL,
+    software        TEXT NOT NULL,
+    PRIMARY KEY (bag_hash, location)
+);
+CREATE TABLE IF NOT EXISTS verdicts (
+    bag_hash  TEXT NOT NULL,
+    id        TEXT NOT NULL,
+    clause    TEXT NOT NULL,
+    run       TEXT,
+    gear      TEXT,
+    verdict   TEXT NOT NULL,
+    PRIMARY KEY (bag_hash, id)
+);
+CREATE INDEX IF NOT EXISTS campaigns_aircraft ON campaigns (aircraft);
+"""
+TIMEOUT_S = 60.0
+
+
+class CatalogRefusal(Exception):
+    """The bag was not added: it is not intact (the changes are listed), or the catalog
+    holds another bag at its location (it changed since it was catalogued)."""
+
+    def __init__(self, bag: Path, reason: str, changes=()):
+        self.changes = list(changes)
+        super().__init__(f"{bag}: not added to the catalog: {reason}")
+
+
+@dataclass(frozen=True)
+class Entry:
+    bag_hash: str
+    location: str
+    campaign_id: str
+    title: str
+    aircraft: str
+    report_number: str
+    revision: str
+    issue_date: str
+    first_test_date: str
+    last_test_date: str
+    outcome: str
+    passed: int
+    failed: int
+    not_shown: int
+    dq_errors: int
+    dq_warnings: int
+    software: str
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+def _catalog_error(path: Path, message: str) -> CertkitInputError:
+    return CertkitInputError.single(str(path), None, "--catalog", message)
+
+
+def _connect(path: Path) -> sqlite3.Connection:
+    try:
+        connection = sqlite3.connect(path, timeout=TIMEOUT_S, isolation_level=None)
+        version = connection.execute("PRAGMA user_version").fetchone()[0]
+        tables = {row[0] for row in connection.execute(
+            "SELECT name FROM sqlite_master WHERE type = 'table'")}
+    except sqlite3.Error as error:
+        raise _catalog_error(path, f"not a certkit catalog (SQLite says: {error})") from None
+    if version not in (0, SCHEMA_VERSION) or not tables <= {"campaigns", "verdicts"}:
+        connection.close()
+        found = f"schema version {version}" if version else f"tables {sorted(tables)}"
+        raise _catalog_error(path, f"not a certkit catalog of version {SCHEMA_VERSION} "
+                                   f"({found})")
+    return connection
+
+
+def _first(info: dict[str, list[str]], label: str) -> str:
+    return (info.get(label) or [""])[0]
+
+
+def describe(bag: str | Path) -> tuple[Entry, list[tuple]]:
+    """The catalog entry and verdict rows of the bag at ``bag`` (a folder or a .zip).
+
+    Raises CatalogRefusal when the bag is not intact, BagError when it is not a bag.
+    """
+    bag = Path(bag)
+    with opened_bag(bag) as folder:
+        changes = check_bag(folder)
+        if changes:
+            raise CatalogRefusal(bag, "the bag is not intact", changes)
+        info = read_info(folder)
+        _, results = archived_results(folder)
+        digest = bag_hash(folder)
+    dates = sorted(info.get("Test-Date", [])) or [""]
+    try:
+        counts, findings = results["counts"], results["finding_counts"]
+        entry = Entry(
+            bag_hash=digest, location=str(bag.resolve()),
+            campaign_id=_first(info, "Campaign-Id"),
+            title=_first(info, "External-Description"),
+            aircraft=_first(info, "Aircraft-Model"),
+            report_number=_first(info, "Report-Number"),
+            revision=_first(info, "Report-Revision"), issue_date=_first(info, "Issue-Date"),
+            first_test_date=dates[0], last_test_date=dates[-1], outcome=results["outcome"],
+            passed=counts["PASS"], failed=counts["FAIL"], not_shown=counts["NOT SHOWN"],
+            dq_errors=findings["error"], dq_warnings=findings["warning"],
+            software=_first(info, "Bag-Software-Agent"))
+        verdicts = [(digest, v["id"], v["clause"], v["run"], v["gear"], v["verdict"])
+                    for v in results["verdicts"]]
+    except (KeyError, TypeError) as error:
+        raise BagError(f"{bag}: its results.json lacks what the catalog indexes "
+                       f"({error})") from None
+    return entry, verdicts
+
+
+def add(catalog: str | Path, bag: str | Path) -> tuple[Entry, bool]:
+    """Verify the bag and index it; (entry, False) when it was already catalogued."""
+    catalog = Path(catalog)
+    entry, verdicts = describe(bag)
+    try:
+        catalog.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise _catalog_error(catalog, f"cannot create its folder: {error.strerror}") from None
+    connection = _connect(catalog)
+    try:
+        connection.execute("BEGIN IMMEDIATE")
+        for statement in filter(str.strip, SCHEMA.split(";")):
+            connection.execute(statement)   # (executescript would commit first)
+        connection.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+        before = connection.execute(
+            "SELECT bag_hash FROM campaigns WHERE location = ? AND bag_hash != ?",
+            (entry.location, entry.bag_hash)).fetchone()
+        if before is not None:
+            connection.execute("ROLLBACK")
+            raise CatalogRefusal(Path(bag), f"the catalog holds another bag at "
+                                            f"{entry.location} (hash {before[0]}, now "
+                                            f"{entry.bag_hash}): the bag was changed and "
+                                            f"re-hashed since it was catalogued")
+        fields = list(entry.as_dict())
+        cursor = connection.execute(
+            f"INSERT OR IGNORE INTO campaigns ({', '.join(fields)}) "
+            f"VALUES ({', '.join('?' * len(fields))})", list(entry.as_dict().values()))
+        added = cursor.rowcount == 1
+        connection.executemany("INSERT OR IGNORE INTO verdicts VALUES (?, ?, ?, ?, ?, ?)",
+                               verdicts)
+        connection.execute("COMMIT")
+    except sqlite3.Error as error:
+        if connection.in_transaction:
+            connection.execute("ROLLBACK")
+        raise _catalog_error(catalog, f"cannot add to the catalog: {error}") from None
+    finally:
+        connection.close()
+    return entry, added
+
+
+def search(catalog: str | Path, text: str | None = None, *, aircraft: str | None = None,
+           campaign: str | None = None, outcome: str | None = None, since: str | None = None,
+           until: str | None = None, verdict: str | None = None, clause: str | None = None
+           ) -> list[Entry]:
+    """Catalogued campaigns matching every filter given (none: all of them).
+
+    ``text`` matches campaign id, title, aircraft or report number; ``aircraft``,
+    ``campaign`` and ``clause`` are case-insensitive substrings; ``outcome`` is exact
+    (case-insensitive); ``since``/``until`` (YYYY-MM-DD) keep campaigns tested within
+    the range; ``verdict`` keeps campaigns with at least one criterion of that verdict
+    (of a clause matching ``clause``, when given).
+    """
+    catalog = Path(catalog)
+    if not catalog.exists():
+        return []
+    where, values = [], []
+
+    def like(columns: tuple[str, ...], value: str) -> str:
+        pattern = "%" + value.replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_") + "%"
+        values.extend([pattern] * len(columns))
+        return "(" + " OR ".join(f"{c} LIKE ? ESCAPE '\\'" for c in columns) + ")"
+
+    if text:
+        where.append(like(("campaign_id", "title", "aircraft", "report_number"), text))
+    if aircraft:
+        where.append(like(("aircraft",), aircraft))
+    if campaign:
+        where.append(like(("campaign_id",), campaign))
+    if outcome:
+        where.append("upper(outcome) = upper(?)")
+        values.append(outcome)
+    if since:
+        where.append("last_test_date >= ?")
+        values.append(since)
+    if until:
+        where.append("first_test_date <= ?")
+        values.append(until)
+    if verdict or clause:
+        inner = ["v.bag_hash = campaigns.bag_hash"]
+        if verdict:
+            inner.append("upper(v.verdict) = upper(?)")
+            values.append(verdict)
+        if clause:
+            inner.append(like(("v.clause", "v.id"), clause))
+        where.append(f"EXISTS (SELECT 1 FROM verdicts v WHERE {' AND '.join(inner)})")
+    query = "SELECT * FROM campaigns" + (" WHERE " + " AND ".join(where) if where else "") + \
+        " ORDER BY aircraft, campaign_id, issue_date, location"
+    connection = _connect(catalog)
+    try:
+        rows = connection.execute(query, values).fetchall()
+    except sqlite3.OperationalError as error:
+        if "no such table" in str(error):
+            return []
+        raise _catalog_error(catalog, f"cannot read the catalog: {error}") from None
+    finally:
+        connection.close()
+    return [Entry(*row) for row in rows]

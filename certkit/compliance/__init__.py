@@ -1,0 +1,2 @@
+"""The compliance engine: regulatory clauses, certkit's own equations, the measures of a
+drop, the assessment (values, verdicts, findings) and the data-quality audit."""

@@ -1,0 +1,2 @@
+"""What a reviewer reads: the report's view, figures and rendering, results.json, the audit
+tables, the baseline comparison and the provenance record."""

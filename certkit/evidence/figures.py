@@ -1,0 +1,343 @@
+"""Figures a reviewer would rather look at, as inline SVG with byte-stable output."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import re
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from certkit.spec.rundata import CHANNEL_LABELS  # noqa: E402
+from certkit.display import with_unit  # noqa: E402
+from certkit.units import convert  # noqa: E402
+
+_STYLE = {
+    "svg.hashsalt": "certkit",      # stable element ids across processes
+    "svg.fonttype": "none",         # text stays text (searchable, small)
+    "font.family": "DejaVu Sans",
+    "font.size": 8.0,
+    "axes.grid": True,
+    "grid.linewidth": 0.4,
+    "grid.alpha": 0.5,
+    "lines.linewidth": 1.1,
+    "figure.dpi": 100,
+}
+_WIDTH, _HEIGHT = 6.6, 2.6  # inches: fits A4 portrait with 15 mm margins
+_LEAD = 0.05                 # seconds shown before touchdown
+
+
+def record_label(origin: str) -> str:
+    """What a run's recorded channels are called in a legend: by their declared origin."""
+    return "measured" if origin == "measured" else "synthetic record"
+
+
+@contextlib.contextmanager
+def _style(extra: dict | None = None):
+    """certkit's figure style on top of matplotlib's own defaults, whatever a user's
+    matplotlibrc says, so the same inputs draw the same figures on every machine."""
+    with plt.rc_context():
+        matplotlib.rcdefaults()
+        matplotlib.rcParams.update({**_STYLE, **(extra or {})})
+        yield
+
+
+def _to_svg(figure) -> str:
+    buffer = io.StringIO()
+    figure.savefig(buffer, format="svg", metadata={"Date": None, "Creator": None},
+                   bbox_inches="tight")
+    plt.close(figure)
+    text = buffer.getvalue()
+    text = text[text.index("<svg"):]  # drop the XML prolog and DOCTYPE for inline use
+    return re.sub(r'\s(width|height)="[\d.]+pt"', lambda m: f' {m.group(1)}="100%"'
+                  if m.group(1) == "width" else "", text, count=2)
+
+
+def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | None,
+                units) -> list[dict]:
+    """Load, travel and load-travel figures of one run.
+
+    Parameters
+    ----------
+    gears : dict
+        gear id -> (GearSeries, GearMeasures).
+    units : DisplayUnits
+        Display units for length and force.
+
+    Returns
+    -------
+    list of dict
+        ``{"title": ..., "caption": ..., "svg": ...}``.
+    """
+    length_unit, force_unit = units.length, units.force
+    start = (touchdown - _LEAD) if touchdown is not None else float(time[0])
+    window = time >= start
+    t_ms = (time[window] - (touchdown if touchdown is not None else time[0])) * 1e3
+    figures = []
+    with _style():
+        figure, axes = plt.subplots(figsize=(_WIDTH, _HEIGHT))
+        for gear_id, (series, _) in gears.items():
+            axes.plot(t_ms, convert(1.0, "N", force_unit) * series.load[window], label=gear_id)
+        axes.set_xlabel("time from touchdown [ms]")
+        axes.set_ylabel(f"vertical load [{force_unit}]")
+        axes.legend(loc="upper right", frameon=False)
+        figures.append({"title": f"Run {run_id}: platform vertical load",
+                        "caption": "Vertical load per gear unit against time from touchdown "
+                                   "(certkit M3).", "svg": _to_svg(figure)})
+
+        travels = [(g, s) for g, (s, _) in gears.items() if s.stroke is not None or s.tyre is not None]
+        if travels:
+            figure, axes = plt.subplots(figsize=(_WIDTH, _HEIGHT))
+            scale = convert(1.0, "m", length_unit)
+            for gear_id, series in travels:
+                if series.stroke is not None:
+                    axes.plot(t_ms, scale * series.stroke[window], label=f"{gear_id} strut stroke")
+                if series.tyre is not None:
+                    axes.plot(t_ms, scale * series.tyre[window], linestyle="--",
+                              label=f"{gear_id} tyre deflection")
+            axes.set_xlabel("time from touchdown [ms]")
+            axes.set_ylabel(f"travel [{length_unit}]")
+            axes.legend(loc="upper right", frameon=False, ncol=2)
+            figures.append({"title": f"Run {run_id}: strut stroke and tyre deflection",
+                            "caption": "Travel of each element against time from touchdown.",
+                            "svg": _to_svg(figure)})
+
+        for gear_id, (series, measures) in gears.items():
+            pairs = [(series.stroke, "strut stroke", measures.strut_energy),
+                     (series.tyre, "tyre deflection", measures.tyre_energy)]
+            pairs = [p for p in pairs if p[0] is not None]
+            if not pairs:
+                continue
+            figure, all_axes = plt.subplots(1, len(pairs), figsize=(_WIDTH, _HEIGHT))
+            all_axes = np.atleast_1d(all_axes)
+            for axes, (travel, name, energy) in zip(all_axes, pairs):
+                x = convert(1.0, "m", length_unit) * travel[window]
+                y = convert(1.0, "N", force_unit) * series.load[window]
+                end = int(np.argmax(travel[window]))
+                axes.fill_between(x[: end + 1], y[: end + 1], alpha=0.25, linewidth=0,
+                                  label=f"absorbed {with_unit(energy, 'energy', units)} (E1)")
+                axes.plot(x, y)
+                axes.set_xlabel(f"{name} [{length_unit}]")
+                axes.set_ylabel(f"vertical load [{force_unit}]")
+                axes.legend(loc="upper left", frameon=False)
+            figure.tight_layout()
+            figures.append({"title": f"Run {run_id}, {gear_id}: load against travel",
+                            "caption": "Shaded: loading stroke from touchdown to maximum travel, "
+                                       "whose area is the absorbed energy (certkit E1).",
+                            "svg": _to_svg(figure)})
+    return figures
+
+
+
+
+def model_figure(gear_id: str, run_id: str, traces: list, units, window: float = 1.0,
+                 origin: str = "measured") -> dict:
+    """The run's record against nominal and calibrated model, one panel per channel (0 to
+    ``window`` s after touchdown); ``origin`` is the run's declared data origin."""
+    recorded = record_label(origin)
+    with _style():
+        figure, all_axes = plt.subplots(len(traces), 1, figsize=(_WIDTH, 1.1 * len(traces) + 0.4),
+                                        sharex=True)
+        all_axes = np.atleast_1d(all_axes)
+        for axes, trace in zip(all_axes, traces):
+            kind, si = ("force", "N") if trace.channel == "load" else ("length", "m")
+            unit = getattr(units, kind)
+            scale = convert(1.0, si, unit)
+            # every other sample (2 ms at 1 kHz): about one point per printed point at
+            # this width, and half the drawing time
+            shown = np.flatnonzero(trace.time <= window)[::2]
+            t_ms = trace.time[shown] * 1e3
+            axes.plot(t_ms, scale * trace.measured[shown], color="0.55", linewidth=1.6,
+                      label=recorded)
+            axes.plot(t_ms, scale * trace.nominal[shown], linestyle="--", label="nominal model")
+            axes.plot(t_ms, scale * trace.calibrated[shown], label="calibrated model")
+            axes.set_ylabel(f"{CHANNEL_LABELS[trace.channel]}\n[{unit}]")
+        all_axes[0].legend(loc="upper right", frameon=False, ncol=3)
+        all_axes[-1].set_xlabel("time from touchdown [ms]")
+        figure.tight_layout()
+        return {"title": f"Run {run_id}, {gear_id}: {recorded} and governing-equation model",
+                "caption": "Grey: the run's channels; dashed: the drop model with the spec's "
+                           "nominal parameters; solid: after calibration on all runs of this "
+                           "gear unit.", "svg": _to_svg(figure)}
+
+
+
+
+def identification_figures(gear, units, origin: str = "measured") -> list[dict]:
+    """Static nonlinearities, the held-out drop against every model and the models' errors
+    of one gear unit (identification works in kN and mm; drawn in the display units).
+    ``origin``: the held-out run's declared data origin."""
+    figures = []
+    outputs = ("stroke", "tyre")
+    held = gear.measured[gear.held_out[0]]
+    recorded = record_label(origin)
+    force = convert(1e3, "N", units.force)     # one kN in the display force unit
+    length = convert(1e-3, "m", units.length)  # one mm in the display length unit
+    with _style():
+        figure, all_axes = plt.subplots(1, 2, figsize=(_WIDTH, _HEIGHT))
+        for axes, output in zip(all_axes, outputs):
+            for (model, name), (grid, curve) in gear.nonlinearities.items():
+                if name == output:
+                    axes.plot(force * np.asarray(grid), length * np.asarray(curve), label=model)
+            axes.set_xlabel(f"vertical load [{units.force}]")
+            axes.set_ylabel(f"{CHANNEL_LABELS[output]} [{units.length}]")
+        all_axes[0].legend(loc="upper left", frameon=False, fontsize=6.5)
+        figure.tight_layout()
+        figures.append({"title": f"{gear.gear_id}: static nonlinearities",
+                        "caption": "Wiener: f(z) against the unit-gain linear block's output z "
+                                   f"({units.force}); Hammerstein: f(u) with the linear block scaled to unit "
+                                   "static gain, up to its offset. Fitted on the training runs "
+                                   f"({', '.join(gear.training)}).",
+                        "svg": _to_svg(figure)})
+        t_ms = held.time * 1e3
+        for kind in ("response", "error"):
+            figure, all_axes = plt.subplots(2, 1, figsize=(_WIDTH, 4.2), sharex=True)
+            for axes, output in zip(all_axes, outputs):
+                measured = held.outputs[output]
+                if kind == "response":
+                    axes.plot(t_ms, length * measured, color="0.55", linewidth=1.6,
+                              label=recorded)
+                for score in gear.scores:
+                    if (score.protocol == "held-out" and score.output == output
+                            and score.run == gear.held_out[0]):
+                        values = score.simulated if kind == "response" else score.simulated - measured
+                        axes.plot(t_ms[:values.size], length * values, linewidth=0.9,
+                                  label=score.model)
+                axes.set_ylabel(f"{CHANNEL_LABELS[output]}{' error' if kind == 'error' else ''}"
+                                f"\n[{units.length}]")
+            all_axes[0].legend(loc="upper right", frameon=False, fontsize=6.0, ncol=2)
+            all_axes[-1].set_xlabel("time from touchdown [ms]")
+            figure.tight_layout()
+            figures.append({
+                "title": (f"{gear.gear_id}, held-out run {gear.held_out[0]}: "
+                          + (f"{recorded} and free-run simulated" if kind == "response"
+                             else "free-run simulation error")),
+                "caption": "Every model simulated in free run from the load alone (the "
+                           "Hammerstein and NARX models take their first samples from the "
+                           "record); none was fitted or tuned on this run.",
+                "svg": _to_svg(figure)})
+    return figures
+
+
+def gap_heatmap(gap, title: str, caption: str, vmax: float | None = None) -> dict:
+    """Residual RMS over the channel's RMS (%) per channel × phase (rows) and run (columns)
+    of a :class:`certkit.gap.diagnosis.GapMap`; one colour scale up to ``vmax`` (a fraction; default:
+    the largest cell) so that two maps drawn with the same ``vmax`` compare."""
+    from certkit.gap.phases import PHASES
+
+    runs = list(gap.training) + list(gap.held_out)
+    by_key = {(c.run, c.channel, c.phase): c.normalised for c in gap.cells}
+    channels = [ch for ch in ("load", "stroke", "tyre") if any(k[1] == ch for k in by_key)]
+    rows = [(ch, ph) for ch in channels for ph in PHASES
+            if any((run, ch, ph) in by_key for run in runs)]
+    values = np.array([[by_key.get((run, ch, ph), np.nan) for run in runs] for ch, ph in rows],
+                      dtype=float)
+    finite = values[np.isfinite(values)]
+    top = vmax if vmax is not None else (float(finite.max()) if finite.size else 1.0)
+    top = top if top > 0 else 1.0
+    with _style({"axes.grid": False}):
+        figure, axes = plt.subplots(figsize=(_WIDTH, 0.2 * len(rows) + 1.1))
+        mesh = axes.pcolormesh(np.ma.masked_invalid(100.0 * values), cmap="Blues", vmin=0.0,
+                               vmax=100.0 * top, edgecolors="white", linewidth=0.5)
+        for i in range(len(rows)):
+            for j in range(len(runs)):
+                value = values[i, j]
+                text = "—" if not np.isfinite(value) else f"{100.0 * value:.3g}"
+                axes.text(j + 0.5, i + 0.5, text, ha="center", va="center", fontsize=6.5,
+                          color="white" if np.isfinite(value) and value > 0.6 * top else "black")
+        axes.set_xticks(np.arange(len(runs)) + 0.5,
+                        [f"{run}\n(held out)" if run in gap.held_out else f"{run}\n(training)"
+                         for run in runs])
+        axes.set_yticks(np.arange(len(rows)) + 0.5,
+                        [f"{CHANNEL_LABELS[ch]} · {ph}" for ch, ph in rows], fontsize=6.5)
+        axes.invert_yaxis()
+        axes.xaxis.tick_top()
+        bar = figure.colorbar(mesh, ax=axes, fraction=0.05, pad=0.02)
+        bar.set_label("residual RMS / channel RMS [%]")
+        figure.tight_layout()
+        return {"title": title, "caption": caption, "svg": _to_svg(figure)}
+
+
+def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: str | None,
+                units, window: float, origin: str = "measured") -> dict:
+    """A held-out run's channels against the calibrated nominal model and (``after``) the
+    model with the named effects, from just before touchdown to ``window`` s after it, with
+    the recorded run's phase boundaries drawn and named.
+
+    ``before``, ``after``: :class:`certkit.physics.calibration.AlignedRecord`; ``phases``: the
+    measured run's :class:`certkit.gap.phases.Phase` list."""
+    touchdown = float(before.time[before.after][0])
+    t = before.time - touchdown
+    shown = np.flatnonzero((t >= -_LEAD) & (t <= window))
+    t_ms = t[shown] * 1e3
+    channels = list(before.measured)
+    boundaries = [(p.name, float(t[p.start]) * 1e3) for p in phases[1:]
+                  if -_LEAD <= t[p.start] <= window]
+    with _style():
+        figure, all_axes = plt.subplots(len(channels), 1,
+                                        figsize=(_WIDTH, 1.15 * len(channels) + 0.9), sharex=True)
+        all_axes = np.atleast_1d(all_axes)
+        for axes, channel in zip(all_axes, channels):
+            kind, si = ("force", "N") if channel == "load" else ("length", "m")
+            unit = getattr(units, kind)
+            scale = convert(1.0, si, unit)
+            axes.plot(t_ms, scale * before.measured[channel][shown], color="0.55",
+                      linewidth=1.6, label=record_label(origin))
+            axes.plot(t_ms, scale * before.simulated[channel][shown], linestyle="--",
+                      label="calibrated nominal model")
+            if after is not None:
+                axes.plot(t_ms, scale * after.simulated[channel][shown],
+                          label=f"with {label_after}")
+            for _, at in boundaries:
+                axes.axvline(at, color="0.3", linestyle=":", linewidth=0.7)
+            axes.set_ylabel(f"{CHANNEL_LABELS[channel]}\n[{unit}]")
+        for name, at in boundaries:
+            all_axes[0].text(at, 1.03, name, transform=all_axes[0].get_xaxis_transform(),
+                             rotation=90, ha="center", va="bottom", fontsize=6.0)
+        all_axes[0].legend(loc="upper right", frameon=False, fontsize=6.5)
+        all_axes[-1].set_xlabel("time from touchdown [ms]")
+        figure.tight_layout()
+        return {"title": f"{gear_id}, held-out run {run_id}: {record_label(origin)} and model, "
+                         f"with the "
+                         f"drop's phases",
+                "caption": "Grey: the run's channels; dashed: the nominal model calibrated on "
+                           "the training runs; solid: refitted with the named effect(s), when "
+                           "one was named. Dotted lines: the recorded run's phase boundaries "
+                           "(certkit.gap.phases), each labelled with the phase it starts. Neither "
+                           "model was fitted or tuned on this run.",
+                "svg": _to_svg(figure)}
+
+
+def blind_curve(points, target_top1: float | None, target_shrink: float | None,
+                scored_from: float | None = None) -> dict:
+    """The blind check's detectability curve: top-1 accuracy and median held-out shrink of
+    the single-effect cases against effect size / noise, with the targets drawn."""
+    ratios = [p.ratio for p in points]
+    with _style():
+        figure, axes = plt.subplots(figsize=(_WIDTH * 0.7, _HEIGHT))
+        for key, label, marker in (("top1", "top-1 accuracy", "o"),
+                                   ("median_shrink", "median held-out load shrink", "s")):
+            values = [getattr(p, key) for p in points]
+            axes.plot(ratios, [100.0 * v if v is not None else np.nan for v in values],
+                      marker=marker, label=label)
+        for target, style in ((target_top1, "--"), (target_shrink, ":")):
+            if target is not None:
+                axes.axhline(100.0 * target, color="grey", linestyle=style, linewidth=0.8)
+        axes.set_xscale("log")
+        axes.set_xticks(ratios, [f"{r:g}" for r in ratios])
+        axes.minorticks_off()
+        axes.set_ylim(0, 105)
+        axes.set_xlabel("effect size / load noise RMS")
+        axes.set_ylabel("[%]")
+        axes.legend(loc="lower right", fontsize=7)
+        figure.tight_layout()
+        return {"title": "Blind check: what the diagnosis gets right against effect size",
+                "caption": "Single-effect cases at each size; dashed: the top-1 target, "
+                           "dotted: the shrink target (the record's targets"
+                           + (f", judged at sizes of {scored_from:g} and more)."
+                              if scored_from is not None else ")."),
+                "svg": _to_svg(figure)}

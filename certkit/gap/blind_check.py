@@ -1,0 +1,591 @@
+"""How far the gap diagnosis can be trusted: a blind check on synthetic campaigns whose
+effect is withheld (issue 5; the protocol of gap-diagnosis.md §5.2, cut to this machine).
+
+Every case is a campaign simulated from the template campaign's spec:
+
+- the nominal model (no optional effects) of every gear unit, its calibrated parameters
+  (orifice C_d, gas pre-charge, polytropic exponent, tyre stiffness) scattered uniformly by
+  a few percent from the spec values;
+- none, one or two effects of the library switched on, each in a form that differs from the
+  diagnosis's candidate where the library allows (:data:`TRUTHS`: Stribeck friction against
+  a Coulomb candidate, a Butterworth filter plus a pure delay against a first-order lag,
+  …), sized so that it changes the load channel of the diagnosed gear by a chosen multiple
+  of the load noise (RMS over the runs' records from touchdown; a recorder's delay is
+  aligned away first, as the diagnosis aligns on the touchdown);
+- sensor noise, quantisation, zero offsets and an error in the recorded zero offsets;
+- written to disk in the campaign's own data format under an opaque case id, with a note
+  that names no effect.
+
+The diagnosis (:func:`certkit.gap.attribution.diagnose`) sees only the written campaign.  The
+outcome is then scored against the sealed truth (:func:`score`).  Cases run in a local
+process pool, or on a dask.distributed cluster when a scheduler address is given: the same
+function runs in both.  Seeds are fixed; the same inputs give the same result document.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import math
+import statistics
+import tempfile
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from certkit.physics.drop_model import DropModel
+from certkit.physics.effects import (GasHeatTransfer, LegFlexibility, ReboundOrifice, SealFriction,
+                      SensorDynamics, TyreHysteresis)
+from certkit.units import STANDARD_GRAVITY
+
+#: How far a sized effect's load change may miss its target (a share).
+SIZE_TOLERANCE = 0.05
+#: Length of every simulated record from touchdown [s] (as the example campaign's).
+DURATION = 2.0
+#: Knobs of the nominal calibration whose true values are scattered in every case.
+SCATTERED = ("discharge-coefficient", "gas-precharge", "polytropic-exponent", "tyre-stiffness")
+
+
+
+class SizingError(ValueError):
+    """An effect cannot be sized to the asked multiple of the noise on this campaign."""
+
+
+@dataclass(frozen=True)
+class Truth:
+    """An effect as the truth generator has it, at a size s > 0 (the functions below say
+    what s scales)."""
+
+    candidate: str        # the library candidate a right diagnosis names
+    form: str             # the truth's form, and how it differs from the candidate
+    sizes: tuple          # (smallest, largest) s searched when sizing
+    mechanics: Callable[[DropModel, float], DropModel] | None = None
+    sensor: Callable[[float], SensorDynamics] | None = None
+    #: what the truth's size is measured from, when that is not the nominal model itself
+    base: Callable[[DropModel], DropModel] | None = None
+
+    def model(self, model: DropModel, size: float) -> DropModel:
+        return self.mechanics(model, size) if self.mechanics else model
+
+    def start(self, model: DropModel) -> DropModel:
+        return self.base(model) if self.base else model
+
+    def recorder(self, size: float) -> SensorDynamics | None:
+        return self.sensor(size) if self.sensor else None
+
+
+def _friction(model: DropModel, s: float) -> DropModel:
+    level = 0.05 * model.upper_mass * STANDARD_GRAVITY * s
+    return model.with_effect(SealFriction(level, breakaway=0.5 * level, stribeck_velocity=0.02))
+
+
+def _leg(model: DropModel, s: float) -> DropModel:
+    axle, stiffness = 0.35 * model.lower_mass, 3.0e6 / s
+    damping = 2 * 0.05 * math.sqrt(stiffness * axle)           # 5 % of critical
+    return model.with_effect(LegFlexibility(axle, stiffness, damping))
+
+
+TRUTHS: dict[str, Truth] = {truth.candidate: truth for truth in (
+    Truth("seal friction", "Stribeck seal friction: breakaway force 1.5 times the Coulomb "
+                           "level, decaying over 20 mm/s (the candidate: Coulomb only)",
+          (0.02, 20.0), mechanics=_friction),
+    Truth("rebound orifice", "rebound damping K_reb − K_h (the candidate's own form)",
+          (0.01, 20.0),
+          mechanics=lambda m, s: m.with_effect(ReboundOrifice(3.0 * m.orifice.coefficient * s))),
+    Truth("tyre hysteresis", "a tyre hysteresis loop switching within 5 mm/s (the "
+                             "candidate: 10 mm/s)", (0.02, 20.0),
+          mechanics=lambda m, s: m.with_effect(TyreHysteresis(0.05 * s, smoothing_velocity=0.005))),
+    Truth("heat transfer", "nitrogen (γ = 1.4) exchanging heat with the walls, sized from "
+                           "its adiabatic limit (the candidate: γ = the calibrated "
+                           "polytropic exponent n)", (0.01, 50.0),
+          mechanics=lambda m, s: m.with_effect(GasHeatTransfer(1.0 / s, 1.4)),
+          base=lambda m: replace(m, gas=replace(m.gas, exponent=1.4))),
+    Truth("leg flexibility", "a leg mode with 35 % of the unsprung mass at the axle and 5 % "
+                             "damping (the candidate: 50 %, undamped)", (0.02, 5.0),
+          mechanics=_leg),
+    Truth("sensor lag", "a 2nd-order Butterworth low-pass (cut-off 300 Hz/s) plus a pure "
+                        "delay (0.1 ms·s) on every channel, sized by what remains with the "
+                        "touchdowns aligned (the candidate: a first-order lag)",
+          (0.7, 20.0), sensor=lambda s: SensorDynamics(300.0 / s, 2, 0.0001 * s)),
+)}
+
+
+@dataclass(frozen=True)
+class Settings:
+    """What the battery is made of; every case is reproducible from these and its seed."""
+
+    ratios: tuple = (1.0, 2.0, 5.0)     # effect size / load noise RMS
+    seeds: tuple = (21, 22, 23)         # fresh: 1-3 and 11-13 were used while developing
+    effects: tuple = tuple(TRUTHS)
+    null_cases: int = 12
+    pairs: tuple = (("seal friction", "tyre hysteresis"), ("rebound orifice", "heat transfer"),
+                    ("leg flexibility", "sensor lag"))
+    pair_ratio: float = 5.0
+    scatter: float = 0.03               # ± share of the scattered nominal parameters
+    load_noise: float = 20.0            # N
+    load_step: float = 1.0              # N
+    load_offset: float = 10.0           # N
+    load_zero_error: float = 2.0        # N
+    travel_noise: float = 5.0e-5        # m
+    travel_step: float = 1.0e-5         # m
+    travel_offset: float = 2.0e-4       # m
+    travel_zero_error: float = 2.0e-5   # m
+
+
+@dataclass(frozen=True)
+class Case:
+    id: str                  # opaque: a hash of the three below, nothing the diagnosis can read
+    truths: tuple            # effect names; empty: nominal with nuisances only
+    ratio: float | None
+    seed: int
+
+    @property
+    def key(self) -> int:
+        """The case's own random seed, from its truths, size and seed alone: every case
+        has its own noise, offsets and scatter, whatever else is in the battery."""
+        text = f"{'+'.join(self.truths)}|{self.ratio}|{self.seed}"
+        return int.from_bytes(hashlib.sha256(text.encode("utf-8")).digest()[:8], "little")
+
+
+def _case(truths: tuple, ratio: float | None, seed: int) -> Case:
+    text = f"{'+'.join(truths)}|{ratio}|{seed}"
+    return Case("case-" + hashlib.sha256(text.encode("utf-8")).hexdigest()[:10], truths,
+                ratio, seed)
+
+
+def battery(settings: Settings = Settings()) -> list[Case]:
+    """Single-effect cases (every effect × ratio × seed), no-effect cases, and two-effect
+    cases (every pair × the first two seeds), in that order."""
+    plan = [((effect,), ratio, seed) for effect in settings.effects
+            for ratio in settings.ratios for seed in settings.seeds]
+    plan += [((), None, 100 * settings.seeds[k % len(settings.seeds)] + k)
+             for k in range(settings.null_cases)]
+    plan += [(tuple(pair), settings.pair_ratio, seed) for pair in settings.pairs
+             for seed in settings.seeds[:2]]
+    return [_case(*item) for item in plan]
+
+
+# --------------------------------------------------------------------------- one case
+def _scattered(model: DropModel, factors: dict) -> DropModel:
+    from certkit.physics.calibration import KNOBS
+
+    for name, factor in factors.items():
+        knob = KNOBS[name]
+        model = knob.write(model, knob.read(model) * factor)
+    return model
+
+
+def _load_effect(models: list[DropModel], velocities, truth: Truth, sizes: np.ndarray,
+                 rate: float, duration: float) -> np.ndarray:
+    """RMS over the runs of the load with the truth at each size minus without it [N]."""
+    from certkit.physics.simulation import simulate_batch
+
+    batch = [truth.model(m, s) for s in sizes for m in models] + list(models)
+    speeds = np.array(list(velocities) * (len(sizes) + 1))
+    drops = simulate_batch(batch, speeds, duration, rate)
+    load = drops.load.reshape(len(sizes) + 1, len(models), -1)
+    out = []
+    for index, size in enumerate(sizes):
+        recorder = truth.recorder(size)
+        changed = load[index]
+        if recorder is not None:
+            # a recorder delays the record, which the diagnosis's alignment on the touchdown
+            # absorbs: only what remains with the touchdowns aligned counts
+            changed = np.array([_aligned(drops.time, recorder.apply(drops.time, row), plain,
+                                         touchdown_level(model))
+                                for row, plain, model in zip(load[index], load[-1], models)])
+        out.append(float(np.sqrt(np.mean((changed - load[-1]) ** 2))))
+    return np.array(out)
+
+
+def touchdown_level(model: DropModel) -> float:
+    """The load at which the touchdown detector fires on a noise-free record: 2 % of the
+    unit's static weight (:func:`certkit.compliance.measures.touchdown_index`)."""
+    return 0.02 * (model.upper_mass + model.lower_mass) * STANDARD_GRAVITY
+
+
+def _aligned(time: np.ndarray, recorded: np.ndarray, plain: np.ndarray, level: float):
+    """``recorded`` shifted so that it crosses ``level`` when ``plain`` does."""
+    from certkit.compliance.measures import touchdown_time
+
+    shift = (touchdown_time(time, recorded, None, level=level)[0]
+             - touchdown_time(time, plain, None, level=level)[0])
+    return np.interp(time + shift, time, recorded)
+
+
+def size_for(truth: Truth, models: list[DropModel], velocities, target: float, rate: float,
+             duration: float) -> float:
+    """The size s at which ``truth`` changes the load by ``target`` N RMS (log-log
+    interpolation on a grid, then one secant refinement)."""
+    grid = np.geomspace(*truth.sizes, 25)
+    effect = np.empty(0)
+    for chunk in np.array_split(grid, 5):       # up the grid until the target is passed:
+        effect = np.append(effect, _load_effect(models, velocities, truth, chunk, rate,
+                                                duration))
+        if effect[-1] >= target:                # large sizes are the slow ones to simulate
+            break
+    grid = grid[:effect.size]
+    above = np.nonzero(effect >= target)[0]
+    if above.size == 0 or above[0] == 0:
+        raise SizingError(f"{truth.candidate}: a load change of {target:g} N RMS lies outside "
+                         f"sizes {truth.sizes} ({effect.min():.3g}–{effect.max():.3g} N)")
+    i = int(above[0])
+    slope = math.log(effect[i] / effect[i - 1]) / math.log(grid[i] / grid[i - 1])
+    size = grid[i - 1] * (target / effect[i - 1]) ** (1.0 / slope)
+    refined = _load_effect(models, velocities, truth, np.array([size]), rate, duration)[0]
+    size = float(size * (target / refined) ** (1.0 / slope))
+    reached = _load_effect(models, velocities, truth, np.array([size]), rate, duration)[0]
+    if abs(reached / target - 1.0) > SIZE_TOLERANCE:
+        raise SizingError(f"{truth.candidate}: sized for {target:g} N RMS, reached "
+                          f"{reached:.4g} N (the load change is not monotonic there)")
+    return size
+
+
+def write_case(template: str, gear_id: str, case: Case, settings: Settings,
+               folder: str | Path, clean: bool = False) -> tuple[Path, dict]:
+    """Simulate ``case`` from the ``template`` campaign into ``folder``: returns the written
+    spec's path and the size of every truth effect (sealed: not written).  ``clean``: the
+    same truth without noise, quantisation or offsets (for scoring only)."""
+    from certkit.spec.campaign import load_campaign
+    from certkit.compliance.clauses import ideal_impact_velocity
+    from certkit.physics.gear_model import drop_model_for
+    from certkit.gap.holdout import recorded_drops
+    from certkit.physics.synthetic import NO_SENSOR_EFFECTS, SensorModel, simulate_campaign
+
+    campaign = load_campaign(template)
+    spec = campaign.spec
+    rng = np.random.default_rng(case.key)
+    factors = {gear: {name: float(1 + rng.uniform(-settings.scatter, settings.scatter))
+                      for name in SCATTERED} for gear in (g.id for g in spec.gear_units)}
+    recorded = set(recorded_drops(campaign, gear_id))          # as the diagnosis has them
+    runs = [r for r in spec.runs if r.id in recorded]
+    rate = float(campaign.series[runs[0].id].declared_rate)
+    base = [_scattered(drop_model_for(spec, r, gear_id, campaign.spec_path.name, campaign.lines,
+                                      []), factors[gear_id]) for r in runs]
+    velocities = [ideal_impact_velocity(r.drop_height.si) for r in runs]
+    sizes = {name: size_for(TRUTHS[name], [TRUTHS[name].start(m) for m in base], velocities,
+                            case.ratio * settings.load_noise, rate, DURATION)
+             for name in case.truths}
+
+    def truth(gear: str, model: DropModel) -> DropModel:
+        model = _scattered(model, factors[gear])
+        for name, size in sizes.items():
+            model = TRUTHS[name].model(TRUTHS[name].start(model), size)
+        return model
+
+    recorders = [TRUTHS[n].recorder(s) for n, s in sizes.items() if TRUTHS[n].sensor]
+    sensors = NO_SENSOR_EFFECTS if clean else SensorModel(
+        settings.load_noise, settings.load_step, settings.load_offset, settings.travel_noise,
+        settings.travel_step, settings.travel_offset, load_zero_error=settings.load_zero_error,
+        travel_zero_error=settings.travel_zero_error)
+    written = simulate_campaign(
+        campaign, Path(folder) / (case.id + ("-clean" if clean else "")), seed=case.key,
+        sensors=sensors, duration=DURATION,
+        effects=[], truth=truth, recorder=recorders[0] if recorders else None,
+        note=f"Blind-check {case.id}: synthetic runs; what was simulated is withheld.")
+    return written, sizes
+
+
+def run_case(template: str, gear_id: str, case: Case, settings: Settings = Settings()) -> dict:
+    """Write ``case`` (:func:`write_case`) into a temporary folder, diagnose ``gear_id``
+    blind, and return the outcome with its sealed truth (a plain dict, so that it travels
+    between processes and machines)."""
+    from threadpoolctl import threadpool_limits
+
+    from certkit.gap.attribution import diagnose
+    from certkit.spec.campaign import load_campaign
+
+    try:
+        import numba
+        numba.set_num_threads(1)          # one case per core
+    except (ImportError, ValueError):
+        pass
+    truth = {"id": case.id, "truth": list(case.truths),
+             "form": "; ".join(TRUTHS[n].form for n in case.truths) or "none (nuisances only)",
+             "ratio": case.ratio, "seed": case.seed}
+    empty = {"sizes": {}, "named": [], "held_out": [], "before": None, "after": None,
+             "shrink": 0.0, "closed": None, "harmed": False, "harmed_any": False,
+             "channels": {}}
+    with tempfile.TemporaryDirectory() as folder, threadpool_limits(limits=1):
+        try:
+            written, sizes = write_case(template, gear_id, case, settings, folder)
+            diagnosis = diagnose(load_campaign(written), gear_id)
+            clean, _ = write_case(template, gear_id, case, settings, folder, clean=True)
+            gap = _gap_to_truth(load_campaign(clean), gear_id, diagnosis)
+        except SizingError as error:
+            # the effect cannot be sized as asked on this campaign: no case to score
+            return {**truth, **empty, "statement": f"not generated: {error}", "error": None,
+                    "skipped": str(error)}
+        except Exception as error:   # noqa: BLE001 -- recorded and scored as a failure
+            # kept as an outcome, so that one case cannot sink a battery of hours
+            return {**truth, **empty, "statement": f"failed: {type(error).__name__}: {error}",
+                    "error": f"{type(error).__name__}: {error}", "skipped": None}
+    before = {(run, ch): v for (label, run, ch), v in diagnosis.held_out_rmse.items()
+              if label == "nominal"}
+    after = {(run, ch): v for (label, run, ch), v in diagnosis.held_out_rmse.items()
+             if label != "nominal"} or before
+    load_before, load_after = (_pooled(rmse, "load") for rmse in (before, after))
+    return {**truth, "sizes": {n: float(s) for n, s in sizes.items()},
+            "named": list(diagnosis.answer), "statement": diagnosis.statement, "error": None,
+            "skipped": None, "held_out": list(diagnosis.held_out),
+            "before": load_before, "after": load_after,
+            "shrink": 1.0 - load_after / load_before if load_before > 0 else 0.0,
+            "closed": 1.0 - gap[1] / gap[0] if gap[0] > 0 else None,
+            "truth_gap": list(gap),
+            "harmed": bool(diagnosis.answer) and load_after > load_before,
+            "harmed_any": bool(diagnosis.answer) and any(after[k] > before[k] for k in before),
+            "channels": {f"{run} {ch}": [float(before[(run, ch)]), float(after[(run, ch)])]
+                         for run, ch in sorted(before)}}
+
+
+def _pooled(rmse: dict, channel: str) -> float:
+    """RMS over the held-out runs of one channel's RMSE (run, channel) -> value."""
+    return float(math.sqrt(np.mean([v ** 2 for (_, ch), v in rmse.items() if ch == channel])))
+
+
+def _gap_to_truth(clean, gear_id: str, diagnosis) -> tuple[float, float]:
+    """Held-out load RMSE against the noise-free truth (``clean``: the case written without
+    sensor noise, quantisation or offsets) of the calibrated nominal model and of the model
+    the diagnosis leaves: the gap itself, before and after, which no noise inflates."""
+    from certkit.physics.calibration import aligned_records
+
+    out = []
+    for configure in (diagnosis.calibration.apply, diagnosis.configure):
+        records = aligned_records(clean, gear_id, configure, list(diagnosis.held_out),
+                                  effects=[])
+        out.append(_pooled({(run, "load"): float(np.sqrt(np.mean(
+            (r.simulated["load"][r.after] - r.measured["load"][r.after]) ** 2)))
+            for run, r in records.items()}, "load"))
+    return out[0], out[1]
+
+
+# --------------------------------------------------------------------------- scoring
+#: Targets of issue 5 (at effect/noise ≥ 2): (value, "at least" | "at most").
+TARGETS = {"top1": (0.85, "at least"), "false_attribution": (0.10, "at most"),
+           "median_shrink": (0.50, "at least"), "harm_rate": (0.10, "at most")}
+SCORED_FROM = 2.0
+TIED = "cannot tell apart"
+FAILED = "failed"
+
+
+def wilson(count: int, cases: int, z: float = 1.959964) -> list[float] | None:
+    """95 % Wilson score interval of a proportion count/cases (None without cases)."""
+    if not cases:
+        return None
+    p, n = count / cases, cases
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return [max(0.0, centre - half), min(1.0, centre + half)]
+
+
+def _metric(name: str, value, count, cases) -> dict:
+    target, direction = TARGETS.get(name, (None, None))
+    met = None
+    if target is not None and value is not None:
+        met = bool(value >= target) if direction == "at least" else bool(value <= target)
+    return {"value": value, "count": count, "cases": cases, "target": target,
+            "direction": direction, "met": met,
+            "interval": wilson(count, cases) if count is not None else None}
+
+
+def _named_label(outcome: dict) -> str:
+    if outcome.get("error"):
+        return FAILED
+    if outcome["named"]:
+        return outcome["named"][0]
+    return TIED if "cannot be told apart" in outcome["statement"] else "none"
+
+
+def score(outcomes: list[dict], effects=tuple(TRUTHS)) -> dict:
+    """The blind check's metrics from case outcomes (see :func:`run_case`).
+
+    - top-1 accuracy: single-effect cases at effect/noise ≥ :data:`SCORED_FROM` whose first
+      named effect is the truth (an abstention, a tie or a failure is wrong);
+    - exact: the same cases whose answer is the truth and nothing else;
+    - false attribution: no-effect cases that do not end in a clean abstention (an effect
+      named, a tie declared, or a failure);
+    - set precision / recall: two-effect cases, pooled over the cases;
+    - median held-out shrink: 1 − RMSE_after/RMSE_before of the held-out load channel,
+      against the noisy measurement, over the single-effect cases at ratio ≥
+      :data:`SCORED_FROM` (an abstention shrinks 0); the two-effect cases separately;
+    - median gap closed: the same shrink of the load RMSE against the noise-free truth
+      (what a model can remove; the noise cannot be);
+    - harm rate: of the cases in which an effect was named, those in which it made the
+      held-out load error worse; and on any held-out channel;
+    - the curve: top-1 and median shrink of the single-effect cases at every ratio;
+    - the confusion matrix of truth (single effect or none) against first named effect.
+
+    A case whose effect cannot be sized as asked on this campaign (``skipped``) is not
+    scored; it is listed.  Proportions carry 95 % Wilson intervals, which treat the cases
+    as independent (each has its own noise, offsets and scatter).
+    """
+    skipped = [o["id"] for o in outcomes if o.get("skipped")]
+    outcomes = [o for o in outcomes if not o.get("skipped")]
+    single = [o for o in outcomes if len(o["truth"]) == 1]
+    scored = [o for o in single if o["ratio"] >= SCORED_FROM]
+    null = [o for o in outcomes if not o["truth"]]
+    pairs = [o for o in outcomes if len(o["truth"]) == 2]
+    named = [o for o in outcomes if o["named"]]
+
+    def rate(hits, cases):
+        return hits / len(cases) if cases else None
+
+    def median(values):
+        return statistics.median(values) if values else None
+
+    correct = sum(o["named"][:1] == o["truth"] for o in scored)
+    exact = sum(o["named"] == o["truth"] for o in scored)
+    false = sum(_named_label(o) != "none" for o in null)
+    right = sum(len(set(o["named"]) & set(o["truth"])) for o in pairs)
+    said = sum(len(o["named"]) for o in pairs)
+    wanted = sum(len(o["truth"]) for o in pairs)
+    harmed = sum(bool(o.get("harmed")) for o in named)
+    harmed_any = sum(bool(o.get("harmed_any")) for o in named)
+    failed = [o["id"] for o in outcomes if o.get("error")]
+    shrinks = [o["shrink"] for o in scored]
+    closed = [o["closed"] if o.get("closed") is not None else 0.0 for o in scored]
+    metrics = {
+        "top1": _metric("top1", rate(correct, scored), correct, len(scored)),
+        "exact": _metric("exact", rate(exact, scored), exact, len(scored)),
+        "false_attribution": _metric("false_attribution", rate(false, null), false, len(null)),
+        "set_precision": _metric("set_precision", right / said if said else None, right, said),
+        "set_recall": _metric("set_recall", right / wanted if wanted else None, right, wanted),
+        "median_shrink": _metric("median_shrink", median(shrinks), None, len(shrinks)),
+        "median_gap_closed": _metric("median_gap_closed", median(closed), None, len(closed)),
+        "median_shrink_pairs": _metric("median_shrink_pairs",
+                                       median([o["shrink"] for o in pairs]), None, len(pairs)),
+        "harm_rate": _metric("harm_rate", rate(harmed, named), harmed, len(named)),
+        "harm_any_channel": _metric("harm_any_channel", rate(harmed_any, named), harmed_any,
+                                    len(named)),
+    }
+    curve = []
+    for ratio in sorted({o["ratio"] for o in single}):
+        at = [o for o in single if o["ratio"] == ratio]
+        curve.append({"ratio": ratio, "cases": len(at),
+                      "top1": sum(o["named"][:1] == o["truth"] for o in at) / len(at),
+                      "median_shrink": statistics.median(o["shrink"] for o in at)})
+    truths = [e for e in effects if any(o["truth"] == [e] for o in single)] + ["none"]
+    columns = list(effects) + ["none", TIED, FAILED]
+    counts = [[0] * len(columns) for _ in truths]
+    for o in single + null:
+        row = truths.index(o["truth"][0] if o["truth"] else "none")
+        counts[row][columns.index(_named_label(o))] += 1
+    return {"metrics": metrics, "curve": curve, "failed": failed, "skipped": skipped,
+            "confusion": {"truths": truths, "named": columns, "counts": counts}}
+
+
+# --------------------------------------------------------------------------- the battery
+def _executor(workers: int | None, scheduler: str | None):
+    """A concurrent.futures executor: local processes, or a dask.distributed cluster's."""
+    if scheduler:
+        try:
+            from distributed import Client
+        except ImportError as error:
+            raise BlindCheckError("--scheduler needs dask.distributed: pip install "
+                                  "'certkit[cluster]'") from error
+        try:
+            client = Client(scheduler, timeout="20s")
+        except (OSError, TimeoutError) as error:
+            raise BlindCheckError(f"cannot reach the dask scheduler at {scheduler}: "
+                                  f"{error}") from error
+        return contextlib.closing(client), client.get_executor()
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    pool = ProcessPoolExecutor(max_workers=workers,
+                               mp_context=multiprocessing.get_context("spawn"))
+    return contextlib.nullcontext(), pool
+
+
+class BlindCheckError(RuntimeError):
+    """The battery cannot run (no cluster to run it on)."""
+
+
+def blind_check(template: str | Path, gear_id: str | None = None,
+                settings: Settings = Settings(), cases: list[Case] | None = None,
+                workers: int | None = None, scheduler: str | None = None,
+                progress: Callable[[dict], None] | None = None) -> dict:
+    """Run the blind check on ``template`` (a campaign spec path) and return its document:
+    settings, metrics against the targets, the curve, the confusion matrix and every case.
+
+    ``workers``: local processes (default: one per core); ``scheduler``: the address of a
+    dask.distributed scheduler to run the cases on instead (certkit installed on its
+    workers, the template readable at the same path; one thread per worker, since each
+    case sets the process's BLAS and numba threads to one).
+
+    Raises
+    ------
+    CertkitInputError
+        When the template cannot be diagnosed at all (no such gear unit, drops at one drop
+        height only, ...): checked before any case is simulated.
+    BlindCheckError
+        When the cluster cannot be reached.
+    """
+    from certkit import __version__
+    from certkit.spec.blind_record import code_fingerprint, template_fingerprint
+    from certkit.spec.campaign import load_campaign
+    from certkit.errors import CertkitInputError
+    from certkit.gap.holdout import split_for
+
+    template = str(Path(template).resolve())
+    campaign = load_campaign(template)
+    recorded = [g.id for g in campaign.spec.gear_units
+                if any(s is not None and g.id in s.gears for s in campaign.series.values())]
+    if gear_id is None and recorded:
+        gear_id = recorded[0]
+    if gear_id not in recorded:
+        raise CertkitInputError.single(
+            campaign.spec_path.name, None, "gear_units",
+            f"gear unit {gear_id} has no drop with time histories to simulate a blind check "
+            f"from; recorded: {', '.join(recorded) or 'none'}")
+    split_for(campaign, gear_id)     # the template itself must allow a diagnosis
+    cases = battery(settings) if cases is None else cases
+    outcomes = []
+    owner, pool = _executor(workers, scheduler)
+    with owner, pool:
+        futures = [pool.submit(run_case, template, gear_id, case, settings) for case in cases]
+        for future in futures:
+            outcomes.append(future.result())
+            if progress:
+                progress(outcomes[-1])
+    document = {"kind": "certkit blind check", "certkit": __version__,
+                "template": {"spec": Path(template).name,
+                             "sha256": template_fingerprint(campaign),
+                             "fingerprint": "SHA-256 of the spec's content as validated "
+                                            "(canonical JSON) without model.gap.blind_check",
+                             "code": code_fingerprint(),
+                             "gear": gear_id},
+                "command": f"certkit gap --blind-check {Path(template).name} -g {gear_id}",
+                "settings": {**{k: v for k, v in asdict(settings).items()
+                                if not isinstance(v, tuple) or k in ("ratios", "seeds")},
+                             "effects": list(settings.effects),
+                             "pairs": [list(p) for p in settings.pairs],
+                             "scored_from": SCORED_FROM, "cases": len(cases),
+                             "forms": {n: TRUTHS[n].form for n in settings.effects}}}
+    document.update(score(outcomes, settings.effects))
+    document["cases"] = outcomes
+    return document
+
+
+def write_blind_check(document: dict, folder: str | Path) -> None:
+    """``blind-check.json`` (the whole document) and ``blind-check-cases.csv`` (a row per
+    case: truth, size, what was named, held-out load RMSE before and after)."""
+    import csv
+    import json
+
+    folder = Path(folder)
+    text = json.dumps(document, indent=1, sort_keys=True, ensure_ascii=False) + "\n"
+    (folder / "blind-check.json").write_text(text, encoding="utf-8")
+    with (folder / "blind-check-cases.csv").open("w", encoding="utf-8", newline="") as handle:
+        writer = csv.writer(handle, lineterminator="\n")
+        writer.writerow(["case", "truth", "effect/noise", "seed", "named", "statement",
+                         "held-out load RMSE before [N]", "after [N]", "shrink [%]"])
+        for o in document["cases"]:
+            writer.writerow([o["id"], " + ".join(o["truth"]) or "none",
+                             "" if o["ratio"] is None else f"{o['ratio']:g}", o["seed"],
+                             " + ".join(o["named"]) or "none", o["statement"],
+                             "" if o["before"] is None else f"{o['before']:.6g}",
+                             "" if o["after"] is None else f"{o['after']:.6g}",
+                             f"{100 * o['shrink']:.4g}"])

@@ -1,0 +1,499 @@
+"""Identification of block-oriented models of each gear unit from its drop runs.
+
+Input the platform's vertical load [kN], outputs the strut stroke and the tyre deflection
+[mm], one SISO model per output, as in the seed paper (§3-§5), each starting at
+touchdown.  Models: Hammerstein LS-SVM (:mod:`certkit.ident.hammerstein`), Wiener by the
+seed's small-signal method and by the best linear approximation (:mod:`certkit.ident.wiener`,
+the plant being the gear's calibrated drop model driven by a prescribed ground load),
+LS-SVM NARX (:mod:`certkit.ident.lssvm`), and the governing equations, nominal and calibrated.
+
+Two validation protocols:
+
+* the seed paper's: train on the first 200 samples (0.2 s) after touchdown of a run and
+  simulate that whole run (0-1 s): in-sample for its first fifth, and it is what the paper did;
+* the honest one: train and tune on some drop heights, simulate the held-out highest
+  drop in free run; the held-out run is used for nothing else (calibration included).
+
+Every figure is a free-run simulation (only the input and, for the models that need one,
+an initialisation window of na measured samples); one-step-ahead prediction errors are
+reported separately and labelled.
+
+Identification runs at one sample rate, :data:`MODEL_RATE` (1 kHz, the seed paper's
+logger).  The models' lag orders (na, nb), the initialisation window, the whiteness lags
+and the Wiener plant's records count samples at that rate, so every record logged at
+another rate is first resampled to it (:func:`at_model_rate`): the same drops logged at
+2 kHz or at 1 kHz then give the same regressors, with lags that span the same time.
+Left as they are, the spec's orders (the seed's 6/4) would span half the time at 2 kHz;
+scaled with the rate, they would double the regressor (and the LS-SVM kernel's input
+dimension), which makes other models, not the same ones.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from threadpoolctl import threadpool_limits
+
+from certkit.spec.campaign import Campaign
+from certkit.display import with_unit
+from certkit.ident.hammerstein import HammersteinLSSVM
+from certkit.ident.lssvm import (NARX, LSSVMRegressor, fit_percent, kfold_cost, max_abs_error, nrmse,
+                    residual_analysis, rmse, tune)
+from certkit.compliance.measures import touchdown_index, touchdown_time
+from certkit.spec.rundata import CHANNEL_LABELS
+from certkit.units import STANDARD_GRAVITY
+from certkit.ident.wiener import (SmallSignalExperiment, WienerModel, best_linear_records, physics_plant,
+                     small_signal_records)
+
+#: How reports and the terminal name the validation protocols (Score.protocol).
+PROTOCOL_NAMES = {"paper": "short training", "held-out": "held-out"}
+OUTPUTS = ("stroke", "tyre")
+OUTPUT_LABELS = {name: CHANNEL_LABELS[name] for name in OUTPUTS}
+#: Sample rate every model is identified at [Hz]: the seed paper's logger rate, at which its
+#: orders were chosen.  Records at another rate are resampled to it (:func:`at_model_rate`).
+MODEL_RATE = 1000.0
+WINDOW_DURATION = 1.0           # s from touchdown (the paper's figures: 0-1 s)
+PAPER_TRAINING_DURATION = 0.2   # s: the paper's "initial 200 data points" at its 1 kHz
+PLANT_DURATION = 2.0            # s: each record of the Wiener plant (small-signal, BLA)
+WINDOW = round(WINDOW_DURATION * MODEL_RATE)                    # samples at MODEL_RATE
+PAPER_TRAINING = round(PAPER_TRAINING_DURATION * MODEL_RATE)    # samples at MODEL_RATE
+PLANT_SAMPLES = round(PLANT_DURATION * MODEL_RATE)              # samples at MODEL_RATE
+WHITENESS_LAGS = 25     # residual correlation lags at MODEL_RATE (identification.md §1.5)
+WHITENESS_CONFIDENCE = 0.99
+
+
+@dataclass(frozen=True)
+class Drop:
+    run: str
+    load: np.ndarray        # kN, from touchdown, at MODEL_RATE
+    outputs: dict           # output -> mm, from touchdown, at MODEL_RATE
+    time: np.ndarray = field(repr=False, compare=False)  # s from the touchdown instant
+
+
+#: Anti-alias low-pass applied before a record is brought down to MODEL_RATE: Butterworth,
+#: run forward and backward (no delay), cut-off a share of MODEL_RATE below its Nyquist
+#: frequency (drop dynamics lie below about 100 Hz).
+ANTI_ALIAS_ORDER = 8
+ANTI_ALIAS_CUTOFF = 0.4     # × MODEL_RATE
+#: Rates within this relative distance of MODEL_RATE are taken as MODEL_RATE (no resampling).
+RATE_MATCH = 1e-6
+
+
+def at_model_rate(time: np.ndarray, channels: dict) -> tuple[np.ndarray, dict]:
+    """A record's channels at :data:`MODEL_RATE`, on a grid starting at its first sample.
+
+    The rate is the time column's (``1/median(Δt)``; certkit's reader has checked it
+    against the declared ``sampling_rate``).  A record already at MODEL_RATE is returned
+    as it is.  Otherwise: a faster record is low-passed first (:data:`ANTI_ALIAS_ORDER`-th
+    order Butterworth at :data:`ANTI_ALIAS_CUTOFF`·MODEL_RATE, zero phase), and every
+    channel is interpolated on the MODEL_RATE grid by a cubic spline in time.
+    """
+    from scipy.interpolate import CubicSpline
+    from scipy.signal import butter, sosfiltfilt
+
+    time = np.asarray(time, dtype=float)
+    rate = 1.0 / float(np.median(np.diff(time)))
+    if abs(rate / MODEL_RATE - 1.0) <= RATE_MATCH:
+        return time, channels
+    grid = time[0] + np.arange(int(np.floor((time[-1] - time[0]) * MODEL_RATE)) + 1) / MODEL_RATE
+    low_pass = (butter(ANTI_ALIAS_ORDER, ANTI_ALIAS_CUTOFF * MODEL_RATE, fs=rate, output="sos")
+                if rate > MODEL_RATE else None)
+    resampled = {}
+    for name, values in channels.items():
+        if values is None:
+            resampled[name] = None
+            continue
+        values = np.asarray(values, dtype=float)
+        if low_pass is not None:
+            values = sosfiltfilt(low_pass, values)
+        resampled[name] = CubicSpline(time, values)(grid)
+    return grid, resampled
+
+
+@dataclass(frozen=True)
+class Score:
+    """One model's free-run error on one run and output."""
+
+    model: str
+    protocol: str
+    output: str
+    run: str
+    rmse: float             # mm
+    nrmse: float
+    fit: float              # %
+    max_error: float        # mm
+    simulated: np.ndarray = field(repr=False, compare=False)
+
+
+@dataclass
+class GearIdentification:
+    gear_id: str
+    training: tuple[str, ...]
+    held_out: tuple[str, ...]       # the first is the paper protocol's run
+    scores: list = field(default_factory=list)           # Score
+    one_step: list = field(default_factory=list)         # (model, output, run, rmse mm)
+    whiteness: list = field(default_factory=list)        # (model, output, dict)
+    linear_blocks: dict = field(default_factory=dict)    # (route, output) -> ARX
+    nonlinearities: dict = field(default_factory=dict)   # (model, output) -> (x, f(x))
+    small_signal: dict = field(default_factory=dict)     # output -> steps
+    hammerstein_ratio: dict = field(default_factory=dict)
+    measured: dict = field(default_factory=dict)         # run -> Drop
+    notes: list = field(default_factory=list)
+
+
+@dataclass
+class Identification:
+    gears: list
+    plant_note: str
+    #: why a gear unit was not identified (runs too short, too few drops), in words
+    skipped: list = field(default_factory=list)
+
+
+
+def _drops(campaign: Campaign, gear_id: str, unused: list | None = None) -> list[Drop]:
+    """The drops of ``gear_id`` the models are fitted on; why a recorded run is not one of
+    them is appended to ``unused``."""
+    weight = campaign.gear_units[gear_id].static_weight.si
+    drops = []
+    unused = [] if unused is None else unused
+    for run in campaign.spec.runs:
+        series = campaign.series.get(run.id)
+        if series is None or gear_id not in series.gears or run.test_type == "small-signal":
+            continue
+        gear = series.gears[gear_id]
+        if gear.stroke is None or gear.tyre is None:
+            unused.append(f"run {run.id} records no stroke or no tyre deflection")
+            continue
+        time, channels = at_model_rate(series.time, {"load": gear.load, "stroke": gear.stroke,
+                                                     "tyre": gear.tyre})
+        start = touchdown_index(channels["load"], weight)
+        # the touchdown instant of the record as logged, which the drop model is aligned on
+        found = touchdown_time(series.time, gear.load, weight)
+        if start is None or found is None:
+            unused.append(f"run {run.id} shows no touchdown")
+            continue
+        if start + WINDOW > time.size:
+            unused.append(f"run {run.id} has {(time.size - start) / MODEL_RATE:.3g} s recorded "
+                          f"after touchdown, identification needs {WINDOW_DURATION:g} s")
+            continue
+        contact, _ = found
+        window = slice(start, start + WINDOW)
+        drops.append(Drop(run.id, channels["load"][window] / 1e3,
+                          {"stroke": channels["stroke"][window] * 1e3,
+                           "tyre": channels["tyre"][window] * 1e3}, time[window] - contact))
+    return drops
+
+
+#: Every model is scored from this sample on: the Hammerstein and NARX free runs copy their
+#: first measured samples (the initialisation window), which must not count.
+SCORED_FROM = 10
+
+
+def _score(name: str, protocol: str, output: str, run: str, measured, simulated) -> Score:
+    y, y_hat = np.asarray(measured)[SCORED_FROM:], np.asarray(simulated)[SCORED_FROM:]
+    return Score(name, protocol, output, run, rmse(y, y_hat), nrmse(y, y_hat),
+                 fit_percent(y, y_hat), max_abs_error(y, y_hat), np.asarray(simulated))
+
+
+def _static_map(settings, target: float):
+    """Steps 8-9: LS-SVM regression y = f(z); (γ, σ²) from the spec, or tuned by 4-fold
+    cross-validation on a shuffled (seeded) subsample of the training data: a grid, then a
+    refinement only while the cross-validated RMSE is above ``target`` [mm] (step 9)."""
+    def fit(x: np.ndarray, y: np.ndarray) -> LSSVMRegressor:
+        gamma, sigma2 = settings.gamma, settings.sigma2
+        if gamma is None or sigma2 is None:
+            order = np.random.default_rng(0).permutation(x.shape[0])[:300]
+            scale = float(np.var(x)) or 1.0
+            cost = kfold_cost(lambda g, s: LSSVMRegressor(g, s), x[order], y[order], folds=4)
+            ranges = {"gamma": gamma.si if gamma else (1e0, 1e7),
+                      "sigma2": sigma2.si if sigma2 else (1e-3 * scale, 10 * scale)}
+            result = tune(cost, grid=5, refine=False, **ranges)
+            if np.sqrt(result.cost) > target:
+                start = (result.gamma, result.sigma2)
+                result = tune(cost, grid=5, start=start, max_refine=15, **ranges)
+            return LSSVMRegressor(result.gamma, result.sigma2).fit(x, y)
+        return LSSVMRegressor(gamma.si, sigma2.si).fit(x, y)
+    return fit
+
+
+def _hammerstein(train: list[Drop], output: str, settings) -> HammersteinLSSVM:
+    """Hammerstein LS-SVM; (γ, σ²) from the spec, or tuned on free-run error: each training
+    run simulated by a model fitted on the others, or with one training run, its second
+    half simulated by a model fitted on its first half."""
+    na, nb = settings.na, settings.nb
+    if len(train) > 1:
+        folds = [([d for d in train if d is not held], held, 0) for held in train]
+    else:
+        half = train[0].load.size // 2
+        first = Drop(train[0].run, train[0].load[:half], {output: train[0].outputs[output][:half]},
+                     train[0].time[:half])
+        folds = [([first], train[0], half)]
+
+    def cost(gamma: float, sigma2: float) -> float:
+        total = 0.0
+        for fit_on, test_on, scored_from in folds:
+            model = HammersteinLSSVM(na, nb, gamma=gamma, sigma2=sigma2)
+            try:
+                model.fit([d.load for d in fit_on], [d.outputs[output] for d in fit_on])
+            except (ValueError, np.linalg.LinAlgError):
+                return float("inf")
+            if not model.stable_:
+                return float("inf")   # an unstable AR part is no candidate
+            y = test_on.outputs[output]
+            simulated = model.simulate(test_on.load, y[:na])
+            if not np.all(np.isfinite(simulated)):
+                return float("inf")
+            total += nrmse(y[scored_from:], simulated[scored_from:])
+        return total
+
+    gamma, sigma2 = settings.gamma, settings.sigma2
+    if gamma is None or sigma2 is None:
+        result = tune(cost, gamma=gamma.si if gamma else (1e1, 1e6),
+                      sigma2=sigma2.si if sigma2 else (1e-1, 1e3), grid=3, max_refine=6)
+        gamma_value, sigma2_value = result.gamma, result.sigma2
+    else:
+        gamma_value, sigma2_value = gamma.si, sigma2.si
+    model = HammersteinLSSVM(na, nb, gamma=gamma_value, sigma2=sigma2_value)
+    return model.fit([d.load for d in train], [d.outputs[output] for d in train])
+
+
+def _refit(model, train: list[Drop], output: str):
+    """The same model class and hyper-parameters fitted to other data (the paper's
+    protocol reuses what was tuned on the training runs)."""
+    return model.fit([d.load for d in train], [d.outputs[output] for d in train])
+
+
+def _governing_equation(campaign: Campaign, gear_id: str, result: GearIdentification,
+                        held: list[Drop]):
+    """Nominal and calibrated (on the training runs only) drop models on the held-out runs;
+    returns the calibrated model of the first held-out run (the Wiener plant), or None."""
+    from certkit.physics.calibration import calibrate_gear, simulate_like_runs
+    from certkit.errors import CertkitInputError
+    from certkit.physics.gear_model import drop_model_for
+
+    try:
+        calibration = calibrate_gear(campaign, gear_id, run_ids=list(result.training))
+    except CertkitInputError as error:
+        result.notes.append("governing equation not simulated: " + "; ".join(
+            p.message for p in error.problems))
+        return None
+    for name, configure in (("governing equation, nominal", lambda m: m),
+                            ("governing equation, calibrated", calibration.apply)):
+        simulated = simulate_like_runs(campaign, gear_id, configure, [d.run for d in held])
+        for drop in held:
+            run = simulated[drop.run]   # on the logged samples from the touchdown instant
+            for output in OUTPUTS:
+                values = np.interp(drop.time, run["time"], run[output]) * 1e3
+                result.scores.append(_score(name, "held-out", output, drop.run,
+                                            drop.outputs[output], values))
+    run = next(r for r in campaign.spec.runs if r.id == held[0].run)
+    return calibration.apply(drop_model_for(campaign.spec, run, gear_id))
+
+
+def _recorded_small_signal(campaign: Campaign, gear_id: str):
+    """A recorded small-signal run of the gear: (run id, load deviation [N], outputs' [m])."""
+    for run in campaign.spec.runs:
+        series = campaign.series.get(run.id)
+        if run.test_type != "small-signal" or series is None or gear_id not in series.gears:
+            continue
+        gear = series.gears[gear_id]
+        if gear.stroke is None or gear.tyre is None:
+            continue
+        _, channels = at_model_rate(series.time, {"load": gear.load, "stroke": gear.stroke,
+                                                  "tyre": gear.tyre})
+        centred = {name: values - values.mean() for name, values in channels.items()}
+        return run.id, centred.pop("load"), centred
+    return None
+
+
+def _whiteness(result, name, output, test, predicted):
+    y = test.outputs[output]
+    result.one_step.append((name, output, test.run, rmse(y, predicted)))
+    result.whiteness.append((name, output, residual_analysis(
+        y - predicted, test.load, max_lag=WHITENESS_LAGS, confidence=WHITENESS_CONFIDENCE)))
+
+
+def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None:
+    """Identify and validate every model of ``gear_id``; None without two usable runs.
+
+    Orders, hyper-parameters, the held-out runs and the small-signal settings come from
+    the spec's ``model.identification`` (defaults: the seed's orders, everything tuned,
+    the highest drop held out)."""
+    units = campaign.spec.report.units
+    settings = campaign.spec.model.identification
+    drops = _drops(campaign, gear_id)
+    if len(drops) < 2:
+        return None
+    heights = {r.id: r.drop_height.si for r in campaign.spec.runs}
+    drops.sort(key=lambda d: heights[d.run])
+    held = ([d for d in drops if d.run in settings.held_out] if settings.held_out
+            else [drops[-1]])
+    held.sort(key=lambda d: -heights[d.run])
+    train = [d for d in drops if d not in held]
+    if not held or not train:
+        return None
+    result = GearIdentification(gear_id, tuple(d.run for d in train),
+                                tuple(d.run for d in held), measured={d.run: d for d in drops})
+    plant_model = _governing_equation(campaign, gear_id, result, held)
+    first = held[0]   # the paper's protocol: the first 200 samples of the highest held-out drop
+    paper_train = Drop(first.run, first.load[:PAPER_TRAINING],
+                       {k: v[:PAPER_TRAINING] for k, v in first.outputs.items()},
+                       first.time[:PAPER_TRAINING])
+    recorded = _recorded_small_signal(campaign, gear_id)
+    plant = (physics_plant(plant_model, PLANT_SAMPLES, MODEL_RATE) if plant_model is not None
+             else None)
+    grid = np.linspace(0.0, max(d.load.max() for d in drops), 200)
+    for output in OUTPUTS:
+        # Hammerstein: tuned on the training runs only, for both protocols
+        tuned = _hammerstein(train, output, settings.hammerstein)
+        paper = _refit(HammersteinLSSVM(settings.hammerstein.na, settings.hammerstein.nb,
+                                        gamma=tuned.gamma, sigma2=tuned.sigma2),
+                       [paper_train], output)
+        na = settings.hammerstein.na
+        for protocol, model in (("held-out", tuned), ("paper", paper)):
+            if not model.stable_:
+                result.notes.append(
+                    f"{OUTPUT_LABELS[output]}, {protocol} protocol: the Hammerstein model's AR "
+                    f"part is unstable (largest |pole| {np.max(np.abs(model.poles_)):.4g}); "
+                    f"its free run diverges, so it is not scored")
+                continue
+            for test in (held if protocol == "held-out" else [first]):
+                y = test.outputs[output]
+                result.scores.append(_score("Hammerstein", protocol, output, test.run, y,
+                                            model.simulate(test.load, y[:na])))
+                if protocol == "held-out":
+                    _whiteness(result, "Hammerstein", output, test, model.predict(test.load, y))
+        result.hammerstein_ratio[output] = tuned.singular_value_ratio_
+        result.nonlinearities[("Hammerstein", output)] = (grid, tuned.nonlinearity(grid))
+
+        # NARX (black-box reference), tuned on the training runs' free-run error
+        spec = settings.narx
+        tuned_narx = NARX(spec.na, spec.nb, 1, spec.gamma.si if spec.gamma else None,
+                          spec.sigma2.si if spec.sigma2 else None, engine="fixed-size",
+                          prototypes=150, tuning={"grid": 3, "max_refine": 8}).fit(
+            [d.load for d in train], [d.outputs[output] for d in train])
+        paper_narx = _refit(NARX(spec.na, spec.nb, 1, tuned_narx.gamma_, tuned_narx.sigma2_,
+                                 engine="fixed-size", prototypes=150), [paper_train], output)
+        for test in held:
+            y = test.outputs[output]
+            result.scores.append(_score("NARX", "held-out", output, test.run, y,
+                                        tuned_narx.simulate(test.load, y[:tuned_narx.init_length])))
+            _whiteness(result, "NARX", output, test, tuned_narx.predict(test.load, y))
+        y = first.outputs[output]
+        result.scores.append(_score("NARX", "paper", output, first.run, y,
+                                    paper_narx.simulate(first.load, y[:paper_narx.init_length])))
+
+        # Wiener: the linear block from small-signal records, the nonlinearity from drops
+        routes = {}
+        small = settings.small_signal
+        if recorded is not None:
+            run_id, force, outputs = recorded
+            routes["Wiener (small-signal)"] = SmallSignalExperiment(
+                force=[force], responses={output: [outputs[output]]}, accepted=True)
+            result.notes.append(f"{OUTPUT_LABELS[output]}: the small-signal Wiener block comes "
+                                f"from recorded run {run_id}; with one record the K-scaling "
+                                f"linearity check cannot be made")
+        elif plant is not None:
+            experiment = small_signal_records(plant, [output], PLANT_SAMPLES, MODEL_RATE,
+                                              amplitude=small.amplitude.si, gain=small.gain.si,
+                                              tolerance=small.tolerance.si)
+            result.small_signal[output] = experiment.steps
+            if experiment.accepted:
+                routes["Wiener (small-signal)"] = experiment
+                friction = plant_model.effect("seal friction")
+                accepted = max(step.amplitude for step in experiment.steps if step.accepted)
+                if friction is not None and output == "stroke":
+                    breakout = friction.constant + friction.pressure_factor * (
+                        plant_model.upper_mass * STANDARD_GRAVITY)
+                    if 3.0 * accepted < breakout:
+                        result.notes.append(
+                            f"strut stroke: the small-signal force accepted as linear "
+                            f"({with_unit(accepted, 'force', units)} RMS) stays below the seal "
+                            f"friction's breakout (about {with_unit(breakout, 'force', units)}): "
+                            f"the linear block describes the strut "
+                            f"held by its seals, not its dynamics in a drop")
+            else:
+                result.notes.append(f"{OUTPUT_LABELS[output]}: the small-signal method found no "
+                                    f"amplitude with a linear response; no small-signal Wiener "
+                                    f"model")
+        if plant is not None:
+            amplitude = float(np.sqrt(np.mean(np.concatenate([d.load for d in train]) ** 2)))
+            routes["Wiener (BLA)"] = best_linear_records(plant, [output], PLANT_SAMPLES,
+                                                         MODEL_RATE, amplitude=amplitude * 1e3)
+        target = settings.nonlinearity_target.si * 1e3
+        for name, records in routes.items():
+            wiener = WienerModel(settings.wiener.na, settings.wiener.nb).fit_linear(
+                [f / 1e3 for f in records.force], [r * 1e3 for r in records.responses[output]])
+            result.linear_blocks[(name, output)] = wiener.raw_linear_
+            if not wiener.raw_linear_.stable_:
+                result.notes.append(f"{OUTPUT_LABELS[output]}: the {name} linear block is "
+                                    f"unstable; no Wiener model on this route")
+                continue
+            if not wiener.raw_linear_.gain_determined:
+                result.notes.append(f"{OUTPUT_LABELS[output]}: the {name} linear block's static "
+                                    f"gain is not determined (Σb or 1 − Σa near zero); it is "
+                                    f"scaled to unit ‖b‖ instead of unit gain")
+            wiener.fit_nonlinearity([d.load for d in train], [d.outputs[output] for d in train],
+                                    _static_map(settings.wiener, target))
+            z_grid = np.linspace(*wiener.z_range_, 200)
+            result.nonlinearities[(name, output)] = (
+                z_grid, wiener.nonlinearity_.predict(z_grid[:, None]))
+            for test in held:
+                result.scores.append(_score(name, "held-out", output, test.run,
+                                            test.outputs[output], wiener.simulate(test.load)))
+            fitted = wiener.nonlinearity_   # the paper's protocol reuses the tuned (γ, σ²)
+            wiener.fit_nonlinearity([paper_train.load], [paper_train.outputs[output]],
+                                    lambda x, y: LSSVMRegressor(fitted.gamma, fitted.sigma2).fit(x, y))
+            result.scores.append(_score(name, "paper", output, first.run,
+                                        first.outputs[output], wiener.simulate(first.load)))
+    return result
+
+
+def identify(campaign: Campaign, gears: list[str] | None = None) -> Identification:
+    """Every gear unit (or ``gears``) with at least two recorded drops."""
+    spec = campaign.spec
+    small_signal = [r.id for r in spec.runs if r.test_type == "small-signal"]
+    plant_note = (
+        "The campaign has no small-signal run, so the Wiener routes' plant is the gear's drop "
+        "model calibrated on the training runs, driven by a prescribed ground load (the tyre "
+        "contact replaced by the applied force) around its resting point."
+        if not small_signal else
+        f"Small-signal run(s) {', '.join(small_signal)} recorded: the small-signal Wiener "
+        f"blocks come from them; the best-linear-approximation route still uses the "
+        f"calibrated drop model as its plant.")
+    chosen = [u.id for u in spec.gear_units if gears is None or u.id in gears]
+    # one BLAS thread: the results must not depend on the machine's core count
+    with threadpool_limits(limits=1):
+        found = [g for g in (identify_gear(campaign, gear_id) for gear_id in chosen) if g]
+    skipped = []
+    for gear_id in chosen:
+        if any(g.gear_id == gear_id for g in found):
+            continue
+        unused: list[str] = []
+        usable = _drops(campaign, gear_id, unused)
+        if unused or usable:
+            skipped.append(f"{gear_id}: {len(usable)} usable drop(s), two needed"
+                           + (f" ({'; '.join(unused)})" if unused else ""))
+    return Identification(found, plant_note, skipped)
+
+
+def identification_document(identification) -> dict | None:
+    """Plain, JSON-ready summary: free-run and one-step errors, linear blocks, notes."""
+    if identification is None:
+        return None
+    return {"plant": identification.plant_note, "gear_units": [
+        {"gear_unit": g.gear_id, "training": list(g.training), "held_out": list(g.held_out),
+         "free_run": [{"model": x.model, "protocol": x.protocol, "output": x.output,
+                       "run": x.run, "rmse_mm": x.rmse, "nrmse": x.nrmse, "fit_percent": x.fit,
+                       "max_error_mm": x.max_error} for x in g.scores],
+         "one_step": [{"model": m, "output": o, "run": r, "rmse_mm": v}
+                      for m, o, r, v in g.one_step],
+         "linear_blocks": [{"route": route, "output": output, "a": arx.a_.tolist(),
+                            "b": arx.b_.tolist(),
+                            "static_gain_mm_per_kN": (arx.static_gain_ if np.isfinite(
+                                arx.static_gain_) else None),
+                            "stable": arx.stable_}
+                           for (route, output), arx in g.linear_blocks.items()],
+         "hammerstein_singular_value_ratio": g.hammerstein_ratio, "notes": g.notes}
+        for g in identification.gears]}

@@ -1,0 +1,464 @@
+"""Calibrating the drop model of each gear unit against the campaign's measured runs.
+
+For one gear unit, the chosen parameters are fitted to every run that records it, jointly
+(all drop heights at once), by bounded least squares on normalised residuals of all its
+recorded channels (:func:`certkit.physics.fitting.fit`).  The simulation is the batched fast path
+at a step fixed for the whole fit, so the residuals are a smooth function of the
+parameters and a finite-difference Jacobian is one batched call.
+
+Alignment: the measured and the simulated load go through the same touchdown detector
+(:func:`certkit.compliance.measures.touchdown_time`), and the simulation is shifted so the two
+touchdowns coincide.  Each run starts from its contact velocity, measured from the
+drop-mass displacement when the run records it, else the ideal √(2·g·h).
+
+Residuals of a channel are divided by the measured channel's range over the run, so load
+and travel weigh alike; the standard errors then follow from the scatter of those
+residuals.  Model-error residuals are correlated in time, so the standard errors are
+lower bounds on the real uncertainty.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from certkit.spec.campaign import Campaign
+from certkit.compliance.clauses import ideal_impact_velocity
+from certkit.physics.drop_model import DropModel
+from certkit.errors import CertkitInputError
+from certkit.physics.fitting import FitParameter, FitResult, fit
+from certkit.physics.gear_model import drop_model_for
+from certkit.compliance.measures import contact_velocity, touchdown_time
+from certkit.physics.simulation import batch_step, simulate_batch
+
+CHANNELS = ("load", "stroke", "tyre")
+CHANNEL_UNITS = {"load": "N", "stroke": "m", "tyre": "m"}
+
+
+# --------------------------------------------------------------------------- the knobs
+@dataclass(frozen=True)
+class Knob:
+    """A model parameter calibration may move: how to read and set it, and its bounds."""
+
+    name: str
+    label: str
+    unit: str
+    read: Callable[[DropModel], float]
+    write: Callable[[DropModel, float], DropModel]
+    bounds: Callable[[float], tuple[float, float]]
+    needs: str | None = None   # the effect that must be on for this knob to exist
+
+
+def _set_term(model: DropModel, attribute: str, **values) -> DropModel:
+    return replace(model, **{attribute: replace(getattr(model, attribute), **values)})
+
+
+def _set_effect(model: DropModel, name: str, **values) -> DropModel:
+    effects = tuple(replace(e, **values) if e.name == name else e for e in model.effects)
+    return replace(model, effects=effects)
+
+
+def _set_discharge(model: DropModel, value: float) -> DropModel:
+    """One C_d for every orifice: the nominal one, the metering pin and the rebound orifice
+    (K ∝ 1/C_d², so the rebound orifice's excess scales with it)."""
+    old = model.orifice.discharge
+    model = _set_term(model, "orifice", discharge=value)
+    for effect in model.effects:
+        if effect.name == "metering pin":
+            model = _set_effect(model, "metering pin", discharge=value)
+        if effect.name == "rebound orifice":
+            model = _set_effect(model, "rebound orifice",
+                                extra_coefficient=effect.extra_coefficient * (old / value) ** 2)
+    return model
+
+
+def _relative(low: float, high: float):
+    return lambda nominal: (low * nominal, high * nominal)
+
+
+def _absolute(low: float, high: float):
+    return lambda nominal: (min(low, nominal), max(high, nominal))
+
+
+KNOBS: dict[str, Knob] = {knob.name: knob for knob in [
+    Knob("discharge-coefficient", "discharge coefficient C_d (all orifices)", "1",
+         lambda m: m.orifice.discharge, _set_discharge, _absolute(0.2, 1.2)),
+    Knob("gas-precharge", "gas pre-charge p_a0 (absolute)", "Pa",
+         lambda m: m.gas.precharge, lambda m, v: _set_term(m, "gas", precharge=v),
+         _relative(0.5, 1.5)),
+    Knob("gas-volume", "gas volume V0", "m^3",
+         lambda m: m.gas.volume, lambda m, v: _set_term(m, "gas", volume=v),
+         _relative(0.8, 1.3)),
+    Knob("polytropic-exponent", "polytropic exponent n", "1",
+         lambda m: m.gas.exponent, lambda m, v: _set_term(m, "gas", exponent=v),
+         _absolute(1.0, 1.4)),
+    Knob("tyre-stiffness", "tyre load F_ref at δ_ref", "N",
+         lambda m: m.tyre.reference_load, lambda m, v: _set_term(m, "tyre", reference_load=v),
+         _relative(0.5, 2.0)),
+    Knob("tyre-exponent", "tyre exponent b", "1",
+         lambda m: m.tyre.exponent, lambda m, v: _set_term(m, "tyre", exponent=v),
+         _absolute(1.0, 2.0)),
+    Knob("tyre-damping", "tyre damping C_T", "s/m",
+         lambda m: m.tyre.damping, lambda m, v: _set_term(m, "tyre", damping=v),
+         _absolute(0.0, 0.5)),
+    Knob("friction", "seal friction F_0", "N",
+         lambda m: m.effect("seal friction").constant,
+         lambda m, v: _set_effect(m, "seal friction", constant=v),
+         lambda nominal: (0.0, max(4.0 * nominal, 500.0)), needs="seal friction"),
+    Knob("friction-pressure-factor", "pressure-energised friction μ", "1",
+         lambda m: m.effect("seal friction").pressure_factor,
+         lambda m, v: _set_effect(m, "seal friction", pressure_factor=v), _absolute(0.0, 0.2),
+         needs="seal friction"),
+    Knob("rebound-damping", "rebound damping excess K_reb − K_h", "N*s^2/m^2",
+         lambda m: m.effect("rebound orifice").extra_coefficient,
+         lambda m, v: _set_effect(m, "rebound orifice", extra_coefficient=v),
+         lambda nominal: (0.0, max(10.0 * nominal, 1.0)), needs="rebound orifice"),
+]}
+
+#: Calibrated unless the spec chooses: the gas law, the orifice and the tyre's stiffness,
+#: and the friction level when seal friction is on.
+DEFAULT_KNOBS = ("discharge-coefficient", "gas-precharge", "polytropic-exponent",
+                 "tyre-stiffness", "friction")
+
+
+# --------------------------------------------------------------------------- results
+@dataclass(frozen=True)
+class ChannelError:
+    """RMSE of one channel of one run, nominal and calibrated model (SI)."""
+
+    run: str
+    channel: str
+    unit: str
+    nominal: float
+    calibrated: float
+    measured_range: float
+
+
+@dataclass(frozen=True)
+class Trace:
+    """Measured, nominal and calibrated histories of one channel of one run (SI)."""
+
+    run: str
+    channel: str
+    time: np.ndarray          # from the measured touchdown [s]
+    measured: np.ndarray
+    nominal: np.ndarray
+    calibrated: np.ndarray
+
+
+@dataclass(frozen=True)
+class GearCalibration:
+    gear_id: str
+    runs: tuple[str, ...]
+    knobs: tuple[Knob, ...]
+    fit: FitResult
+    errors: tuple[ChannelError, ...]
+    traces: tuple[Trace, ...]
+    contact_velocities: dict       # run id -> (velocity [m/s], source)
+    step: float                    # RK4 step of the final simulations [s]
+    nominal_model: DropModel
+    calibrated_model: DropModel
+
+    def apply(self, model: DropModel) -> DropModel:
+        """``model`` (of this gear, any run) with the calibrated values."""
+        for knob, value in zip(self.knobs, self.fit.estimate):
+            model = knob.write(model, float(value))
+        return model
+
+
+@dataclass(frozen=True)
+class Calibration:
+    effects: tuple[str, ...]
+    gears: tuple[GearCalibration, ...]
+
+
+# --------------------------------------------------------------------------- the fit
+@dataclass
+class _Run:
+    run_id: str
+    model: DropModel           # nominal model of this gear in this run
+    velocity: float
+    velocity_source: str
+    time: np.ndarray           # measured sample times from the measured touchdown
+    channels: dict             # channel -> measured values on ``time``
+    scales: dict               # channel -> measured range
+    level: float               # touchdown threshold used on the measured load
+    duration: float
+
+
+def _runs_for(campaign: Campaign, gear_id: str, effects, run_ids) -> list[_Run]:
+    spec = campaign.spec
+    unit = campaign.gear_units[gear_id]
+    weight = unit.static_weight.si
+    chosen = []
+    for run in spec.runs:
+        if run_ids is not None and run.id not in run_ids:
+            continue
+        series = campaign.series.get(run.id)
+        if series is None or gear_id not in series.gears or run.test_type == "small-signal":
+            continue
+        gear = series.gears[gear_id]
+        found = touchdown_time(series.time, gear.load, weight)
+        if found is None:
+            continue
+        t_contact, level = found
+        model = drop_model_for(spec, run, gear_id, campaign.spec_path.name, campaign.lines,
+                               effects)
+        velocity, source = None, "ideal √(2·g·h) from the drop height"
+        if series.displacement is not None:
+            velocity = contact_velocity(series.time, series.displacement, t_contact)
+            source = "from the recorded drop-mass displacement before touchdown"
+        if velocity is None:
+            velocity, source = ideal_impact_velocity(run.drop_height.si), \
+                "ideal √(2·g·h) from the drop height"
+        after = series.time >= t_contact
+        channels = {"load": gear.load[after]}
+        if gear.stroke is not None:
+            channels["stroke"] = gear.stroke[after]
+        if gear.tyre is not None:
+            channels["tyre"] = gear.tyre[after]
+        time = series.time[after] - t_contact
+        scales = {name: float(np.ptp(values)) or 1.0 for name, values in channels.items()}
+        chosen.append(_Run(run.id, model, float(velocity), source, time, channels, scales,
+                           level, float(time[-1]) + 0.01))
+    return chosen
+
+
+def _simulated(runs: list[_Run], models: list[DropModel], step: float, rate: float) -> list[dict]:
+    """Simulate each (run, model) pair; channels aligned on the measured touchdown."""
+    duration = max(r.duration for r in runs)
+    drops = simulate_batch(models, [r.velocity for r in runs], duration=duration,
+                           sample_rate=rate, step=step)
+    out = []
+    for index, run in enumerate(runs):
+        load = drops.load[index]
+        found = touchdown_time(drops.time, load, None, level=run.level)
+        shift = found[0] if found is not None else 0.0
+        at = run.time + shift
+        out.append({"load": np.interp(at, drops.time, load),
+                    "stroke": np.interp(at, drops.time, drops.stroke[index]),
+                    "tyre": np.interp(at, drops.time, drops.tyre[index])})
+    return out
+
+
+def _residual_vector(runs: list[_Run], simulated: list[dict]) -> np.ndarray:
+    parts = []
+    for run, sim in zip(runs, simulated):
+        for name, measured in run.channels.items():
+            parts.append((sim[name] - measured) / run.scales[name])
+    return np.concatenate(parts)
+
+
+def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = None,
+                   effects: list[str] | None = None, run_ids: list[str] | None = None
+                   ) -> GearCalibration:
+    """Fit ``knobs`` of ``gear_id``'s drop model to every run recording it.
+
+    Raises
+    ------
+    CertkitInputError
+        When no run records the gear unit, or a knob needs an effect that is off.
+    """
+    spec_file = campaign.spec_path.name
+    chosen_effects = list(campaign.spec.model.effects if effects is None else effects)
+    runs = _runs_for(campaign, gear_id, chosen_effects, run_ids)
+    if not runs:
+        raise CertkitInputError.single(spec_file, None, "runs",
+                                       f"no run records gear unit {gear_id} with time histories: "
+                                       "nothing to calibrate against")
+    base = runs[0].model
+    names = list(knobs) if knobs is not None else [
+        k for k in DEFAULT_KNOBS if KNOBS[k].needs is None or base.effect(KNOBS[k].needs)]
+    unknown = [n for n in names if n not in KNOBS]
+    if unknown:
+        raise CertkitInputError.single(spec_file, None, "model.calibration.parameters",
+                                       f"unknown parameter(s) {', '.join(unknown)}; expected "
+                                       f"some of {', '.join(KNOBS)}")
+    chosen = [KNOBS[n] for n in names]
+    for knob in chosen:
+        if knob.needs is not None and base.effect(knob.needs) is None:
+            raise CertkitInputError.single(
+                spec_file, None, "model.calibration.parameters",
+                f"{knob.name} needs the effect '{knob.needs}', which is off")
+    if base.orifice is None:
+        chosen = [k for k in chosen if k.name != "discharge-coefficient"]
+    nominal = [knob.read(base) for knob in chosen]
+    parameters = []
+    for knob, value in zip(chosen, nominal):
+        low, high = knob.bounds(value)
+        parameters.append(FitParameter(knob.name, knob.unit, value, low, high))
+
+    def configure(model: DropModel, values) -> DropModel:
+        for knob, value in zip(chosen, values):
+            model = knob.write(model, float(value))
+        return model
+
+    rate = 1.0 / float(np.median(np.diff(runs[0].time)))
+
+    def many(matrix: np.ndarray) -> np.ndarray:
+        # one step for every row of a call (a Jacobian's stencil sees one discretisation);
+        # between calls the step may change with the parameters, which moves the
+        # residuals by the RK4 error only (below 1e-6 of the signals)
+        batch_runs = [run for _ in matrix for run in runs]
+        models = [configure(run.model, x) for x in matrix for run in runs]
+        step = batch_step(models, [r.velocity for r in batch_runs], rate)
+        simulated = _simulated(batch_runs, models, step, rate)
+        width = len(runs)
+        return np.array([_residual_vector(runs, simulated[i * width:(i + 1) * width])
+                         for i in range(len(matrix))])
+
+    result = fit(lambda x: many(np.asarray(x)[None, :])[0], parameters, residuals_many=many,
+                 max_evaluations=60, tolerance=1e-6)
+
+    nominal_models = [configure(r.model, nominal) for r in runs]
+    fitted_models = [configure(r.model, result.estimate) for r in runs]
+    step = batch_step(nominal_models + fitted_models, [r.velocity for r in runs] * 2, rate)
+    before = _simulated(runs, nominal_models, step, rate)
+    after = _simulated(runs, fitted_models, step, rate)
+    errors, traces = [], []
+    for run, sim0, sim1 in zip(runs, before, after):
+        for name, measured in run.channels.items():
+            errors.append(ChannelError(
+                run.run_id, name, CHANNEL_UNITS[name],
+                float(np.sqrt(np.mean((sim0[name] - measured) ** 2))),
+                float(np.sqrt(np.mean((sim1[name] - measured) ** 2))), run.scales[name]))
+            traces.append(Trace(run.run_id, name, run.time, measured, sim0[name], sim1[name]))
+    return GearCalibration(
+        gear_id=gear_id, runs=tuple(r.run_id for r in runs), knobs=tuple(chosen), fit=result,
+        errors=tuple(errors), traces=tuple(traces),
+        contact_velocities={r.run_id: (r.velocity, r.velocity_source) for r in runs},
+        step=step, nominal_model=base, calibrated_model=configure(base, result.estimate))
+
+
+def calibrate(campaign: Campaign, knobs: list[str] | None = None,
+              gears: list[str] | None = None, effects: list[str] | None = None,
+              run_ids: list[str] | None = None) -> Calibration:
+    """Calibrate every gear unit (or ``gears``) that some run records with time histories."""
+    spec = campaign.spec
+    settings = spec.model.calibration
+    if knobs is None and settings is not None and settings.parameters:
+        knobs = list(settings.parameters)
+    if run_ids is None and settings is not None and settings.runs:
+        run_ids = list(settings.runs)
+    recorded = [g.id for g in spec.gear_units
+                if any(s is not None and g.id in s.gears for s in campaign.series.values())]
+    chosen = recorded if gears is None else [g for g in gears if g in recorded]
+    results = tuple(calibrate_gear(campaign, gear_id, knobs, effects, run_ids)
+                    for gear_id in chosen)
+    return Calibration(tuple(spec.model.effects if effects is None else effects), results)
+
+
+def _finite(value: float):
+    return float(value) if np.isfinite(value) else None
+
+
+def calibration_document(calibration: Calibration) -> dict:
+    """Plain, JSON-ready summary (SI): estimates, standard errors, correlations, RMSEs."""
+    gears = []
+    for gear in calibration.gears:
+        fit_ = gear.fit
+        gears.append({
+            "gear_unit": gear.gear_id,
+            "runs": list(gear.runs),
+            "contact_velocity": {run: {"value_m_per_s": v, "source": source}
+                                 for run, (v, source) in gear.contact_velocities.items()},
+            "parameters": [
+                {"name": p.name, "unit": p.unit, "nominal": p.nominal, "lower": p.lower,
+                 "upper": p.upper, "estimate": float(e), "standard_error": _finite(se)}
+                for p, e, se in zip(fit_.parameters, fit_.estimate, fit_.standard_error)],
+            "correlation": [[_finite(c) for c in row] for row in fit_.correlation],
+            "warnings": list(fit_.warnings),
+            "normalised_rms": {"nominal": fit_.cost_nominal, "calibrated": fit_.cost},
+            "rmse": [{"run": e.run, "channel": e.channel, "unit": e.unit, "nominal": e.nominal,
+                      "calibrated": e.calibrated} for e in gear.errors],
+            "converged": bool(fit_.success), "message": fit_.message,
+            "evaluations": fit_.evaluations, "step_s": gear.step,
+        })
+    return {"effects": list(calibration.effects), "gear_units": gears}
+
+
+def simulate_like_runs(campaign: Campaign, gear_id: str, configure=lambda model: model,
+                       run_ids: list[str] | None = None, effects: list[str] | None = None
+                       ) -> dict:
+    """Each run's channels as the (configured) drop model simulates them, aligned on the
+    measured touchdown and sampled at the measured times: run id -> {"time", "load",
+    "stroke", "tyre"} (SI, time from the measured touchdown).  ``effects``: the optional
+    effects of the model (default: the spec's)."""
+    chosen = list(campaign.spec.model.effects if effects is None else effects)
+    runs = _runs_for(campaign, gear_id, chosen, run_ids)
+    if not runs:
+        return {}
+    models = [configure(r.model) for r in runs]
+    rate = 1.0 / float(np.median(np.diff(runs[0].time)))
+    simulated = _simulated(runs, models, batch_step(models, [r.velocity for r in runs], rate),
+                           rate)
+    return {r.run_id: dict(sim, time=r.time) for r, sim in zip(runs, simulated)}
+
+
+class RunResiduals:
+    """The normalised residuals of a gear unit's runs, for any drop models: the same rows
+    (runs × recorded channels × samples from the measured touchdown) the calibration fits.
+
+    ``evaluate(model_sets)`` takes one list of models per candidate (one model per run, in
+    :attr:`run_ids` order) and returns the residual vectors as rows, in one batched call.
+    """
+
+    def __init__(self, campaign: Campaign, gear_id: str, run_ids: list[str] | None = None,
+                 effects: list[str] | None = None):
+        chosen = list(campaign.spec.model.effects if effects is None else effects)
+        self.runs = _runs_for(campaign, gear_id, chosen, run_ids)
+        if not self.runs:
+            raise CertkitInputError.single(campaign.spec_path.name, None, "runs",
+                                           f"no run records gear unit {gear_id} with time "
+                                           "histories")
+        self.run_ids = [r.run_id for r in self.runs]
+        self.models = [r.model for r in self.runs]
+        self.rate = 1.0 / float(np.median(np.diff(self.runs[0].time)))
+
+    def evaluate(self, model_sets: list[list[DropModel]]) -> np.ndarray:
+        runs = [run for _ in model_sets for run in self.runs]
+        models = [m for models in model_sets for m in models]
+        step = batch_step(models, [r.velocity for r in runs], self.rate)
+        simulated = _simulated(runs, models, step, self.rate)
+        width = len(self.runs)
+        return np.array([_residual_vector(self.runs, simulated[i * width:(i + 1) * width])
+                         for i in range(len(model_sets))])
+
+
+@dataclass(frozen=True)
+class AlignedRecord:
+    """A run's recorded channels beside the model's, over the whole record (SI).
+
+    The model is at rest in free fall before the measured touchdown (all channels 0);
+    ``after`` marks the samples from touchdown on."""
+
+    time: np.ndarray
+    after: np.ndarray
+    measured: dict
+    simulated: dict
+
+
+def aligned_records(campaign: Campaign, gear_id: str, configure=lambda model: model,
+                    run_ids: list[str] | None = None, effects: list[str] | None = None
+                    ) -> dict[str, AlignedRecord]:
+    """:func:`simulate_like_runs` over each run's whole record, beside its measured channels."""
+    simulated = simulate_like_runs(campaign, gear_id, configure, run_ids, effects)
+    weight = campaign.gear_units[gear_id].static_weight.si
+    records = {}
+    for run_id, channels in simulated.items():
+        series = campaign.series[run_id]
+        gear = series.gears[gear_id]
+        measured = {name: values for name, values in
+                    (("load", gear.load), ("stroke", gear.stroke), ("tyre", gear.tyre))
+                    if values is not None}
+        t_contact, _ = touchdown_time(series.time, gear.load, weight)
+        after = series.time >= t_contact
+        model = {}
+        for name in measured:
+            values = np.zeros(series.time.size)
+            values[after] = channels[name]
+            model[name] = values
+        records[run_id] = AlignedRecord(series.time, after, measured, model)
+    return records

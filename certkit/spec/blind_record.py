@@ -1,0 +1,211 @@
+"""The record of a blind check of the gap diagnosis, as a campaign input.
+
+`certkit gap --blind-check` runs the diagnosis on synthetic campaigns whose withheld effect
+is known and writes what it measured as JSON (``kind: "certkit blind check"``).  A campaign
+names that file in ``model.gap.blind_check``; it is then an input like a data file (hashed,
+attached to the PDF) and the report's gap section summarises it.  This module is the
+record's schema: one place that reads and checks it.
+
+Fractions are fractions here (0.9, not 90 %); the report shows them as percentages.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+KIND = "certkit blind check"
+
+#: Metric key -> (label, definition in words), in the order the report shows them.
+METRICS = {
+    "top1": ("top-1 accuracy",
+             "share of the single-effect cases (effect/noise ≥ 2) whose first named effect is "
+             "the withheld one"),
+    "exact": ("exact answer",
+              "share of the same cases whose answer is the withheld effect and nothing else"),
+    "false_attribution": ("false attribution",
+                          "share of the no-effect cases that did not end in an abstention "
+                          "(an effect named, a tie declared, or a failure)"),
+    "set_precision": ("set precision",
+                      "on the two-effect cases, share of the named effects that are among the "
+                      "withheld ones"),
+    "set_recall": ("set recall",
+                   "on the two-effect cases, share of the withheld effects that were named"),
+    "median_shrink": ("median held-out shrink",
+                      "median over the single-effect cases (effect/noise ≥ 2) of the held-out "
+                      "load RMSE shrink 1 − RMSE(with the named effects)/RMSE(nominal), "
+                      "against the noisy measurement; an abstention shrinks 0"),
+    "median_gap_closed": ("median share of the gap closed",
+                          "as the shrink, with the held-out load RMSE taken against the "
+                          "noise-free truth: the part of the error a model can remove"),
+    "median_shrink_pairs": ("median held-out shrink, two-effect cases",
+                            "as the median shrink, over the two-effect cases"),
+    "harm_rate": ("harm rate",
+                  "of the cases in which an effect was named, the share in which it made the "
+                  "held-out load error worse"),
+    "harm_any_channel": ("harm on any channel",
+                         "as the harm rate, counting a case when the held-out error of any "
+                         "channel (load, stroke, tyre) grew"),
+}
+
+
+#: The modules whose code decides a blind check's outcome (simulation, data, diagnosis).
+DIAGNOSIS_CODE = ("gap/attribution.py", "gap/blind_check.py", "physics/calibration.py",
+                  "physics/drop_model.py", "physics/dynamics.py", "physics/effects.py",
+                  "physics/fitting.py", "gap/holdout.py", "compliance/measures.py",
+                  "gap/phases.py", "gap/residuals.py", "spec/rundata.py",
+                  "physics/simulation.py", "physics/synthetic.py")
+
+
+def template_fingerprint(campaign) -> str:
+    """SHA-256 of the spec's content (canonical JSON of the validated spec) without
+    ``model.gap.blind_check``: the same before and after the spec names its blind-check
+    record, different after any change to the spec."""
+    content = campaign.spec.model_dump(mode="json")
+    gap = (content.get("model") or {}).get("gap")
+    if isinstance(gap, dict):
+        gap.pop("blind_check", None)
+    text = json.dumps(content, sort_keys=True, ensure_ascii=False, separators=(",", ":"))
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def code_fingerprint() -> str:
+    """SHA-256 over the source of :data:`DIAGNOSIS_CODE`: a record made by other code (other
+    thresholds, another simulator) says so in the report."""
+    digest = hashlib.sha256()
+    folder = Path(__file__).resolve().parent.parent   # the certkit package
+    for name in DIAGNOSIS_CODE:
+        digest.update(name.encode("utf-8") + b"\0" + (folder / name).read_bytes())
+    return digest.hexdigest()
+
+
+class _Record(BaseModel):
+    # written by another program, possibly a newer certkit: extra keys are ignored, the
+    # documented ones must be present and of the right type
+    model_config = ConfigDict(extra="ignore", frozen=True, strict=True, allow_inf_nan=False)
+
+
+class Template(_Record):
+    spec: str
+    sha256: str
+    gear: str
+    code: str | None = None     # code_fingerprint() of the certkit that made it
+
+
+class Metric(_Record):
+    value: float | None
+    count: int | None = Field(ge=0)
+    cases: int = Field(ge=0)
+    target: float | None
+    direction: Literal["at least", "at most"] | None
+    met: bool | None
+    interval: list[float] | None = None   # 95 % Wilson interval of count/cases: [low, high]
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        if self.interval is not None and not (len(self.interval) == 2 and
+                                              0 <= self.interval[0] <= self.interval[1] <= 1):
+            raise ValueError(f"interval must be (low, high) with 0 ≤ low ≤ high ≤ 1, got "
+                             f"{list(self.interval)}")
+        if (self.target is None) != (self.direction is None):
+            raise ValueError("target and direction go together (both or neither)")
+        if self.met is not None and self.met != self.judged:
+            raise ValueError(f"met is {str(self.met).lower()}, but the value {self.value} is "
+                             f"{'not ' if self.met else ''}{self.direction} the target "
+                             f"{self.target}")
+        return self
+
+    @property
+    def judged(self) -> bool | None:
+        """Whether the value meets its target (None: no target, or no value)."""
+        if self.target is None or self.value is None:
+            return None
+        return (self.value >= self.target if self.direction == "at least"
+                else self.value <= self.target)
+
+
+class CurvePoint(_Record):
+    ratio: float = Field(gt=0)
+    cases: int = Field(ge=0)
+    top1: float | None
+    median_shrink: float | None
+
+
+class Confusion(_Record):
+    truths: list[str]
+    named: list[str]
+    counts: list[list[int]]
+
+    @model_validator(mode="after")
+    def _shape(self):
+        if len(self.counts) != len(self.truths) or any(len(row) != len(self.named)
+                                                       for row in self.counts):
+            raise ValueError(f"counts must have one row per truth ({len(self.truths)}) and "
+                             f"one column per answer ({len(self.named)})")
+        return self
+
+
+class BlindCheckRecord(_Record):
+    kind: Literal["certkit blind check"]
+    certkit: str
+    template: Template
+    command: str
+    settings: dict[str, Any]
+    metrics: dict[str, Metric]
+    curve: list[CurvePoint]
+    confusion: Confusion
+    cases: list[dict[str, Any]] = []
+
+    @model_validator(mode="after")
+    def _scored_from(self):
+        value = self.settings.get("scored_from")
+        if value is not None and (isinstance(value, bool) or
+                                  not isinstance(value, (int, float))):
+            raise ValueError(f"settings.scored_from must be a number, got {value!r}")
+        return self
+
+
+class BlindRecordError(ValueError):
+    """The file is not a readable blind-check record; ``problems``: (key, message)."""
+
+    def __init__(self, problems: list[tuple[str, str]]):
+        self.problems = problems
+        super().__init__("; ".join(f"{k}: {m}" if k else m for k, m in problems))
+
+
+def read_blind_check(path: Path) -> BlindCheckRecord:
+    """Read and check a blind-check record.
+
+    Raises
+    ------
+    BlindRecordError
+        Naming each key that is missing or wrong.
+    """
+    try:
+        raw = json.loads(Path(path).read_text(encoding="utf-8"))
+    except UnicodeDecodeError as error:
+        raise BlindRecordError([("", f"not UTF-8 text ({error.reason})")]) from None
+    except OSError as error:
+        raise BlindRecordError([("", f"cannot be read: {error.strerror or error}")]) from None
+    except json.JSONDecodeError as error:
+        raise BlindRecordError([("", f"not JSON: {error.msg} at line {error.lineno}, "
+                                     f"column {error.colno}")]) from None
+    if not isinstance(raw, dict) or raw.get("kind") != KIND:
+        found = raw.get("kind") if isinstance(raw, dict) else type(raw).__name__
+        raise BlindRecordError([("kind", f"expected {KIND!r} (a file written by "
+                                         f"`certkit gap --blind-check`), got {found!r}")])
+    try:
+        return BlindCheckRecord.model_validate(raw)
+    except ValidationError as error:
+        problems = []
+        for item in error.errors():
+            key = ".".join(str(part) for part in item["loc"])
+            message = item["msg"]
+            if message.startswith("Value error, "):
+                message = message.removeprefix("Value error, ")
+            problems.append((key, message[0].lower() + message[1:]))
+        raise BlindRecordError(problems) from None

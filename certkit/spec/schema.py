@@ -1,0 +1,632 @@
+"""The campaign spec: one pydantic schema that validates, documents and exports JSON Schema.
+
+Every dimensional value is a string with its unit, parsed by pint into SI
+(:mod:`certkit.units`).  Unknown keys are errors.  Cross-references (a run
+naming a gear unit that does not exist, ...) are checked in
+:mod:`certkit.spec.campaign`, where the line numbers are known.
+"""
+
+from __future__ import annotations
+
+import calendar
+import datetime as dt
+import math
+import re
+from typing import Annotated, Literal
+
+from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, PlainSerializer,
+                      PlainValidator, WithJsonSchema, field_validator, model_validator)
+from pydantic_core import PydanticCustomError
+
+from certkit.units import QuantityError, SpecQuantity, _example_unit, kind_phrase, parse_quantity, parse_unit
+
+
+def _quantity(kind: str, description: str | None = None, minimum: float | None = 0.0,
+              exclusive: bool = False, maximum: float | None = None):
+    """Annotated type of a quantity of ``kind``; by default it may not be negative.
+
+    ``exclusive`` makes the minimum strict (the quantity must be positive).
+    """
+    def validate(value):
+        try:
+            quantity = parse_quantity(value, kind)
+        except QuantityError as exc:
+            raise PydanticCustomError("quantity", str(exc)) from None
+        low_bad = minimum is not None and (quantity.si <= minimum if exclusive
+                                           else quantity.si < minimum)
+        if low_bad:
+            shown = f"{math.degrees(minimum):g} deg" if kind == "angle" else f"{minimum:g}"
+            word = "positive" if exclusive and minimum == 0 else (
+                "zero or more" if minimum == 0 else f"above {shown}" if exclusive
+                else f"at least {shown}")
+            raise PydanticCustomError("quantity", f'must be {word}, got "{quantity.text}"')
+        if maximum is not None and quantity.si > maximum:
+            limit = (f"{math.degrees(maximum):g} deg" if kind == "angle"
+                     else f"{maximum:g}{' (100 %)' if maximum == 1 else ''}")
+            raise PydanticCustomError("quantity", f'must be at most {limit}, got "{quantity.text}"')
+        return quantity
+
+    if kind == "dimensionless":
+        schema = {"anyOf": [{"type": "number"}, {"type": "string"}],
+                  "description": description or "a number (or a percentage such as '10 %')"}
+    else:
+        schema = {"type": "string",
+                  "description": description or f"{kind_phrase(kind)} with its unit, "
+                                                 f"e.g. '1 {_example_unit(kind)}'"}
+    return Annotated[SpecQuantity, PlainValidator(validate),
+                     PlainSerializer(lambda q: q.text, return_type=str),
+                     WithJsonSchema(schema)]
+
+
+def _unit(kind: str):
+    def validate(value):
+        if not isinstance(value, str):
+            raise PydanticCustomError("unit", f"expected a unit of {kind} as text, got {value!r}")
+        try:
+            return parse_unit(re.sub(r"\s*([*/·^])\s*", r"\1", value.strip()), kind)
+        except QuantityError as exc:
+            raise PydanticCustomError("unit", str(exc)) from None
+
+    return Annotated[str, PlainValidator(validate),
+                     WithJsonSchema({"type": "string", "description": f"a unit of {kind}"})]
+
+
+Length = _quantity("length")
+PositiveLength = _quantity("length", exclusive=True)
+Area = _quantity("area", exclusive=True)
+Volume = _quantity("volume", exclusive=True)
+Mass = _quantity("mass", exclusive=True)
+Force = _quantity("force")
+Weight = _quantity("weight", exclusive=True)
+Pressure = _quantity("pressure", exclusive=True)
+Energy = _quantity("energy")
+Frequency = _quantity("frequency", exclusive=True)
+Inclination = _quantity("angle", "strut axis from vertical, e.g. '3 deg' (at most 45 deg)",
+                        minimum=-math.pi / 4, maximum=math.pi / 4)
+Density = _quantity("density", exclusive=True)
+Stiffness = _quantity("stiffness", exclusive=True)
+Damping = _quantity("damping")
+Duration = _quantity("time", exclusive=True)
+WingLoading = _quantity("wing_loading", "a wing loading (force per area), e.g. '10.15 lbf/ft^2'",
+                        exclusive=True)
+PositiveNumber = _quantity("dimensionless", exclusive=True)
+Fraction = _quantity("dimensionless", "a fraction between 0 and 1, e.g. 0.667 or '10 %'",
+                     maximum=1.0)
+
+
+def _date(value):
+    """A date written YYYY-MM-DD (ISO 8601 calendar date); one written in that form whose
+    month or day does not exist is refused saying so (February 2025 has 28 days)."""
+
+    if isinstance(value, dt.date) and not isinstance(value, dt.datetime):
+        return value
+    if isinstance(value, str):
+        text = value.strip()
+        try:
+            return dt.date.fromisoformat(text)
+        except ValueError:
+            pass
+        parts = text.split("-")
+        if [len(part) for part in parts] == [4, 2, 2] and all(
+                part.isascii() and part.isdigit() for part in parts):
+            year, month = int(parts[0]), int(parts[1])
+            if year == 0:
+                why = "there is no year 0000 (the first is 0001)"
+            elif not 1 <= month <= 12:
+                why = f"there is no month {parts[1]} (months are 01 to 12)"
+            else:  # month names written out: calendar.month_name follows the locale
+                name = ("January", "February", "March", "April", "May", "June", "July",
+                        "August", "September", "October", "November", "December")[month - 1]
+                why = f"{name} {year} has {calendar.monthrange(year, month)[1]} days"
+            raise PydanticCustomError("date", f'"{text}" is not a date: {why}')
+    raise PydanticCustomError("date", f'expected a date as YYYY-MM-DD, got "{value}"')
+
+
+Date = Annotated[dt.date, BeforeValidator(_date)]
+
+Identifier = Annotated[str, Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$", max_length=64)]
+Text = Annotated[str, Field(min_length=1)]
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+
+
+# --------------------------------------------------------------------------- document
+class CampaignInfo(_Model):
+    id: Identifier
+    title: Text
+    description: str | None = None
+    purpose: Literal["certification", "planning"] = Field(
+        "certification",
+        description="planning: a campaign planned before there is a rig; every value is "
+                    "computed from its (synthetic) histories, every page is marked PLANNING "
+                    "and the outcome is never a compliance statement")
+
+
+class Signatory(_Model):
+    role: Literal["prepared", "checked", "verified", "approved", "witnessed"]
+    name: Text
+    organisation: str | None = None
+    date: Date | None = None
+
+
+class Revision(_Model):
+    revision: Text
+    date: Date
+    description: Text
+
+
+class Document(_Model):
+    report_number: Text
+    revision: Text
+    date: Date = Field(description="Issue date; also fixes every date written into outputs")
+    applicant: Text
+    facility: Text
+    test_dates: list[Date] = Field(min_length=1)
+    signatories: list[Signatory] = Field(min_length=1)
+    revisions: list[Revision] = []
+    compliance_checklist_item: str | None = None
+
+
+class BasisEntry(_Model):
+    requirement_set: Text = Field(description="id of a shipped requirement set, see `certkit sets`")
+    edition: str | None = Field(None, description="edition the applicant is certifying against")
+    ground_load_dynamic_test: bool = Field(
+        False, description="strength shown dynamically by drop test (14 CFR 23.726)")
+
+
+# --------------------------------------------------------------------------- aircraft
+class Aircraft(_Model):
+    model: Text
+    maximum_weight: Weight
+    wing_area: Area
+    design_limit_inertia_load_factor: PositiveNumber | None = Field(
+        None, description="limit inertia load factor used in the 23.473 landing conditions")
+    wing_lift_ratio: Fraction = Field(description="L: assumed wing lift / weight used in the loads basis")
+    design_landing_weight: Weight | None = None
+    notes: str | None = None
+
+
+class TyreCurve(_Model):
+    """Static load-deflection law f(δ) = reference_load·(δ/reference_deflection)^exponent."""
+
+    reference_load: Force
+    reference_deflection: PositiveLength
+    exponent: PositiveNumber
+
+
+class Tyre(_Model):
+    size: Text
+    pressure: Pressure
+    pressure_reference: Literal["gauge", "absolute"]
+    diameter: PositiveLength | None = None
+    load_deflection: TyreCurve | None = Field(None, description="static curve (physics model)")
+    hysteresis: Fraction | None = Field(
+        None, description="half-width of the loading/unloading loop as a share of f(δ)")
+    damping: _quantity("slowness", "C_T of F = f(δ)·(1 + C_T·δ̇), e.g. '0.05 s/m'") | None = None  # type: ignore[valid-type]
+
+
+class MeteringPinSpec(_Model):
+    """Net orifice area against stroke (linear between points)."""
+
+    strokes: list[Length] = Field(min_length=2)
+    areas: list[Area] = Field(min_length=2)
+
+
+class SealFrictionSpec(_Model):
+    """Seal friction F = (constant + pressure_factor·|F_gas| + breakaway·exp(−(ṡ/v_s)²))·sign(ṡ)."""
+
+    constant: Force
+    pressure_factor: Fraction = Field(parse_quantity("0", "dimensionless"))
+    breakaway: Force = Field(parse_quantity("0 N", "force"),
+                             description="Stribeck excess of static over Coulomb friction")
+    stribeck_velocity: _quantity("velocity", exclusive=True) = Field(  # type: ignore[valid-type]
+        parse_quantity("10 mm/s", "velocity"))
+
+
+class HeatTransferSpec(_Model):
+    """Gas-to-wall heat transfer (effect 'heat-transfer'): replaces the polytropic law."""
+
+    time_constant: Duration = Field(description="τ = m·c_v/(h·A), e.g. '1 s'")
+    ratio_of_specific_heats: PositiveNumber = Field(parse_quantity("1.4", "dimensionless"))
+
+
+class OilSpec(_Model):
+    """Oil compressibility (effect 'oil-compressibility'): k_oil = β·A_h²/V_oil."""
+
+    bulk_modulus: Pressure = Field(description="effective β, e.g. '1.5 GPa' (less if aerated)")
+    volume: Volume = Field(description="oil volume between piston and orifice")
+
+
+class LegSpec(_Model):
+    """Gear-leg flexibility (effect 'leg-flexibility'): axle mass on a leg spring."""
+
+    axle_mass: Mass = Field(description="axle and wheel, part of the unsprung mass")
+    stiffness: Stiffness
+    damping: Damping = Field(parse_quantity("0 N*s/m", "damping"))
+
+
+class Strut(_Model):
+    """Servicing and geometry of the shock strut (used by the physics model)."""
+
+    gas_precharge_pressure: Pressure | None = None
+    pressure_reference: Literal["gauge", "absolute"] | None = None
+    gas_volume: Volume | None = None
+    pneumatic_area: Area | None = None
+    hydraulic_area: Area | None = None
+    orifice_diameter: PositiveLength | None = None
+    orifice_area: Area | None = None
+    rebound_orifice_diameter: PositiveLength | None = None
+    discharge_coefficient: PositiveNumber | None = None
+    oil_density: Density | None = None
+    polytropic_exponent: PositiveNumber | None = None
+    inclination: Inclination | None = None
+    static_stroke: Length | None = None
+    minimum_stroke: Length | None = None
+    unsprung_mass: Mass | None = None
+    seal_friction: SealFrictionSpec | None = None
+    metering_pin: MeteringPinSpec | None = None
+    heat_transfer: HeatTransferSpec | None = None
+    oil: OilSpec | None = None
+    notes: str | None = None
+
+
+class GearUnit(_Model):
+    id: Identifier
+    position: Literal["main", "nose", "tail"]
+    static_weight: Weight = Field(description="W of 14 CFR 23.725(b) for this unit")
+    static_weight_basis: Literal["level-attitude-nose-wheel-clear", "tail-down-attitude",
+                                 "nose-reaction-1g-down-0.33g-forward", "assumed"] = Field(
+        description="how W was obtained: one of the 23.725(b) definitions, or 'assumed'")
+    static_weight_note: str | None = None
+    shock_absorber: Text
+    design_stroke: PositiveLength
+    tyre: Tyre
+    strut: Strut | None = None
+    leg: LegSpec | None = None
+    wheel_diameter: PositiveLength | None = None
+
+
+# --------------------------------------------------------------------------- instrumentation and data
+class InstrumentChannel(_Model):
+    name: Text
+    measures: Text
+    transducer: str | None = None
+    range: str | None = None
+    filter: str | None = None
+    calibration_date: Date | None = None
+    calibration_reference: str | None = None
+
+
+class PlatformSpec(_Model):
+    """The drop rig's platform on its load cells (effect 'platform-compliance')."""
+
+    mass: Mass
+    stiffness: Stiffness = Field(description="load cells and foundation under the platform")
+    damping: Damping = Field(parse_quantity("0 N*s/m", "damping"))
+
+
+class Instrumentation(_Model):
+    sampling_rate: Frequency
+    platform: PlatformSpec | None = None
+    logger: str | None = None
+    channels: list[InstrumentChannel] = []
+
+
+class Column(_Model):
+    """Where a channel sits in the data file and how to bring it to SI.
+
+    value_SI = sign * scale * (raw - offset) converted from ``unit``.
+    """
+
+    column: Text
+    unit: str
+    scale: float = 1.0
+    sign: Literal[1, -1] = 1
+    offset: float = Field(0.0, description="zero offset, in the column's own unit")
+    full_scale: float | None = Field(
+        None, description="transducer full-scale reading in the column's unit (clipping check)")
+
+    @field_validator("scale")
+    @classmethod
+    def _scale_not_zero(cls, value: float) -> float:
+        if value == 0:
+            raise PydanticCustomError("scale", "scale must not be zero")
+        return value
+
+
+class LoadColumn(Column):
+    unit: _unit("weight")  # type: ignore[valid-type]
+
+
+class LengthColumn(Column):
+    unit: _unit("length")  # type: ignore[valid-type]
+
+
+class AccelerationColumn(Column):
+    unit: _unit("acceleration")  # type: ignore[valid-type]
+    reference: Literal["kinematic", "specific_force"] = Field(
+        description="kinematic: dv/dt (free fall reads -1 g); specific_force: what an "
+                    "accelerometer reads (free fall reads 0 g, rest +1 g)")
+
+
+class TimeColumn(_Model):
+    column: Text
+    unit: _unit("time")  # type: ignore[valid-type]
+
+
+class GearChannels(_Model):
+    vertical_load: LoadColumn
+    strut_stroke: LengthColumn | None = None
+    tyre_deflection: LengthColumn | None = None
+
+
+WaivableCheck = Literal["sample_rate", "gaps", "clipping", "implausible_range"]
+
+
+class Waiver(_Model):
+    check: WaivableCheck
+    reason: Text
+
+
+class RunData(_Model):
+    file: Text
+    origin: Literal["measured", "synthetic"] = Field(
+        "measured", description="synthetic (simulated) data are never used as compliance "
+                                "evidence, only by the physics model")
+    time: TimeColumn
+    sampling_rate: Frequency | None = Field(
+        None, description="declared rate; defaults to instrumentation.sampling_rate")
+    gears: dict[str, GearChannels] = Field(min_length=1)
+    drop_mass_acceleration: AccelerationColumn | None = None
+    drop_mass_displacement: LengthColumn | None = None
+    waivers: list[Waiver] = []
+
+
+class Lift(_Model):
+    method: Literal["none", "reduced_mass", "lift_device"]
+    ratio: Fraction | None = Field(None, description="L, required unless method is none")
+
+
+class ReportedGear(_Model):
+    strut_stroke: Length | None = None
+    tyre_deflection: Length | None = None
+    peak_vertical_load: Force | None = None
+    strut_energy: Energy | None = None
+    tyre_energy: Energy | None = None
+
+
+class ReportedRun(_Model):
+    impact_load_factor: PositiveNumber | None = Field(
+        None, description="a load factor the source states for this drop (definition unknown)")
+    gears: dict[str, ReportedGear] = {}
+
+
+class Inspection(_Model):
+    failure: bool | None = None
+    yielding: bool | None = None
+    permanent_set: Length | None = None
+    notes: str | None = None
+
+
+class Run(_Model):
+    id: Identifier
+    test_type: Literal["build-up", "limit", "reserve", "dynamic", "small-signal"]
+    gear_units: list[Identifier] = Field(min_length=1)
+    date: Date | None = None
+    drop_height: PositiveLength
+    drop_mass: Mass
+    lift: Lift
+    data: RunData | None = None
+    reported: ReportedRun | None = None
+    deviations: list[str] = []
+    inspection: Inspection | None = None
+    notes: str | None = None
+
+
+# --------------------------------------------------------------------------- claims, audit, report
+class CampaignReported(_Model):
+    wing_loading: WingLoading | None = None
+    required_drop_height: PositiveLength | None = None
+
+
+class ReferenceModelErrors(_Model):
+    """Published free-run RMSEs of one output, per model (each a length with its unit)."""
+
+    governing_equation: Length | None = Field(None, description="the physics (EOM) model")
+    hammerstein: Length | None = None
+    wiener: Length | None = None
+    narx: Length | None = None
+
+
+class ReferenceResults(_Model):
+    """Results a source published for this campaign's drops, shown beside certkit's own.
+
+    Only a campaign that has such a source fills this block; the report shows reference
+    figures nowhere else.
+    """
+
+    source: Text = Field(description="where the figures are published (paper, table, figure)")
+    gear: Identifier | None = Field(None, description="gear unit the figures are for")
+    run: Identifier | None = Field(None, description="run the figures are for (if stated)")
+    window: Duration = Field(description="interval from touchdown the RMSEs are taken over")
+    note: str | None = Field(None, description="caveats of the source (unit not stated, ...)")
+    stroke: ReferenceModelErrors | None = Field(None, description="strut stroke RMSEs")
+    tyre: ReferenceModelErrors | None = Field(None, description="tyre deflection RMSEs")
+
+
+class AuditSettings(_Model):
+    asymmetry_threshold: Fraction = Field(parse_quantity("10 %", "dimensionless"))
+    reported_tolerance: Fraction = Field(parse_quantity("2 %", "dimensionless"))
+    energy_tolerance: Fraction = Field(parse_quantity("1 %", "dimensionless"))
+    bottoming_margin: Fraction = Field(parse_quantity("5 %", "dimensionless"))
+    drop_mass_spread: Fraction = Field(parse_quantity("10 %", "dimensionless"))
+    sample_rate_tolerance: Fraction = Field(parse_quantity("1 %", "dimensionless"))
+    load_consistency_tolerance: Fraction = Field(parse_quantity("10 %", "dimensionless"))
+    zero_travel_tolerance: Length = Field(parse_quantity("1 mm", "length"))
+
+
+#: Display units of each unit system; a unit not given in report.units comes from here.
+UNIT_SYSTEMS = {
+    "SI": {"length": "mm", "force": "N", "mass": "kg", "energy": "J", "velocity": "m/s",
+           "pressure": "kPa", "area": "m^2", "wing_loading": "N/m^2", "time": "ms"},
+    "US": {"length": "in", "force": "lbf", "mass": "lb", "energy": "ft*lbf", "velocity": "ft/s",
+           "pressure": "psi", "area": "ft^2", "wing_loading": "lbf/ft^2", "time": "ms"},
+}
+_US_LENGTHS = {"in", "inch", "inches", "ft", "foot", "feet", "yd", "yard", "mil", "thou"}
+_US_UNITS = _US_LENGTHS | {"lbf", "lb", "lbs", "pound", "pounds", "psi", "ksi", "mph", "kip",
+                           "slug", "ozf", "oz"}
+
+
+def _is_us(unit: object) -> bool:
+    """Whether a unit text names a US customary unit (in, ft, lbf, psi, ...)."""
+    return isinstance(unit, str) and bool(set(re.split(r"[\s*/·^0-9+\-]+", unit)) & _US_UNITS)
+
+
+class DisplayUnits(_Model):
+    """The units every number a person reads is shown in.
+
+    A unit not given follows ``system``; without ``system``, the system of the length unit
+    (US customary for in or ft, else SI), or without a length unit the system of the units
+    given, so ``{length: in, force: lbf}`` and ``{force: lbf}`` show areas in ft^2 and
+    energies in ft*lbf.
+    """
+
+    system: Literal["SI", "US"] | None = Field(
+        None, description="unit system of the units not given (default: the length unit's)")
+    length: _unit("length") = "mm"  # type: ignore[valid-type]
+    force: _unit("weight") = "N"  # type: ignore[valid-type]
+    mass: _unit("mass") = "kg"  # type: ignore[valid-type]
+    energy: _unit("energy") = "J"  # type: ignore[valid-type]
+    velocity: _unit("velocity") = "m/s"  # type: ignore[valid-type]
+    pressure: _unit("pressure") = "kPa"  # type: ignore[valid-type]
+    area: _unit("area") = "m^2"  # type: ignore[valid-type]
+    wing_loading: _unit("wing_loading") = "N/m^2"  # type: ignore[valid-type]
+    time: _unit("time") = "ms"  # type: ignore[valid-type]
+
+    @model_validator(mode="before")
+    @classmethod
+    def _fill_from_system(cls, data):
+        if not isinstance(data, dict):
+            return data
+        system = data.get("system")
+        if system not in UNIT_SYSTEMS:
+            given = [data["length"]] if "length" in data else list(data.values())
+            system = "US" if any(_is_us(unit) for unit in given) else "SI"
+        return {**UNIT_SYSTEMS[system], **data}
+
+
+Effect = Literal["seal-friction", "rebound-orifice", "metering-pin", "tyre-hysteresis",
+                 "heat-transfer", "oil-compressibility", "leg-flexibility",
+                 "platform-compliance", "sensor-dynamics"]
+
+
+class SensorSpec(_Model):
+    """Low-pass and delay of the recorded channels (effect 'sensor-dynamics')."""
+
+    cutoff: Frequency
+    order: int = Field(2, ge=1, le=8)
+    delay: _quantity("time") = Field(parse_quantity("0 s", "time"))  # type: ignore[valid-type]
+
+
+CalibrationParameter = Literal[
+    "discharge-coefficient", "gas-precharge", "gas-volume", "polytropic-exponent",
+    "tyre-stiffness", "tyre-exponent", "tyre-damping", "friction", "friction-pressure-factor",
+    "rebound-damping"]
+
+
+class CalibrationSpec(_Model):
+    """What `certkit calibrate` fits (default: C_d, pre-charge, n, tyre stiffness, friction)."""
+
+    parameters: list[CalibrationParameter] = Field([], description="parameters to fit")
+    runs: list[Identifier] = Field([], description="runs to fit to (default: all with data)")
+
+
+class BlockModelSpec(_Model):
+    """Orders and (optionally fixed) LS-SVM hyper-parameters of one identified model."""
+
+    na: int = Field(ge=0, le=20, description="past outputs (denominator order)")
+    nb: int = Field(ge=1, le=20, description="input terms (numerator terms)")
+    gamma: PositiveNumber | None = Field(None, description="regularisation γ; default: tuned")
+    sigma2: PositiveNumber | None = Field(
+        None, description="RBF width σ² of K = exp(−‖x − z‖²/σ²); default: tuned")
+
+
+class SmallSignalSpec(_Model):
+    """The seed's small-signal method (§4): first amplitude, scaling K, linearity tolerance."""
+
+    amplitude: Force = Field(parse_quantity("500 N", "force"),
+                             description="RMS of the first small random force")
+    gain: PositiveNumber = Field(parse_quantity("2", "dimensionless"), description="K")
+    tolerance: Fraction = Field(parse_quantity("5 %", "dimensionless"))
+
+
+class IdentificationSpec(_Model):
+    """Identification settings; defaults follow the seed paper (6 poles, 4 input terms)."""
+
+    hammerstein: BlockModelSpec = BlockModelSpec(na=6, nb=4)
+    wiener: BlockModelSpec = BlockModelSpec(na=6, nb=4)
+    narx: BlockModelSpec = BlockModelSpec(na=2, nb=2)
+    held_out: list[Identifier] = Field(
+        [], description="runs kept out of fitting and tuning (default: the highest drop)")
+    small_signal: SmallSignalSpec = SmallSignalSpec()
+    nonlinearity_target: Length = Field(
+        parse_quantity("0.1 mm", "length"),
+        description="step 9: the static nonlinearity's tuning stops once its cross-validated "
+                    "RMSE is at or below this")
+
+
+class GapSpec(_Model):
+    """Sim-to-real gap diagnosis (`certkit gap`, the report's gap section)."""
+
+    held_out: list[Identifier] = Field(
+        [], description="runs kept out of calibration, scoring and refits, only evaluated "
+                        "(default: every drop at the highest drop height, and the middle "
+                        "height's when there are four heights or more)")
+    blind_check: Text | None = Field(
+        None, description="the JSON file written by `certkit gap --blind-check`, relative to "
+                          "this spec file and inside its folder; the report summarises it and "
+                          "hashes it with the other inputs")
+
+
+class ModelSettings(_Model):
+    """The physics model used to simulate and calibrate: which optional effects are on."""
+
+    effects: list[Effect] = Field([], description="optional effects switched on (default none)")
+    sensor: SensorSpec | None = None
+    calibration: CalibrationSpec | None = None
+    identification: IdentificationSpec = IdentificationSpec()
+    gap: GapSpec = GapSpec()
+
+
+class ReportSettings(_Model):
+    units: DisplayUnits = DisplayUnits()
+
+
+class CampaignSpec(_Model):
+    """A drop-test campaign: who, what aircraft, which gear, which runs, against which rules."""
+
+    certkit: Literal[1] = Field(description="spec format version")
+    campaign: CampaignInfo
+    document: Document
+    certification_basis: list[BasisEntry] = Field(min_length=1)
+    aircraft: Aircraft
+    gear_units: list[GearUnit] = Field(min_length=1)
+    instrumentation: Instrumentation | None = None
+    runs: list[Run] = Field(min_length=1)
+    reported: CampaignReported | None = None
+    reference_results: ReferenceResults | None = Field(
+        None, description="published model errors for these drops (shown beside certkit's)")
+    assumptions: list[str] = []
+    audit: AuditSettings = AuditSettings()
+    model: ModelSettings = ModelSettings()
+    report: ReportSettings = ReportSettings()
+
+
+def json_schema() -> dict:
+    """JSON Schema of the campaign spec (for editors and CI)."""
+    schema = CampaignSpec.model_json_schema()
+    schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
+    schema["title"] = "certkit campaign spec"
+    return schema
