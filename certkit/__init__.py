@@ -10,10 +10,11 @@ Library use (what the CLI does)::
 
 __version__ = "0.1.0"
 
-from certkit.spec.campaign import Campaign, load_campaign  # noqa: E402
-from certkit.compliance.engine import Assessment, assess  # noqa: E402
+from certkit.compliance.assessment import Assessment  # noqa: E402
+from certkit.compliance.engine import assess  # noqa: E402
 from certkit.errors import CertkitInputError  # noqa: E402
 from certkit.evidence.report import render_report  # noqa: E402
+from certkit.spec.campaign import Campaign, load_campaign  # noqa: E402
 
 __all__ = ["Assessment", "Campaign", "CertkitInputError", "assess", "load_campaign",
            "render_report", "__version__"]

@@ -8,7 +8,7 @@ from typer.testing import CliRunner
 
 from certkit import assess, load_campaign, render_report
 from certkit.cli import app
-from certkit.compliance.engine import PLANNING
+from certkit.compliance.assessment import PLANNING
 
 from .conftest import ANALYTIC_STRUT_ENERGY, ANALYTIC_TYRE_ENERGY
 

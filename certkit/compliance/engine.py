@@ -10,132 +10,40 @@ data-quality audit.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 from certkit.compliance import clauses
+from certkit.compliance.assessment import (
+    Assessment,
+    BasisResult,
+    GearResult,
+    RunResult,
+    is_planning,
+)
+from certkit.compliance.criteria import evaluate
+from certkit.compliance.drop_conditions import (
+    drop_weight_share,
+    lift_force_ratio,
+    lift_ratio,
+)
+from certkit.compliance.measures import (
+    SETTLING_BAND,
+    TOUCHDOWN_SHARE,
+    VELOCITY_WINDOW,
+    contact_velocity,
+    drop_mass_load_factor,
+    measure_gear,
+)
+from certkit.compliance.quality import audit
+from certkit.compliance.results import Value
+from certkit.display import number, with_unit
 from certkit.spec import requirement_sets
 from certkit.spec.campaign import Campaign
-from certkit.compliance.quality import audit
-from certkit.display import number, with_unit
-from certkit.compliance.drop_conditions import drop_weight_share, lift_force_ratio, lift_ratio
-from certkit.compliance.measures import (SETTLING_BAND, TOUCHDOWN_SHARE, VELOCITY_WINDOW, GearMeasures,
-                       contact_velocity, drop_mass_load_factor, measure_gear)
-from certkit.spec.requirement_sets import Criterion, RequirementSet
-from certkit.compliance.results import (EQUALITY_TOLERANCE, FAIL, NOT_SHOWN, PASS, Comparison, Finding, Value,
-                      Verdict)
+from certkit.spec.requirement_sets import RequirementSet
 from certkit.spec.rundata import RunSeries
-from certkit.spec.schema import BasisEntry, GearUnit, Run
+from certkit.spec.schema import GearUnit, Run
 from certkit.units import STANDARD_GRAVITY
 
 g = STANDARD_GRAVITY
-#: The outcome of a planning campaign: it cannot be read as any of the compliance outcomes.
-PLANNING = "PLANNING ONLY: NOT COMPLIANCE EVIDENCE"
-
-
-class _Values:
-    values: dict[str, Value]
-
-    def get(self, key: str) -> float | None:
-        """The SI magnitude of a value (None when absent or not computable)."""
-        value = self.values.get(key)
-        return None if value is None else value.value
-
-
-@dataclass
-class GearResult(_Values):
-    """Everything known about one gear unit in one run."""
-
-    run_id: str
-    gear_id: str
-    basis: str
-    values: dict[str, Value]
-    measures: GearMeasures | None = None
-
-
-@dataclass
-class RunResult(_Values):
-    run: Run
-    index: int
-    values: dict[str, Value]
-    gears: list[GearResult]
-    series: RunSeries | None
-
-
-@dataclass
-class BasisResult:
-    entry: BasisEntry
-    rules: RequirementSet
-    values: dict[str, Value]
-
-
-@dataclass
-class Assessment:
-    """The evidence record of a campaign (inputs, derived values, verdicts, findings)."""
-
-    campaign: Campaign
-    design: dict[str, Value]
-    basis: list[BasisResult]
-    runs: list[RunResult]
-    verdicts: list[Verdict] = field(default_factory=list)
-    findings: list[Finding] = field(default_factory=list)
-    comparisons: list[Comparison] = field(default_factory=list)
-
-    @property
-    def planning(self) -> bool:
-        """A planning campaign (campaign.purpose: planning): its verdicts are predictions."""
-        return is_planning(self.campaign)
-
-    @property
-    def outcome(self) -> str:
-        """COMPLIANT only when every criterion passed on evidence free of data-quality errors
-        and from confirmed requirement values; otherwise what stops it.  A planning campaign
-        is never compliant: its outcome is :data:`PLANNING`."""
-        if self.planning:
-            return PLANNING
-        states = {verdict.verdict for verdict in self.verdicts}
-        if FAIL in states:
-            return "NOT COMPLIANT"
-        if NOT_SHOWN in states or any(f.severity == "error" for f in self.findings):
-            return "COMPLIANCE NOT SHOWN"
-        if any(verdict.to_confirm for verdict in self.verdicts):
-            return "COMPLIANT SUBJECT TO CONFIRMATION"
-        return "COMPLIANT"
-
-    def outcome_reasons(self) -> list[str]:
-        """Why the outcome is what it is, in words, for the cover page."""
-        counts, findings = self.counts(), self.finding_counts()
-        reasons = []
-        if self.planning:
-            reasons.append(
-                f"a planning campaign (campaign.purpose: planning): every value is computed "
-                f"from simulated histories, so the verdicts below are predictions for the "
-                f"planned drops and show no compliance. Predicted: {counts[PASS]} pass, "
-                f"{counts[FAIL]} fail, {counts[NOT_SHOWN]} not shown")
-        if counts[FAIL]:
-            reasons.append(f"{counts[FAIL]} criterion verdict(s) FAIL")
-        if counts[NOT_SHOWN]:
-            reasons.append(f"{counts[NOT_SHOWN]} criterion verdict(s) NOT SHOWN")
-        if findings["error"]:
-            reasons.append(f"{findings['error']} data-quality error(s): the evidence they "
-                           f"concern cannot support a compliance statement until resolved")
-        unconfirmed = sorted({v.requirement_set for v in self.verdicts if v.to_confirm})
-        if unconfirmed:
-            reasons.append("verdicts of " + ", ".join(unconfirmed) + " rest on values to be "
-                           "confirmed against the licensed standard")
-        return reasons
-
-    def counts(self) -> dict[str, int]:
-        return {state: sum(v.verdict == state for v in self.verdicts)
-                for state in (PASS, FAIL, NOT_SHOWN)}
-
-    def finding_counts(self) -> dict[str, int]:
-        return {level: sum(f.severity == level for f in self.findings)
-                for level in ("error", "warning", "info")}
-
-
-def is_planning(campaign: Campaign) -> bool:
-    """campaign.purpose is planning: values come from synthetic histories, as predictions."""
-    return campaign.spec.campaign.purpose == "planning"
 
 
 def _spec_input(location: str, text: str) -> str:
@@ -473,279 +381,6 @@ def _run_result(campaign: Campaign, run: Run, index: int) -> RunResult:
     return result
 
 
-# --------------------------------------------------------------------------- criteria
-@dataclass
-class _Context:
-    assessment: Assessment
-    basis: BasisResult
-
-    @property
-    def rules(self) -> RequirementSet:
-        return self.basis.rules
-
-    def verdict(self, criterion: Criterion, run: str | None, gear: str | None, state: str,
-                **fields) -> Verdict:
-        parts = [criterion.id] + [part for part in (run, gear) if part]
-        return Verdict(id="/".join(parts), requirement_set=self.rules.id, criterion=criterion.id,
-                       clause=criterion.clause, title=criterion.title, formula=criterion.formula,
-                       run=run, gear=gear, verdict=state, to_confirm=self.rules.to_confirm,
-                       **fields)
-
-
-def _runs_of(assessment: Assessment, test_type: str) -> list[RunResult]:
-    return [run for run in assessment.runs if run.run.test_type == test_type]
-
-
-def _slack(value: float, limit: float, resolution: float | None) -> float:
-    slack = EQUALITY_TOLERANCE * max(abs(value), abs(limit))
-    return slack if resolution is None else min(slack, resolution)
-
-
-def at_least(value: float, limit: float, resolution: float | None = None) -> str:
-    """PASS when ``value`` is not less than ``limit``: equality holds, as "not less than" in
-    14 CFR 23.725-23.727.  Equal means within :data:`~certkit.compliance.results.EQUALITY_TOLERANCE`
-    (relative), and never more than ``resolution``: half a unit in the last digit of the
-    typed value the criterion turns on (its ``stated_resolution_si``)."""
-    return PASS if value >= limit - _slack(value, limit, resolution) else FAIL
-
-
-def at_most(value: float, limit: float, resolution: float | None = None) -> str:
-    """PASS when ``value`` does not exceed ``limit``, equality included (as :func:`at_least`)."""
-    return PASS if value <= limit + _slack(value, limit, resolution) else FAIL
-
-
-def _typed_resolution(quantity, value: float) -> float | None:
-    """Half a unit in the last typed digit of ``quantity``, scaled to ``value`` (the same
-    relative resolution), None for a quantity not typed."""
-    if quantity is None or quantity.si == 0:
-        return None
-    return abs(value) * quantity.stated_resolution_si / abs(quantity.si)
-
-
-def _height_check(ctx: _Context, criterion: Criterion, test_type: str, required_key: str,
-                  what: str) -> list[Verdict]:
-    required = ctx.basis.values.get(required_key)
-    runs = _runs_of(ctx.assessment, test_type)
-    if not runs:
-        return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=required.value, unit="m",
-                            kind="length", reason=f"no {what} drop in the test matrix")]
-    verdicts = []
-    for run in runs:
-        h = run.get("h")
-        verdicts.append(ctx.verdict(
-            criterion, run.run.id, None,
-            at_least(h, required.value, run.run.drop_height.stated_resolution_si), value=h,
-            limit=required.value, margin=h - required.value, unit="m", kind="length",
-            reason=f"{what} drop from {run.run.drop_height.text}"))
-    return verdicts
-
-
-def check_limit_drop_height(ctx, criterion):
-    return _height_check(ctx, criterion, "limit", "h_req", "limit")
-
-
-def check_reserve_drop_height(ctx, criterion):
-    return _height_check(ctx, criterion, "reserve", "h_reserve", "reserve energy")
-
-
-def check_dynamic_drop_height(ctx, criterion):
-    """23.726(a): 2.25·h_req, or (option 2) a height developing 1.5 times the limit load factor."""
-    required = ctx.basis.values["h_dynamic"]
-    runs = _runs_of(ctx.assessment, "dynamic")
-    if not runs:
-        return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=required.value, unit="m",
-                            kind="length", reason="no ground load dynamic drop in the test matrix")]
-    n_limit = ctx.assessment.design["n_limit"].value
-    n_limit_typed = ctx.assessment.campaign.spec.aircraft.design_limit_inertia_load_factor
-    verdicts = []
-    for run in runs:
-        h = run.get("h")
-        if at_least(h, required.value, run.run.drop_height.stated_resolution_si) == PASS:
-            verdicts.append(ctx.verdict(criterion, run.run.id, None, PASS, value=h,
-                                        limit=required.value, margin=h - required.value,
-                                        unit="m", kind="length", reason="option (1): 2.25·h_req"))
-            continue
-        factors = [gear.get("n") for gear in run.gears]
-        if n_limit is None or None in factors:
-            verdicts.append(ctx.verdict(
-                criterion, run.run.id, None, NOT_SHOWN, value=h, limit=required.value,
-                margin=h - required.value, unit="m", kind="length",
-                reason="below 2.25·h_req; option (2) needs n measured and n_limit declared"))
-            continue
-        n = max(factors)
-        verdicts.append(ctx.verdict(
-            criterion, run.run.id, None,
-            at_least(n, 1.5 * n_limit, _typed_resolution(n_limit_typed, 1.5 * n_limit)), value=n,
-            limit=1.5 * n_limit, margin=n - 1.5 * n_limit,
-            reason="option (2): height developing 1.5 times the limit load factor"))
-    return verdicts
-
-
-def check_reserve_no_failure(ctx, criterion):
-    runs = _runs_of(ctx.assessment, "reserve")
-    if not runs:
-        return [ctx.verdict(criterion, None, None, NOT_SHOWN,
-                            reason="no reserve energy drop in the test matrix")]
-    verdicts = []
-    for run in runs:
-        inspection = run.run.inspection
-        if ctx.assessment.planning:
-            verdicts.append(ctx.verdict(criterion, run.run.id, None, NOT_SHOWN,
-                                        reason="a planning campaign: whether the gear fails is "
-                                               "found by inspecting it after the drop, which no "
-                                               "simulation predicts"))
-        elif inspection is None or inspection.failure is None:
-            verdicts.append(ctx.verdict(criterion, run.run.id, None, NOT_SHOWN,
-                                        reason="post-test inspection result not recorded"))
-        else:
-            verdicts.append(ctx.verdict(
-                criterion, run.run.id, None, FAIL if inspection.failure else PASS,
-                reason=("failure reported" if inspection.failure else "no failure reported")
-                + (f"; yielding: {'yes' if inspection.yielding else 'no'}"
-                   if inspection.yielding is not None else "")))
-    return verdicts
-
-
-def _effective_weight_check(ctx, criterion, test_type: str, what: str) -> list[Verdict]:
-    """W_drop ≥ W_e per gear unit of each ``test_type`` drop (W_e: the gear's W1 share
-    against the clause's effective weight, computed with the measured d)."""
-    maximum = ctx.rules.number("wing_lift_ratio_maximum")
-    runs = _runs_of(ctx.assessment, test_type)
-    if not runs:
-        return [ctx.verdict(criterion, None, None, NOT_SHOWN, unit="N", kind="force",
-                            reason=f"no {what} drop in the test matrix")]
-    verdicts = []
-    for run in runs:
-        lift = run.get("L")
-        method = run.run.lift.method
-        if method != "none" and test_type == "limit":
-            verdicts.append(ctx.verdict(
-                criterion, run.run.id, None,
-                at_most(lift, maximum, _typed_resolution(run.run.lift.ratio, lift)), value=lift,
-                limit=maximum, margin=maximum - lift, comparison="≤",
-                reason=f"wing-lift ratio L represented in the drop ({method})"))
-        reason = {"none": "no lift simulated: W_e = W",
-                  "lift_device": "lift by a device: the full weight W is dropped",
-                  "reduced_mass": ("reserve drop, W_e = W·h/(h + d), d as recorded"
-                                   if test_type == "reserve" else
-                                   f"reduced mass, L = {lift:g}, d as recorded (23.725(d))")}[method]
-        for gear in run.gears:
-            w_e, w_drop = gear.get("W_e"), gear.get("W_drop")
-            static_weight = ctx.assessment.campaign.gear_units[gear.gear_id].static_weight
-            if w_e is None:
-                verdicts.append(ctx.verdict(criterion, run.run.id, gear.gear_id, NOT_SHOWN,
-                                            unit="N", kind="force",
-                                            reason="d (tyre deflection + axle travel) unknown"))
-                continue
-            verdicts.append(ctx.verdict(
-                criterion, run.run.id, gear.gear_id,
-                at_least(w_drop, w_e, min(_typed_resolution(run.run.drop_mass, w_drop),
-                                          _typed_resolution(static_weight, w_e))),
-                value=w_drop,
-                limit=w_e, margin=w_drop - w_e, unit="N", kind="force", reason=reason))
-    return verdicts
-
-
-def check_effective_weight(ctx, criterion):
-    """23.725(b),(d): limit drops."""
-    return _effective_weight_check(ctx, criterion, "limit", "limit")
-
-
-def check_reserve_effective_weight(ctx, criterion):
-    """23.727(b): reserve energy drops, W_e = W·h/(h + d) when lift is simulated."""
-    return _effective_weight_check(ctx, criterion, "reserve", "reserve energy")
-
-
-def check_inertia_load_factor(ctx, criterion):
-    n_limit = ctx.assessment.design["n_limit"].value
-    n_limit_typed = ctx.assessment.campaign.spec.aircraft.design_limit_inertia_load_factor
-    runs = _runs_of(ctx.assessment, "limit")
-    if not runs:
-        return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=n_limit,
-                            reason="no limit drop in the test matrix")]
-    verdicts = []
-    for run in runs:
-        for gear in run.gears:
-            n = gear.get("n")
-            if n is None:
-                verdicts.append(ctx.verdict(criterion, run.run.id, gear.gear_id, NOT_SHOWN,
-                                            limit=n_limit, comparison="≤",
-                                            reason="drop-mass acceleration not recorded, so n_j "
-                                                   "(23.725(e)) is unknown"))
-            elif n_limit is None:
-                verdicts.append(ctx.verdict(criterion, run.run.id, gear.gear_id, NOT_SHOWN,
-                                            value=n, comparison="≤",
-                                            reason="design limit inertia load factor not declared"))
-            else:
-                verdicts.append(ctx.verdict(
-                    criterion, run.run.id, gear.gear_id,
-                    at_most(n, n_limit, _typed_resolution(n_limit_typed, n_limit)),
-                    value=n, limit=n_limit, margin=n_limit - n, comparison="≤",
-                    reason=gear.values["n"].formula))
-    return verdicts
-
-
-def check_energy_method_load_factor(ctx, criterion):
-    rules = ctx.rules
-    lift = rules.number("energy_method_wing_lift_ratio")
-    eta_t, eta_s = rules.number("tyre_efficiency"), rules.number("shock_absorber_efficiency")
-    n_limit = ctx.assessment.design["n_limit"].value
-    n_limit_typed = ctx.assessment.campaign.spec.aircraft.design_limit_inertia_load_factor
-    runs = _runs_of(ctx.assessment, "limit")
-    if not runs:
-        return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=n_limit, comparison="≤",
-                            reason="no limit drop in the test matrix")]
-    verdicts = []
-    for run in runs:
-        for gear in run.gears:
-            n = gear.get(f"n_energy[{rules.id}]")
-            if n is None:
-                verdicts.append(ctx.verdict(criterion, run.run.id, gear.gear_id, NOT_SHOWN,
-                                            limit=n_limit, comparison="≤",
-                                            reason="strut and tyre travel needed"))
-            elif n_limit is None:
-                verdicts.append(ctx.verdict(
-                    criterion, run.run.id, gear.gear_id, NOT_SHOWN, value=n, comparison="≤",
-                    reason=f"design limit inertia load factor not declared "
-                           f"(n = n_j + L with L = {lift:.4g}, η_t = {eta_t}, η_s = {eta_s})"))
-            else:
-                verdicts.append(ctx.verdict(
-                    criterion, run.run.id, gear.gear_id,
-                    at_most(n, n_limit, _typed_resolution(n_limit_typed, n_limit)),
-                    value=n, limit=n_limit, margin=n_limit - n, comparison="≤",
-                    reason=f"n = n_j + L, L = {lift:.4g}, η_t = {eta_t}, η_s = {eta_s}"))
-    return verdicts
-
-
-def check_design_load_factor_minimum(ctx, criterion):
-    n_limit = ctx.assessment.design["n_limit"].value
-    n_limit_typed = ctx.assessment.campaign.spec.aircraft.design_limit_inertia_load_factor
-    lift = ctx.assessment.design["L_design"].value
-    minimum = max(ctx.rules.number("inertia_load_factor_minimum"),
-                  ctx.rules.number("ground_reaction_factor_minimum") + lift)
-    if n_limit is None:
-        return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=minimum,
-                            reason="design limit inertia load factor not declared")]
-    return [ctx.verdict(criterion, None, None,
-                        at_least(n_limit, minimum, _typed_resolution(n_limit_typed, n_limit)),
-                        value=n_limit,
-                        limit=minimum, margin=n_limit - minimum,
-                        reason=f"minimum = max(2.67, 2.0 + L) with L = {lift:g}")]
-
-
-CHECKS = {
-    "limit_drop_height": check_limit_drop_height,
-    "reserve_drop_height": check_reserve_drop_height,
-    "dynamic_drop_height": check_dynamic_drop_height,
-    "reserve_no_failure": check_reserve_no_failure,
-    "effective_weight": check_effective_weight,
-    "reserve_effective_weight": check_reserve_effective_weight,
-    "inertia_load_factor": check_inertia_load_factor,
-    "energy_method_load_factor": check_energy_method_load_factor,
-    "design_load_factor_minimum": check_design_load_factor_minimum,
-}
-
-
 def _energy_method_values(assessment: Assessment) -> None:
     """The energy-method load factor of each set that defines one, per run and gear."""
     for basis in assessment.basis:
@@ -799,10 +434,6 @@ def assess(campaign: Campaign) -> Assessment:
     assessment = Assessment(campaign, design, basis, runs)
     _energy_method_values(assessment)
     for item in basis:
-        ctx = _Context(assessment, item)
-        for criterion in item.rules.criteria:
-            if criterion.applies_if and not getattr(item.entry, criterion.applies_if):
-                continue
-            assessment.verdicts.extend(CHECKS[criterion.check](ctx, criterion))
+        assessment.verdicts.extend(evaluate(assessment, item))
     audit(assessment)
     return assessment

@@ -7,16 +7,12 @@ and the report states the ones used.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
+from certkit.compliance.assessment import Assessment
 from certkit.compliance.drop_conditions import lift_force_ratio
 from certkit.compliance.measures import ZERO_WINDOW
-from certkit.display import number, with_unit
 from certkit.compliance.results import Comparison, Finding
+from certkit.display import number, with_unit
 from certkit.units import STANDARD_GRAVITY, ureg
-
-if TYPE_CHECKING:
-    from certkit.compliance.engine import Assessment
 
 #: Alternative units tried when a reported value disagrees: a match in another unit
 #: of the same kind is reported as a probable unit slip (requirements.md §4).

@@ -26,7 +26,7 @@ import math
 from dataclasses import asdict, dataclass
 from xml.etree import ElementTree
 
-from certkit.compliance.engine import Assessment
+from certkit.compliance.assessment import Assessment
 from certkit.display import margin as margin_text, with_unit
 from certkit.spec.schema import DisplayUnits
 

@@ -22,7 +22,8 @@ from jinja2 import Environment, FileSystemLoader, StrictUndefined, select_autoes
 from markupsafe import Markup
 
 from certkit import __version__
-from certkit.compliance.engine import Assessment, at_least
+from certkit.compliance.assessment import Assessment
+from certkit.compliance.criteria import at_least
 from certkit.display import (DISPLAY_RULE, SIGNIFICANT, display, margin, number, parameter, percent,
                       pretty, to_display, typed, with_unit)
 from certkit.compliance.equations import EQUATIONS, GRAVITY_NOTE
