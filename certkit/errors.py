@@ -32,6 +32,12 @@ class CertkitInputError(Exception):
         return cls([Problem(str(file), line, key, message)])
 
 
+class CampaignError(Exception):
+    """What a valid campaign can still cause and its user can act on, though no key is wrong:
+    a drop model that cannot be simulated, residuals that cannot be evaluated, a blind check
+    with nowhere to run.  The CLI exits with code 2 and names the campaign (or bag)."""
+
+
 def key_path(location: tuple) -> str:
     """('runs', 2, 'drop_height') -> 'runs[2].drop_height'."""
     text = ""

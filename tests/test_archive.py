@@ -265,12 +265,12 @@ def test_an_existing_target_is_never_replaced(bag, tmp_path):
 
 
 def test_a_failed_archive_leaves_nothing_behind(tmp_path, monkeypatch):
-    import certkit.evidence.report as report
+    import certkit.archive.campaign_bag as campaign_bag
 
     def broken(*args, **kwargs):
         raise RuntimeError("renderer failed")
 
-    monkeypatch.setattr(report, "render_report", broken)
+    monkeypatch.setattr(campaign_bag, "render_report", broken)
     target = tmp_path / "new" / "deeper" / "bag"
     with pytest.raises(RuntimeError):
         archive_campaign(SEED, target, model=False)

@@ -106,7 +106,7 @@ def _current():
 
 
 def test_a_one_percent_change_in_a_peak_load_is_caught():
-    from certkit.evidence.baseline import compare
+    from certkit.evidence.comparison import compare
 
     current = _current()
     baseline = json.loads(json.dumps(current))
@@ -124,7 +124,7 @@ def test_a_one_percent_change_in_a_peak_load_is_caught():
 
 
 def test_verdicts_changed_added_and_removed_are_caught():
-    from certkit.evidence.baseline import compare
+    from certkit.evidence.comparison import compare
 
     current = _current()
     baseline = json.loads(json.dumps(current))
@@ -185,7 +185,7 @@ def test_table_values_are_not_rounded(tmp_path):
 
 
 def test_new_findings_changed_severities_and_the_outcome_are_caught():
-    from certkit.evidence.baseline import compare
+    from certkit.evidence.comparison import compare
 
     current = _current()
     baseline = json.loads(json.dumps(current))

@@ -20,7 +20,6 @@ import contextlib
 import ctypes
 import errno
 import json
-import math
 import os
 import shutil
 import tempfile
@@ -28,11 +27,25 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
 from certkit import __version__
-from certkit.archive.bag import TAGMANIFEST, BagError, Change, bag_hash, check_bag, extract_zip, read_info, \
-    sha256_of, write_bag, write_zip
-from certkit.errors import CertkitInputError
-from certkit.evidence.provenance import environment
+from certkit.archive.bag import (
+    TAGMANIFEST,
+    BagError,
+    Change,
+    bag_hash,
+    check_bag,
+    extract_zip,
+    read_info,
+    sha256_of,
+    write_bag,
+    write_zip,
+)
+from certkit.compliance.engine import assess
 from certkit.compliance.results import RESULTS_FORMAT
+from certkit.errors import CertkitInputError
+from certkit.evidence.comparison import differences
+from certkit.evidence.provenance import environment
+from certkit.evidence.report import render_report, results_json
+from certkit.spec.campaign import load_campaign
 
 CAMPAIGN = "data/campaign"
 RESULTS = "data/results"
@@ -137,8 +150,6 @@ def _staged_campaign(campaign, folder: Path):
     """The campaign loaded again from its archived copy; refused unless it names the
     same files with the same bytes (a layout the archive cannot reproduce, such as a
     path through a link that leaves the folder, is caught here, not years later)."""
-    from certkit.spec.campaign import load_campaign
-
     try:
         staged = load_campaign(folder / campaign.inputs[0].name)
     except CertkitInputError as error:
@@ -216,10 +227,6 @@ def archive_campaign(spec: str | Path, target: str | Path, *, model: bool = True
     Raises CertkitInputError for bad input or a target that exists; nothing is left
     behind on any failure.
     """
-    from certkit.spec.campaign import load_campaign
-    from certkit.compliance.engine import assess
-    from certkit.evidence.report import render_report
-
     progress = progress or (lambda message: None)
     target = Path(target)
     _check_new(target)
@@ -246,6 +253,7 @@ def archive_campaign(spec: str | Path, target: str | Path, *, model: bool = True
         assessment = assess(campaign)
         evidence = None
         if model:
+            # lazy: the model stage adds ~0.5 s to every CLI start-up (see certkit.cli.model)
             from certkit.evidence.model_evidence import model_evidence
             progress("calibrating the drop model")
             evidence = model_evidence(campaign)
@@ -294,46 +302,15 @@ def opened_bag(path: str | Path):
         raise BagError(f"{path}: not found (expected a bag folder or a .zip of one)")
 
 
-def _flatten(node, prefix: str, out: dict) -> None:
-    if isinstance(node, dict):
-        for key, value in node.items():
-            _flatten(value, f"{prefix}/{key}" if prefix else str(key), out)
-        if not node:
-            out[prefix] = {}
-    elif isinstance(node, list):
-        for index, value in enumerate(node):
-            _flatten(value, f"{prefix}/{index}", out)
-        if not node:
-            out[prefix] = []
-    else:
-        out[prefix] = node
-
-
-def _agree(a, b, tolerance: float) -> bool:
-    numbers = (int, float)
-    if isinstance(a, bool) or isinstance(b, bool) or not (isinstance(a, numbers)
-                                                         and isinstance(b, numbers)):
-        return a == b
-    if math.isnan(a) or math.isnan(b):
-        return math.isnan(a) and math.isnan(b)
-    return a == b or abs(a - b) <= tolerance * max(abs(a), abs(b))
-
-
 def compare_results(archived: dict, recomputed: dict, tolerance: float
                     ) -> tuple[list[str], list[str]]:
     """(differences, software notes) between two results documents: every value by its
-    path; numbers agree within ``tolerance`` relative, everything else exactly."""
-    then, now = {}, {}
-    _flatten(archived, "", then)
-    _flatten(recomputed, "", now)
-    differences, software = [], []
-    for path in sorted(set(then) | set(now)):
-        a, b = then.get(path, "(absent)"), now.get(path, "(absent)")
-        if _agree(a, b, tolerance):
-            continue
+    path, compared by :func:`certkit.evidence.comparison.agree`."""
+    found, software = [], []
+    for path, a, b in differences(archived, recomputed, tolerance):
         line = f"{path}: archived {a!r}, recomputed {b!r}"
-        (software if path.startswith(SOFTWARE) else differences).append(line)
-    return differences, software
+        (software if path.startswith(SOFTWARE) else found).append(line)
+    return found, software
 
 
 def archived_results(folder: Path) -> tuple[bytes, dict]:
@@ -365,10 +342,6 @@ def _archived_spec(folder: Path, results: dict) -> Path:
 def recompute(folder: Path, tolerance: float, progress=None) -> Recomputed:
     """Re-run the assessment (and the drop model, when the archive has it) from the
     archived inputs and compare the results with the archived results.json."""
-    from certkit.spec.campaign import load_campaign
-    from certkit.compliance.engine import assess
-    from certkit.evidence.report import results_json
-
     archived_bytes, archived = archived_results(folder)
     try:
         campaign = load_campaign(_archived_spec(folder, archived))
@@ -378,12 +351,13 @@ def recompute(folder: Path, tolerance: float, progress=None) -> Recomputed:
     assessment = assess(campaign)
     evidence = None
     if archived.get("model") is not None:
+        # lazy: the model stage adds ~0.5 s to every CLI start-up (see certkit.cli.model)
         from certkit.evidence.model_evidence import model_evidence
         (progress or (lambda m: None))("calibrating the drop model")
         evidence = model_evidence(campaign)
     recomputed_bytes = results_json(assessment, evidence)
-    differences, software = compare_results(archived, json.loads(recomputed_bytes), tolerance)
-    return Recomputed(recomputed_bytes == archived_bytes, differences, software)
+    found, software = compare_results(archived, json.loads(recomputed_bytes), tolerance)
+    return Recomputed(recomputed_bytes == archived_bytes, found, software)
 
 
 def verify_archive(path: str | Path, *, recompute_results: bool = False,

@@ -14,8 +14,8 @@ import sqlite3
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from certkit.archive.campaign_bag import archived_results, opened_bag
 from certkit.archive.bag import BagError, bag_hash, check_bag, read_info
+from certkit.archive.campaign_bag import archived_results, opened_bag
 from certkit.errors import CertkitInputError
 
 SCHEMA_VERSION = 1

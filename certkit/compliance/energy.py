@@ -40,7 +40,9 @@ def work_until(time: np.ndarray, load: np.ndarray, travel: np.ndarray, end: int)
     exactly by 3-point Gauss-Legendre quadrature.  Fourth-order accurate in the sample
     interval; exact when F is linear in s.
     """
-    from scipy.interpolate import CubicSpline  # imported here: only time series need it
+    # scipy is imported here, not at the top: scipy.interpolate and scipy.signal add about
+    # 0.25 s to every start-up (python -X importtime), and only time series need them
+    from scipy.interpolate import CubicSpline
 
     if end < 1:
         return 0.0

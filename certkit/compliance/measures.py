@@ -127,6 +127,7 @@ def window_samples(duration: float, step: float, minimum: int = 1) -> int:
 def axle_acceleration(time: np.ndarray, tyre: np.ndarray) -> np.ndarray:
     """δ̈ from the tyre deflection: Savitzky-Golay second derivative (cubic, over
     :data:`AXLE_WINDOW`) on a uniform time base; cubic-spline second derivative otherwise."""
+    # lazy, as in certkit.compliance.energy: about 0.25 s of start-up, time series only
     from scipy.interpolate import CubicSpline
     from scipy.signal import savgol_filter
 

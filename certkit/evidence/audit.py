@@ -7,7 +7,7 @@ its id from one run of the audit to the next.  Values are SI, as in results.json
 JSON and CSV tables; the Markdown summary and the JUnit messages, which people read, show
 them in the campaign's display units (:mod:`certkit.display`).
 
-With a baseline (an earlier results.json, :mod:`certkit.evidence.baseline`), every number that
+With a baseline (an earlier results.json, :mod:`certkit.evidence.comparison`), every number that
 drifted beyond the tolerance, every criterion added or removed and every verdict that
 changed is a row too.
 
@@ -82,7 +82,7 @@ def audit_rows(assessment: Assessment) -> list[AuditRow]:
 
 
 def baseline_rows(changes) -> list[AuditRow]:
-    """A row per :class:`certkit.evidence.baseline.Change`; every one of them fails the audit."""
+    """A row per :class:`certkit.evidence.comparison.Change`; every one of them fails the audit."""
     return [AuditRow(f"baseline/{c.path}", "baseline", c.kind, c.kind, None, None,
                      c.before if isinstance(c.before, float) else None,
                      None, None, "", "changed", f"{c.detail}: baseline {c.before!r}, now "

@@ -39,6 +39,7 @@ from certkit.physics.drop_model import DropModel
 from certkit.physics.effects import (GasHeatTransfer, LegFlexibility, ReboundOrifice, SealFriction,
                       SensorDynamics, TyreHysteresis)
 from certkit.units import STANDARD_GRAVITY
+from certkit.errors import CampaignError
 
 #: How far a sized effect's load change may miss its target (a share).
 SIZE_TOLERANCE = 0.05
@@ -499,7 +500,7 @@ def _executor(workers: int | None, scheduler: str | None):
     return contextlib.nullcontext(), pool
 
 
-class BlindCheckError(RuntimeError):
+class BlindCheckError(CampaignError, RuntimeError):
     """The battery cannot run (no cluster to run it on)."""
 
 

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import least_squares
+from certkit.errors import CampaignError
 
 # A direction in log-parameter space whose singular value is below this fraction of the
 # largest is "not determined".  Its standard error would be at least 1e6 times that of the best
@@ -51,7 +52,7 @@ DEFAULT_RELATIVE_STEP = float(np.finfo(float).eps ** (1.0 / 3.0))
 Residuals = Callable[[np.ndarray], np.ndarray]
 
 
-class FitError(ValueError):
+class FitError(CampaignError, ValueError):
     """The residuals could not be evaluated (non-finite or wrong shape) at some parameter values."""
 
 

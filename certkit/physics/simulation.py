@@ -20,13 +20,14 @@ from scipy.integrate import solve_ivp
 from certkit.physics import dynamics as dyn
 from certkit.physics.drop_model import DropModel, orifice_coefficient
 from certkit.units import STANDARD_GRAVITY
+from certkit.errors import CampaignError
 
 
 #: The channels a logger records (what sensor effects act on).
 RECORDED = ("load", "stroke", "tyre", "acceleration", "displacement")
 
 
-class SimulationError(RuntimeError):
+class SimulationError(CampaignError, RuntimeError):
     """The integrator failed; the message names the run and the time it failed at."""
 
 

@@ -1,6 +1,10 @@
-"""What moved since a baseline: the numbers and verdicts of two results documents
-(results.json, ``format: certkit-results/1``) compared, so that a change to the spec, the
-data or certkit itself cannot silently move a certified number (issue 6).
+"""Two results documents (results.json, ``format: certkit-results/1``) compared: the one
+home of that comparison and of its tolerance rule (:func:`agree`).
+
+Two uses.  :func:`compare` says what moved since a baseline, so that a change to the spec,
+the data or certkit itself cannot silently move a certified number (the audit's
+``--baseline``).  :func:`differences` compares every value of two documents by its path (an
+archive's results recomputed from its inputs, ``certkit verify --recompute``).
 
 Every number is addressed by a stable path: ``design/<key>``, ``basis/<set>/<key>``,
 ``runs/<run>/<key>``, ``runs/<run>/<gear>/<key>`` and ``verdicts/<id>/value|limit|margin``;
@@ -18,8 +22,8 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from certkit.errors import CertkitInputError
 from certkit.compliance.results import RESULTS_FORMAT
+from certkit.errors import CertkitInputError
 
 FORMAT = RESULTS_FORMAT
 
@@ -77,6 +81,48 @@ def _compare_labels(changes: list, what: str, old: dict, new: dict, changed: str
                                   f"{old[key]} → {new[key]}"))
 
 
+def agree(earlier, later, tolerance: float) -> bool:
+    """Two values agree: numbers when they differ by at most ``tolerance`` relative to the
+    earlier one's magnitude (NaN only with NaN), anything else when equal."""
+    numeric = (int, float)
+    if isinstance(earlier, bool) or isinstance(later, bool) or not (
+            isinstance(earlier, numeric) and isinstance(later, numeric)):
+        return earlier == later
+    if math.isnan(earlier) or math.isnan(later):
+        return math.isnan(earlier) and math.isnan(later)
+    return earlier == later or abs(later - earlier) <= tolerance * abs(earlier)
+
+
+def _flatten(node, prefix: str, out: dict) -> None:
+    if isinstance(node, dict):
+        for key, value in node.items():
+            _flatten(value, f"{prefix}/{key}" if prefix else str(key), out)
+        if not node:
+            out[prefix] = {}
+    elif isinstance(node, list):
+        for index, value in enumerate(node):
+            _flatten(value, f"{prefix}/{index}", out)
+        if not node:
+            out[prefix] = []
+    else:
+        out[prefix] = node
+
+
+ABSENT = "(absent)"
+
+
+def differences(earlier: dict, later: dict, tolerance: float) -> list[tuple[str, object, object]]:
+    """Every value of two documents that does not :func:`agree`, by its path
+    (``runs/0/gears/1/values/3/value``), in path order: (path, earlier, later), with
+    :data:`ABSENT` for a value only one of them has."""
+    then, now = {}, {}
+    _flatten(earlier, "", then)
+    _flatten(later, "", now)
+    return [(path, then.get(path, ABSENT), now.get(path, ABSENT))
+            for path in sorted(set(then) | set(now))
+            if not agree(then.get(path, ABSENT), now.get(path, ABSENT), tolerance)]
+
+
 def compare(current: dict, baseline: dict, tolerance: float) -> list[Change]:
     """The changes from ``baseline`` to ``current`` (both results documents), in path order."""
     changes = []
@@ -93,7 +139,7 @@ def compare(current: dict, baseline: dict, tolerance: float) -> list[Change]:
                                       "the unit changed"))
             elif (a is None) != (b is None):
                 changes.append(Change("drifted", path, b, a, "a value appeared or vanished"))
-            elif a is not None and abs(a - b) > tolerance * abs(b) and a != b:
+            elif a is not None and not agree(b, a, tolerance):
                 relative = (a - b) / abs(b) if b else math.inf
                 changes.append(Change("drifted", path, b, a,
                                       f"{100 * relative:+.4g} % (tolerance "

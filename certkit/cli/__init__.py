@@ -1,0 +1,15 @@
+"""The certkit command line: a thin shell over the library.
+
+Exit codes: 0 success; 1 campaign not compliant (only with ``--strict``); 2 bad input;
+3 internal error (a certkit bug; no traceback unless CERTKIT_DEBUG is set).
+
+:mod:`certkit.cli.app` holds the application and the one home of its error handling; the
+commands live by what they work on: :mod:`~certkit.cli.campaign` (validate, report, audit,
+schema, sets), :mod:`~certkit.cli.model` (simulate, calibrate, identify, gap) and
+:mod:`~certkit.cli.archive` (archive, verify, catalog).
+"""
+
+from certkit.cli import archive, campaign, model  # noqa: F401 - registers the commands
+from certkit.cli.app import app, run
+
+__all__ = ["app", "run"]

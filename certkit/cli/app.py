@@ -1,0 +1,140 @@
+"""The command-line application and the one home of its error handling.
+
+Every command is registered with :func:`command`, which turns what a user can cause into a
+message and exit code 2: a bad spec, data file or argument
+(:class:`~certkit.errors.CertkitInputError`, its problems one per line), a campaign the model
+cannot follow (:class:`~certkit.errors.CampaignError`, named with the campaign or bag) and a
+path that is not a bag (:class:`~certkit.archive.bag.BagError`).  :func:`run`, the console
+entry point, reports anything else as a certkit bug (exit 3, no traceback unless
+CERTKIT_DEBUG is set).
+"""
+
+from __future__ import annotations
+
+import functools
+import inspect
+import os
+import signal
+import sys
+from pathlib import Path
+from typing import Annotated, NoReturn
+
+import typer
+from rich.console import Console
+from rich.text import Text
+
+from certkit import __version__
+from certkit.archive.bag import BagError
+from certkit.errors import CampaignError, CertkitInputError
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+                  help="Turn a landing-gear drop-test campaign into airworthiness evidence.")
+catalog_app = typer.Typer(no_args_is_help=True, help="An SQLite index of archived campaigns: "
+                                                     "add bags, list and search them.")
+app.add_typer(catalog_app, name="catalog")
+err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)
+out = Console(highlight=False, soft_wrap=True, markup=False)
+
+SpecArgument = Annotated[Path, typer.Argument(help="campaign spec (YAML)", show_default=False)]
+
+
+def error(message: str) -> None:
+    """Print one error line on standard error."""
+    err.print(Text.assemble(("error: ", "bold red"), message))
+
+
+def warning(message: str, label: str = "warning") -> None:
+    """Print one warning (or note) line on standard error."""
+    err.print(Text.assemble((f"{label}: ", "bold yellow" if label == "warning" else "bold"),
+                            message))
+
+
+def fail(subject: Path, message: str) -> NoReturn:
+    """A bad-input outcome that is not a spec problem (no data to work on): exit 2."""
+    error(f"{subject}: {message}")
+    raise typer.Exit(2)
+
+
+def bad_option(option: str, expected: str, found) -> NoReturn:
+    """A command-line option with a value it cannot take: say which, and exit 2."""
+    error(f"--{option}: expected {expected}, found {found}")
+    raise typer.Exit(2)
+
+
+def _report_user_error(problem: Exception, subject: object, context: str) -> NoReturn:
+    """What the user can act on, as a message; exit 2."""
+    if isinstance(problem, CertkitInputError):
+        for item in problem.problems:
+            error(str(item))
+    elif isinstance(problem, CampaignError):
+        error(f"{subject}: {context}{problem}")
+    else:
+        error(str(problem))
+    raise typer.Exit(2)
+
+
+def command(group: typer.Typer = app, name: str | None = None, context: str = ""):
+    """Register a command whose user-caused errors exit 2 with a message.
+
+    ``context`` prefixes the message of a :class:`~certkit.errors.CampaignError` (e.g. "the
+    recomputation failed: "); its subject is the command's first argument (the spec or bag).
+    """
+    def register(function):
+        signature = inspect.signature(function)
+
+        @functools.wraps(function)
+        def handled(*args, **kwargs):
+            try:
+                return function(*args, **kwargs)
+            except (CertkitInputError, CampaignError, BagError) as problem:
+                arguments = signature.bind_partial(*args, **kwargs).arguments
+                subject = next(iter(arguments.values()), "certkit")
+                _report_user_error(problem, subject, context)
+
+        return group.command(name)(handled)
+
+    return register
+
+
+def _version(value: bool) -> None:
+    if value:
+        out.print(f"certkit {__version__}")
+        raise typer.Exit()
+
+
+_STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP, signal.SIGINT)
+
+
+def _exit_on_signal(number, _frame):
+    # The first stop signal becomes an exception, so staged outputs are removed; further
+    # signals are ignored so they cannot interrupt that clean-up.
+    for other in _STOP_SIGNALS:
+        signal.signal(other, signal.SIG_IGN)
+    raise SystemExit(128 + number)
+
+
+@app.callback()
+def main(version: Annotated[bool, typer.Option("--version", callback=_version, is_eager=True,
+                                               help="print the version and exit")] = False):
+    """certkit: drop-test campaign -> compliance report, audit tables and evidence."""
+    for number in _STOP_SIGNALS:
+        signal.signal(number, _exit_on_signal)
+
+
+def run() -> None:
+    """Console entry point: an unexpected error is reported as a bug (exit 3)."""
+    try:
+        app()
+    except (CertkitInputError, CampaignError, BagError) as problem:  # outside any command
+        try:
+            _report_user_error(problem, "certkit", "")
+        except typer.Exit as exit_:
+            sys.exit(exit_.exit_code)
+    except Exception as problem:  # noqa: BLE001 - last resort: no traceback for users
+        if os.environ.get("CERTKIT_DEBUG"):
+            raise
+        err.print(Text.assemble(("internal error: ", "bold red"),
+                                f"{type(problem).__name__}: {problem}. This is a certkit bug; "
+                                f"please report it with the campaign (set CERTKIT_DEBUG=1 to "
+                                f"see the traceback)."))
+        sys.exit(3)

@@ -1,0 +1,266 @@
+"""Commands on a campaign's drop model: simulate, calibrate, identify, gap (and its blind check).
+
+Each command imports the model stage it needs (physics, ident, gap) inside its body, the one
+place in certkit where imports are lazy on purpose: importing them at the top would load the
+numba kernel and scipy's optimisers on every start-up, also for ``certkit validate`` and
+``certkit report --no-model``.  Measured with ``python -X importtime -c "import certkit.cli"``:
+0.56 s for certkit itself, 0.58 s more with the model stage imported eagerly.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.table import Table
+
+from certkit.cli.app import SpecArgument, bad_option, command, err, fail, out, warning
+from certkit.display import display, with_unit
+from certkit.display import parameter as parameter_text
+from certkit.evidence.report import largest_disagreement
+from certkit.outputs import check_target, staged_folder
+from certkit.spec.campaign import load_campaign
+from certkit.spec.rundata import CHANNEL_LABELS
+
+
+def _numbers(text: str, key: str, kind=float) -> tuple:
+    try:
+        values = tuple(kind(v) for v in text.split(",") if v.strip())
+    except ValueError:
+        values = ()
+    if not values:
+        bad_option(key, "comma-separated numbers", repr(text))
+    return values
+
+
+def _blind_check(spec: Path, gear: str | None, output: Path, workers, scheduler, seeds: str,
+                 ratios: str) -> None:
+    from certkit.gap.blind_check import Settings, blind_check, write_blind_check
+
+
+
+    settings = Settings(ratios=_numbers(ratios, "ratios"), seeds=_numbers(seeds, "seeds", int))
+    if workers is not None and workers < 1:
+        bad_option("workers", "a whole number ≥ 1", workers)
+    own = {"blind-check.json", "blind-check-cases.csv"}
+    check_target(output, [spec], own)   # the output folder is checked before the battery
+
+    def progress(outcome):
+        named = ", ".join(outcome["named"]) or "(none)"
+        err.print(f"{outcome['id']}: named {named}")
+
+    document = blind_check(spec, gear, settings, workers=workers, scheduler=scheduler,
+                           progress=progress)
+    with staged_folder(output, [spec], own) as folder:
+        write_blind_check(document, folder)
+    table = Table(title=f"blind check of the gap diagnosis ({len(document['cases'])} cases)")
+    for column in ("metric", "measured", "cases", "target", "met"):
+        table.add_column(column, justify="left" if column == "metric" else "right")
+    for name, metric in document["metrics"].items():
+        value = "n/a" if metric["value"] is None else f"{100 * metric['value']:.0f} %"
+        target = "" if metric["target"] is None else \
+            f"{metric['direction']} {100 * metric['target']:.0f} %"
+        met = {True: "yes", False: "NO", None: ""}[metric["met"]]
+        table.add_row(name.replace("_", " "), value, str(metric["cases"]), target, met)
+    out.print(table)
+    out.print(f"written: {output}")
+
+
+@command()
+def simulate(spec: SpecArgument,
+             output: Annotated[Path, typer.Option("-o", "--output", help="output folder")],
+             seed: Annotated[int, typer.Option(help="seed of the sensor noise")] = 0,
+             noise: Annotated[bool, typer.Option(
+                 "--noise/--no-noise", help="add sensor noise, quantisation and offsets")] = True,
+             ) -> None:
+    """Simulate every run with the gear's drop model; write data files and a campaign file."""
+    from certkit.physics.synthetic import (
+        NO_SENSOR_EFFECTS,
+        SensorModel,
+        simulate_campaign,
+    )
+
+
+    campaign = load_campaign(spec)
+    written = simulate_campaign(campaign, output, seed=seed,
+                                sensors=SensorModel() if noise else NO_SENSOR_EFFECTS)
+    out.print(f"wrote {written} and {len(campaign.spec.runs)} data file(s) (synthetic)")
+
+
+@command()
+def calibrate(spec: SpecArgument,
+              parameter: Annotated[list[str] | None, typer.Option(
+                  "-p", "--parameter", help="parameter to fit (repeat); default: the spec's "
+                                            "model.calibration, else C_d, pre-charge, n, tyre "
+                                            "stiffness and friction")] = None,
+              gear: Annotated[list[str] | None, typer.Option(
+                  "-g", "--gear", help="gear unit to calibrate (repeat); default: all "
+                                       "recorded")] = None,
+              json_file: Annotated[Path | None, typer.Option(
+                  "--json", help="also write the results (SI) to this JSON file")] = None,
+              ) -> None:
+    """Fit the drop model's parameters to the measured runs, all drop heights jointly."""
+    from certkit.physics.calibration import calibrate as run_calibration
+    from certkit.physics.calibration import calibration_document
+
+
+
+    campaign = load_campaign(spec)
+    result = run_calibration(campaign, knobs=parameter or None, gears=gear or None)
+    if not result.gears:
+        fail(spec, "no run records a gear unit with time histories; nothing to fit")
+    for item in result.gears:
+        fit_ = item.fit
+        table = Table(title=f"{item.gear_id}: runs {', '.join(item.runs)}; effects "
+                            f"{', '.join(result.effects) or 'none'}")
+        for column in ("parameter", "unit", "nominal", "estimate", "standard error"):
+            table.add_column(column, justify="left" if column in ("parameter", "unit") else "right")
+        units = campaign.spec.report.units
+        for p, e, se in zip(fit_.parameters, fit_.estimate, fit_.standard_error):
+            nominal, unit = parameter_text(p.nominal, p.unit, units)
+            table.add_row(p.name, unit, nominal, parameter_text(float(e), p.unit, units)[0],
+                          "not determined" if se != se
+                          else parameter_text(float(se), p.unit, units)[0])
+        out.print(table)
+        names = [p.name for p in fit_.parameters]
+        corr = Table(title="correlation of the estimates")
+        corr.add_column("")
+        for number in range(1, len(names) + 1):
+            corr.add_column(f"({number})", justify="right")
+        for number, (name, row) in enumerate(zip(names, fit_.correlation), start=1):
+            corr.add_row(f"({number}) {name}", *("—" if c != c else f"{c:+.2f}" for c in row))
+        out.print(corr)
+        rmse = Table(title="RMSE, nominal → calibrated")
+        for column in ("run", "channel", "nominal", "calibrated"):
+            rmse.add_column(column, justify="left" if column in ("run", "channel") else "right")
+        for e in item.errors:
+            kind = "force" if e.unit == "N" else "length"
+            rmse.add_row(e.run, CHANNEL_LABELS[e.channel], with_unit(e.nominal, kind, units),
+                         with_unit(e.calibrated, kind, units))
+        out.print(rmse)
+        for text in fit_.warnings:
+            warning(text)
+        if not fit_.success:
+            warning(f"the fit did not converge: {fit_.message}")
+    if json_file is not None:
+        text = json.dumps(calibration_document(result), indent=2, ensure_ascii=False)
+        json_file.write_text(text + "\n", encoding="utf-8")
+        out.print(f"wrote {json_file}")
+
+
+@command()
+def identify(spec: SpecArgument,
+             json_file: Annotated[Path | None, typer.Option(
+                 "--json", help="also write the results to this JSON file")] = None) -> None:
+    """Identify Hammerstein, Wiener and NARX models of each gear and validate them."""
+    from certkit.ident.protocol import (
+        OUTPUT_LABELS,
+        PROTOCOL_NAMES,
+        identification_document,
+    )
+    from certkit.ident.protocol import identify as run_identification
+
+
+
+    campaign = load_campaign(spec)
+    result = run_identification(campaign)
+    if not result.gears:
+        fail(spec, "no gear unit has two usable drops with time histories; nothing to "
+                    "identify" + (": " + "; ".join(result.skipped) if result.skipped else ""))
+    out.print(result.plant_note)
+    for gear in result.gears:
+        units = campaign.spec.report.units
+        table = Table(title=f"{gear.gear_id}: free-run RMSE [{units.length}]; trained on "
+                            f"{', '.join(gear.training)}, held out {', '.join(gear.held_out)}")
+        table.add_column("model")
+        columns = [(o, p) for o in ("stroke", "tyre") for p in ("paper", "held-out")]
+        for output, protocol in columns:
+            table.add_column(f"{OUTPUT_LABELS[output]}, {PROTOCOL_NAMES[protocol]}",
+                             justify="right")
+        models = list(dict.fromkeys(x.model for x in gear.scores))
+        for model in models:
+            cells = []
+            for output, protocol in columns:
+                score = next((x for x in gear.scores if (x.model, x.output, x.protocol, x.run)
+                              == (model, output, protocol, gear.held_out[0])), None)
+                cells.append("—" if score is None
+                             else display(score.rmse * 1e-3, "length", units)[0])
+            table.add_row(model, *cells)
+        out.print(table)
+        for note in gear.notes:
+            warning(note, "note")
+    if json_file is not None:
+        text = json.dumps(identification_document(result), indent=2, ensure_ascii=False)
+        json_file.write_text(text + "\n", encoding="utf-8")
+        out.print(f"wrote {json_file}")
+
+
+@command()
+def gap(spec: SpecArgument,
+        gear: Annotated[list[str] | None, typer.Option(
+            "-g", "--gear", help="gear unit (repeat); default: every recorded one")] = None,
+        blind: Annotated[bool, typer.Option(
+            "--blind-check", help="check the diagnosis blind on synthetic campaigns simulated "
+                                  "from SPEC with withheld effects, and score it")] = False,
+        output: Annotated[Path, typer.Option(
+            "-o", "--output", help="blind check: the folder for blind-check.json and "
+                                   "blind-check-cases.csv")] = Path("blind-check"),
+        workers: Annotated[int | None, typer.Option(
+            help="blind check: local worker processes (default: one per core)")] = None,
+        scheduler: Annotated[str | None, typer.Option(
+            help="blind check: a dask.distributed scheduler address to run the cases on "
+                 "(needs certkit\\[cluster])")] = None,
+        seeds: Annotated[str, typer.Option(
+            help="blind check: seeds of the single-effect cases, comma-separated")] = "21,22,23",
+        ratios: Annotated[str, typer.Option(
+            help="blind check: effect sizes, multiples of the load noise RMS")] = "1,2,5",
+        ) -> None:
+    """Where the nominal model disagrees with the runs, and which effect explains it."""
+    from certkit.gap.diagnosis import gap_diagnosis
+
+
+    if blind:
+        _blind_check(spec, gear[0] if gear else None, output, workers, scheduler, seeds, ratios)
+        return
+
+
+    campaign = load_campaign(spec)
+    recorded = [g.id for g in campaign.spec.gear_units
+                if any(s is not None and g.id in s.gears for s in campaign.series.values())]
+    unknown = [g for g in gear or [] if g not in recorded]
+    if unknown:
+        fail(spec, f"--gear {', '.join(unknown)}: no drop records it; recorded: "
+                    f"{', '.join(recorded) or 'none'}")
+    if not recorded:
+        fail(spec, "no run has time histories; the gap diagnosis compares the model "
+                    "with recorded drops")
+    for gear_id in [g for g in recorded if not gear or g in gear]:
+        result = gap_diagnosis(campaign, gear_id)
+        which = result.diagnosis
+        out.print(f"{gear_id}: trained on {', '.join(result.training)}, held out "
+                  f"{', '.join(result.held_out)}"
+                  f" ({'declared in model.gap.held_out' if result.declared else 'default'})")
+        units = campaign.spec.report.units
+        out.print(largest_disagreement(result.before.largest, units))
+        table = Table(title="candidate effects, first step (score test on the training runs)")
+        for column in ("effect", "LM statistic", "explained RMS [noise]"):
+            table.add_column(column, justify="left" if column == "effect" else "right")
+        for score in which.steps[0][0].scores:
+            table.add_row(score.name, f"{score.statistic:.4g}", f"{score.explained:.3g}")
+        out.print(table)
+        out.print(which.statement)
+        table = Table(title="held-out RMSE, nominal model → with the named effects")
+        for column in ("run", "channel", "phase", "before", "after", "shrink"):
+            table.add_column(column, justify="left" if column in ("run", "channel", "phase")
+                             else "right")
+        for row in result.held_out_errors:
+            kind = "force" if row.channel == "load" else "length"
+            after = "" if row.after is None else with_unit(row.after, kind, units)
+            shrink = "" if row.shrink is None else f"{100 * row.shrink:.0f} %"
+            table.add_row(row.run, row.channel, row.phase,
+                          with_unit(row.before, kind, units), after, shrink)
+        out.print(table)
+
+
