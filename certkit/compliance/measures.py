@@ -15,8 +15,9 @@ from certkit.compliance.clauses import drop_test_load_factor
 from certkit.compliance.energy import absorbed_energy, work_until
 from certkit.units import STANDARD_GRAVITY
 
-#: Touchdown: load first exceeds this share of the unit's static weight (physics.md §4.1:
-#: 1-2 % of static load) or six robust standard deviations of the pre-contact noise.
+#: Touchdown: load first exceeds this share of the unit's static weight (the upper end of a
+#: 1-2 % threshold, so that platform noise alone does not start a drop) or six robust
+#: standard deviations of the pre-contact noise.
 TOUCHDOWN_SHARE = 0.02
 TOUCHDOWN_SIGMAS = 6.0
 #: Settling: stroke stays within this share of its maximum around its final value.

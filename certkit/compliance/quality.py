@@ -15,12 +15,14 @@ from certkit.display import number, with_unit
 from certkit.units import STANDARD_GRAVITY, ureg
 
 #: Alternative units tried when a reported value disagrees: a match in another unit
-#: of the same kind is reported as a probable unit slip (requirements.md §4).
+#: of the same kind is reported as a probable unit slip (inch-pound and SI values typed in
+#: the wrong unit are the commonest transcription error in a drop-test record).
 ALTERNATIVE_UNITS = {"length": ["mm", "cm", "m", "in", "ft"],
                      "wing_loading": ["lbf/ft^2", "kgf/m^2", "N/m^2"]}
 UNIT_SLIP_TOLERANCE = 0.05
 #: Tyre efficiency ceiling: a tyre whose force rises linearly or faster with deflection
-#: absorbs at most half the rectangle F_peak·δ_max (requirements.md §3 item 9).
+#: absorbs at most half the rectangle F_peak·δ_max (for F = k·δⁿ, ∫F dδ = F_peak·δ_max/(n + 1)
+#: with n ≥ 1).
 TYRE_EFFICIENCY_CEILING = 0.5
 
 
