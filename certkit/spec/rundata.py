@@ -242,18 +242,41 @@ def read_run(path: Path, display: str, spec_file: str, run_index: int, run: Run,
     CertkitInputError
         Naming the data file and row, or the spec line and key, for every problem.
     """
-    import pandas as pd  # lazy, as in _read_table
-
     data = run.data
     frame, first_line, layout = _read_table(path, display)
     check = _Checker(spec_file, run_index, run, display, lines)
-
     declared = data.sampling_rate.si if data.sampling_rate else default_rate
     if declared is None:
         check.spec_error(check.key("sampling_rate"),
                          "no sampling rate declared here or in instrumentation.sampling_rate")
+    _check_columns(check, frame, data, display)
+    time, measured_rate = _time_base(check, frame, first_line, data.time, declared, tolerance)
+    gears = {gear_id: _gear_series(check, frame, first_line, gear_id, channels,
+                                   gear_units[gear_id])
+             for gear_id, channels in data.gears.items()}
+    acceleration = displacement = None
+    if data.drop_mass_acceleration is not None:
+        acceleration = _channel(check, frame, first_line, ("drop_mass_acceleration",),
+                                data.drop_mass_acceleration, "acceleration")
+        _plausible(check, first_line, ("drop_mass_acceleration",), acceleration,
+                   -PLAUSIBLE_ACCELERATION, PLAUSIBLE_ACCELERATION, "m/s^2",
+                   data.drop_mass_acceleration.unit)
+    if data.drop_mass_displacement is not None:
+        displacement = _channel(check, frame, first_line, ("drop_mass_displacement",),
+                                data.drop_mass_displacement, "length")
+    check.raise_if_errors()
+    time, acceleration, displacement = _without_incomplete_rows(
+        check, display, time, gears, acceleration, displacement)
+    return RunSeries(
+        file=display, time=time, gears=gears, acceleration=acceleration,
+        acceleration_reference=(data.drop_mass_acceleration.reference
+                                if data.drop_mass_acceleration else None),
+        displacement=displacement, declared_rate=declared, measured_rate=measured_rate,
+        findings=check.findings, layout=layout)
 
-    # --- columns present
+
+def _check_columns(check: _Checker, frame, data, display: str) -> None:
+    """Every column the spec names is in the file, and the file has at least 3 rows."""
     wanted: list[tuple[tuple, Column]] = [(("time",), data.time)]
     for gear_id, channels in data.gears.items():
         for name in ("vertical_load", "strut_stroke", "tyre_deflection"):
@@ -275,20 +298,26 @@ def read_run(path: Path, display: str, spec_file: str, run_index: int, run: Run,
                                             f"least 3 are needed")
         check.raise_if_errors()
 
-    # --- time base
-    if pd.api.types.is_datetime64_any_dtype(frame[data.time.column]):
+
+def _time_base(check: _Checker, frame, first_line: int, column: TimeColumn,
+               declared: float | None, tolerance: float) -> tuple[np.ndarray, float]:
+    """The time column in s, checked (numbers, increasing, the declared rate, no gaps), and
+    the sampling rate its median step gives."""
+    import pandas as pd   # lazy, as in _read_table
+
+    if pd.api.types.is_datetime64_any_dtype(frame[column.column]):
         check.spec_error(check.key("time", "column"),
-                         f"column {data.time.column!r} holds timestamps; certkit needs the time "
-                         f"as a number in {data.time.unit}")
+                         f"column {column.column!r} holds timestamps; certkit needs the time "
+                         f"as a number in {column.unit}")
         check.raise_if_errors()
-    raw_time = pd.to_numeric(frame[data.time.column], errors="coerce").to_numpy(dtype=float)
-    time = raw_time * scale_to_si(data.time.unit, "time")
+    raw_time = pd.to_numeric(frame[column.column], errors="coerce").to_numpy(dtype=float)
+    time = raw_time * scale_to_si(column.unit, "time")
     bad = np.flatnonzero(~np.isfinite(time))
-    if bad.size and isinstance(frame[data.time.column].iloc[int(bad[0])], str):
-        sample = frame[data.time.column].iloc[int(bad[0])]
+    if bad.size and isinstance(frame[column.column].iloc[int(bad[0])], str):
+        sample = frame[column.column].iloc[int(bad[0])]
         check.data_error(_row(first_line, int(bad[0])), check.key("time", "column"),
-                         f"column {data.time.column!r} holds text such as {sample!r}; "
-                         f"certkit needs the time as a number in {data.time.unit}")
+                         f"column {column.column!r} holds text such as {sample!r}; "
+                         f"certkit needs the time as a number in {column.unit}")
         check.raise_if_errors()
     if bad.size:
         check.data_error(_row(first_line, int(bad[0])), check.key("time", "column"),
@@ -300,112 +329,106 @@ def read_run(path: Path, display: str, spec_file: str, run_index: int, run: Run,
         i = int(not_increasing[0]) + 1
         word = "duplicated" if steps[i - 1] == 0 else "not increasing"
         check.data_error(_row(first_line, i), check.key("time", "column"),
-                         f"time {word}: {raw_time[i]:g} {data.time.unit} after "
-                         f"{raw_time[i - 1]:g} {data.time.unit}")
+                         f"time {word}: {raw_time[i]:g} {column.unit} after "
+                         f"{raw_time[i - 1]:g} {column.unit}")
         check.raise_if_errors()
     nominal = float(np.median(steps))
     measured_rate = 1.0 / nominal
     if declared and abs(measured_rate - declared) > tolerance * declared:
-        _rate_mismatch(check, data.time, measured_rate, declared, tolerance)
+        _rate_mismatch(check, column, measured_rate, declared, tolerance)
     gaps = np.flatnonzero(steps > GAP_FACTOR * nominal)
     if gaps.size:
         i = int(gaps[0]) + 1
         check.waivable("gaps", _row(first_line, i), check.key("time", "column"),
                        f"{gaps.size} gap(s) in time; first: {steps[i - 1] * 1e3:.6g} ms "
                        f"before this row (nominal step {nominal * 1e3:.6g} ms)")
+    return time, measured_rate
 
-    def channel(location: tuple, column: Column, kind: str) -> np.ndarray:
-        raw = pd.to_numeric(frame[column.column], errors="coerce").to_numpy(dtype=float)
-        missing = np.flatnonzero(~np.isfinite(raw))
-        if missing.size:
-            check.waivable("gaps", _row(first_line, int(missing[0])), check.key(*location, "column"),
-                           f"{missing.size} missing or non-numeric value(s) in column "
-                           f"{column.column!r}")
-        if column.full_scale is not None:
-            at_limit = np.flatnonzero(np.abs(raw) >= abs(column.full_scale) * 0.999)
-            if at_limit.size:
-                check.waivable("clipping", _row(first_line, int(at_limit[0])),
-                               check.key(*location, "column"),
-                               f"column {column.column!r} reaches its full scale "
-                               f"{column.full_scale:g} {column.unit} ({at_limit.size} samples)")
-        finite = raw[np.isfinite(raw)]
-        if finite.size and column.full_scale is None:
-            top = finite.max()
-            run_length = _longest_run(raw == top)
-            if run_length >= CLIP_RUN and top != 0:
-                first = int(np.flatnonzero(raw == top)[0])
-                check.waivable("clipping", _row(first_line, first), check.key(*location, "column"),
-                               f"column {column.column!r} is flat at its maximum {top:g} "
-                               f"{column.unit} for {run_length} samples (clipped or saturated?)")
-        with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported below
-            values = column.sign * column.scale * (raw - column.offset) * scale_to_si(
-                column.unit, kind)
-        return values
 
-    gears: dict[str, GearSeries] = {}
-    for gear_id, channels in data.gears.items():
-        unit = gear_units[gear_id]
-        base = ("gears", gear_id)
-        load = channel(base + ("vertical_load",), channels.vertical_load, "force")
-        stroke = tyre = None
-        if channels.strut_stroke is not None:
-            stroke = channel(base + ("strut_stroke",), channels.strut_stroke, "length")
-        if channels.tyre_deflection is not None:
-            tyre = channel(base + ("tyre_deflection",), channels.tyre_deflection, "length")
-        weight = unit.static_weight.si
-        _plausible(check, first_line, base + ("vertical_load",), load,
-                   -PLAUSIBLE_NEGATIVE_LOAD * weight, PLAUSIBLE_LOAD_FACTOR * weight, "N",
-                   channels.vertical_load.unit)
-        if stroke is not None:
-            _plausible(check, first_line, base + ("strut_stroke",), stroke,
-                       -PLAUSIBLE_NEGATIVE_TRAVEL,
-                       PLAUSIBLE_STROKE_OVER_DESIGN * unit.design_stroke.si, "m",
-                       channels.strut_stroke.unit)
-        if tyre is not None:
-            limit = unit.tyre.diameter.si / 2 if unit.tyre.diameter else 0.5
-            _plausible(check, first_line, base + ("tyre_deflection",), tyre,
-                       -PLAUSIBLE_NEGATIVE_TRAVEL, limit, "m", channels.tyre_deflection.unit)
-        gears[gear_id] = GearSeries(load, stroke, tyre)
+def _channel(check: _Checker, frame, first_line: int, location: tuple, column: Column,
+             kind: str) -> np.ndarray:
+    """One channel in SI after sign, scale, offset and unit; missing values and clipping
+    are waivable problems."""
+    import pandas as pd   # lazy, as in _read_table
 
-    acceleration = displacement = None
-    if data.drop_mass_acceleration is not None:
-        acceleration = channel(("drop_mass_acceleration",), data.drop_mass_acceleration,
-                               "acceleration")
-        _plausible(check, first_line, ("drop_mass_acceleration",), acceleration,
-                   -PLAUSIBLE_ACCELERATION, PLAUSIBLE_ACCELERATION, "m/s^2",
-                   data.drop_mass_acceleration.unit)
-    if data.drop_mass_displacement is not None:
-        displacement = channel(("drop_mass_displacement",), data.drop_mass_displacement, "length")
+    raw = pd.to_numeric(frame[column.column], errors="coerce").to_numpy(dtype=float)
+    missing = np.flatnonzero(~np.isfinite(raw))
+    if missing.size:
+        check.waivable("gaps", _row(first_line, int(missing[0])), check.key(*location, "column"),
+                       f"{missing.size} missing or non-numeric value(s) in column "
+                       f"{column.column!r}")
+    if column.full_scale is not None:
+        at_limit = np.flatnonzero(np.abs(raw) >= abs(column.full_scale) * 0.999)
+        if at_limit.size:
+            check.waivable("clipping", _row(first_line, int(at_limit[0])),
+                           check.key(*location, "column"),
+                           f"column {column.column!r} reaches its full scale "
+                           f"{column.full_scale:g} {column.unit} ({at_limit.size} samples)")
+    finite = raw[np.isfinite(raw)]
+    if finite.size and column.full_scale is None:
+        top = finite.max()
+        run_length = _longest_run(raw == top)
+        if run_length >= CLIP_RUN and top != 0:
+            first = int(np.flatnonzero(raw == top)[0])
+            check.waivable("clipping", _row(first_line, first), check.key(*location, "column"),
+                           f"column {column.column!r} is flat at its maximum {top:g} "
+                           f"{column.unit} for {run_length} samples (clipped or saturated?)")
+    with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported by the caller
+        return column.sign * column.scale * (raw - column.offset) * scale_to_si(column.unit, kind)
 
-    check.raise_if_errors()
 
-    # Rows with a missing value can only reach here when the 'gaps' check was waived:
-    # drop them everywhere, and say so in the waived finding.
+def _gear_series(check: _Checker, frame, first_line: int, gear_id: str, channels,
+                 unit: GearUnit) -> GearSeries:
+    """A gear unit's load, stroke and tyre channels, each checked for plausible values."""
+    base = ("gears", gear_id)
+    load = _channel(check, frame, first_line, base + ("vertical_load",), channels.vertical_load,
+                    "force")
+    stroke = tyre = None
+    if channels.strut_stroke is not None:
+        stroke = _channel(check, frame, first_line, base + ("strut_stroke",),
+                          channels.strut_stroke, "length")
+    if channels.tyre_deflection is not None:
+        tyre = _channel(check, frame, first_line, base + ("tyre_deflection",),
+                        channels.tyre_deflection, "length")
+    weight = unit.static_weight.si
+    _plausible(check, first_line, base + ("vertical_load",), load,
+               -PLAUSIBLE_NEGATIVE_LOAD * weight, PLAUSIBLE_LOAD_FACTOR * weight, "N",
+               channels.vertical_load.unit)
+    if stroke is not None:
+        _plausible(check, first_line, base + ("strut_stroke",), stroke,
+                   -PLAUSIBLE_NEGATIVE_TRAVEL,
+                   PLAUSIBLE_STROKE_OVER_DESIGN * unit.design_stroke.si, "m",
+                   channels.strut_stroke.unit)
+    if tyre is not None:
+        limit = unit.tyre.diameter.si / 2 if unit.tyre.diameter else 0.5
+        _plausible(check, first_line, base + ("tyre_deflection",), tyre,
+                   -PLAUSIBLE_NEGATIVE_TRAVEL, limit, "m", channels.tyre_deflection.unit)
+    return GearSeries(load, stroke, tyre)
+
+
+def _without_incomplete_rows(check: _Checker, display: str, time, gears, acceleration,
+                             displacement):
+    """Rows with a missing value can only reach here when the 'gaps' check was waived:
+    drop them everywhere (the gear series in place), and say so in the waived finding."""
     arrays = [time] + [a for g in gears.values() for a in (g.load, g.stroke, g.tyre)
                        if a is not None] + [a for a in (acceleration, displacement) if a is not None]
     keep = np.logical_and.reduce([np.isfinite(a) for a in arrays])
-    if not keep.all():
-        dropped = int((~keep).sum())
-        if "gaps" not in check.waivers:  # non-finite values not from the file (overflow)
-            check.data_error(None, check.key("file"), f"{dropped} row(s) are not finite after "
-                                                      f"applying unit, scale and offset")
-            check.raise_if_errors()
-        check.findings.append(DataFinding(
-            "gaps", f"{display}: {dropped} row(s) with missing values removed before analysis",
-            check.waivers["gaps"]))
-        time = time[keep]
-        for g in gears.values():
-            g.load = g.load[keep]
-            g.stroke = None if g.stroke is None else g.stroke[keep]
-            g.tyre = None if g.tyre is None else g.tyre[keep]
-        acceleration = None if acceleration is None else acceleration[keep]
-        displacement = None if displacement is None else displacement[keep]
-    return RunSeries(
-        file=display, time=time, gears=gears, acceleration=acceleration,
-        acceleration_reference=(data.drop_mass_acceleration.reference
-                                if data.drop_mass_acceleration else None),
-        displacement=displacement, declared_rate=declared, measured_rate=measured_rate,
-        findings=check.findings, layout=layout)
+    if keep.all():
+        return time, acceleration, displacement
+    dropped = int((~keep).sum())
+    if "gaps" not in check.waivers:  # non-finite values not from the file (overflow)
+        check.data_error(None, check.key("file"), f"{dropped} row(s) are not finite after "
+                                                  f"applying unit, scale and offset")
+        check.raise_if_errors()
+    check.findings.append(DataFinding(
+        "gaps", f"{display}: {dropped} row(s) with missing values removed before analysis",
+        check.waivers["gaps"]))
+    for g in gears.values():
+        g.load = g.load[keep]
+        g.stroke = None if g.stroke is None else g.stroke[keep]
+        g.tyre = None if g.tyre is None else g.tyre[keep]
+    return (time[keep], None if acceleration is None else acceleration[keep],
+            None if displacement is None else displacement[keep])
 
 
 def _rate_mismatch(check: _Checker, time: TimeColumn, measured: float, declared: float,
