@@ -29,6 +29,7 @@ from certkit.compliance.measures import (
     SETTLING_BAND,
     TOUCHDOWN_SHARE,
     VELOCITY_WINDOW,
+    GearMeasures,
     contact_velocity,
     drop_mass_load_factor,
     measure_gear,
@@ -131,6 +132,18 @@ def _drop_weight_share(run: Run, unit: GearUnit, campaign: Campaign) -> tuple[fl
     return share, "W_drop = W_unit·m_drop·g/W_max (certkit W1)"
 
 
+class _Collector:
+    """The values of one gear unit in one run, as they are put."""
+
+    def __init__(self):
+        self.values: dict[str, Value] = {}
+
+    def put(self, key, label, symbol, value, unit_, kind, source, formula="", inputs=None,
+            note=None, typed=None):
+        self.values[key] = Value(key, label, symbol, value, unit_, kind, source, formula,
+                                 inputs or {}, note, typed)
+
+
 def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
                  series: RunSeries | None) -> GearResult:
     unit = campaign.gear_units[gear_id]
@@ -139,13 +152,9 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
     cos_theta = math.cos(inclination)
     reported = run.reported.gears.get(gear_id) if run.reported else None
     prefix = f"runs[{index}]"
-    values: dict[str, Value] = {}
+    collected = _Collector()
+    put = collected.put
     measures = None
-
-    def put(key, label, symbol, value, unit_, kind, source, formula="", inputs=None, note=None,
-            typed=None):
-        values[key] = Value(key, label, symbol, value, unit_, kind, source, formula,
-                            inputs or {}, note, typed)
 
     weight = unit.static_weight.si
     put("W", "Static weight on the unit", "W", weight, "N", "force", "spec",
@@ -161,81 +170,96 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
     gear_series = series.gears.get(gear_id) if series else None
     if gear_series is not None:
         basis = f"time series ({series.file})"
-        unsprung = strut.unsprung_mass.si if strut and strut.unsprung_mass else 0.0
-        measures = measure_gear(series.time, gear_series.load, gear_series.stroke,
-                                gear_series.tyre, weight, inclination, unsprung)
-        source_file = {"data": series.file}
-        put("t0", "Touchdown time", "t_0", measures.touchdown_time, "s", "time", "certkit M3",
-            inputs=source_file,
-            note=None if measures.touchdown_time is not None else
-            "record starts with the tyre already loaded: touchdown not observed")
-        put("F_peak", "Peak vertical load", "F_peak", measures.peak_load, "N", "force",
-            "certkit M1", "F_peak = max F_V(t)", source_file)
-        put("d_s", "Maximum strut stroke", "d_s", measures.max_stroke, "m", "length",
-            "certkit M2", "d_s = max s(t)", source_file,
-            None if measures.max_stroke is not None else "stroke not recorded")
-        put("d_t", "Maximum tyre deflection", "d_t", measures.max_tyre, "m", "length",
-            "certkit M2", "d_t = max δ(t)", source_file,
-            None if measures.max_tyre is not None else "tyre deflection not recorded")
-        put("d", "Tyre deflection plus vertical axle travel", "d", measures.max_total_travel,
-            "m", "length", "14 CFR 23.725(b); certkit M2", "d = max(δ + s·cos θ)", source_file,
-            None if measures.max_total_travel is not None else "needs stroke and tyre channels")
-        put("E_s", "Energy absorbed by the strut", "E_s", measures.strut_energy, "J", "energy",
-            "certkit E1", "E_s = ∫ F_s ds, F_s/cos θ = F_V − m2·(g − δ̈), loading stroke",
-            source_file | {"m2": _spec_input(f"gear_units[{gear_id}].strut.unsprung_mass",
-                                             strut.unsprung_mass.text if unsprung else "not declared")},
-            None if unsprung else "unsprung mass not declared: F_s = F_V·cos θ")
-        put("E_t", "Energy absorbed by the tyre", "E_t", measures.tyre_energy, "J", "energy",
-            "certkit E1", "E_t = ∫ F_V dδ, loading stroke", source_file)
-        put("E_d", "Energy absorbed at maximum total travel", "E_d",
-            measures.energy_at_max_travel, "J", "energy", "certkit E5",
-            "E_d = E_s(t_d) + E_t(t_d), t_d the instant of maximum δ + s·cos θ", source_file,
-            None if measures.energy_at_max_travel is not None
-            else "needs stroke and tyre channels")
+        measures = _measured_values(put, series, gear_series, unit, weight, inclination)
     elif reported is not None:
         basis = "reported values"
-        where = f"{prefix}.reported.gears.{gear_id}"
-
-        def rep(key, label, symbol, quantity, kind, name):
-            put(key, label, symbol, None if quantity is None else quantity.si,
-                {"force": "N", "length": "m", "energy": "J"}[kind], kind, "reported",
-                inputs={symbol: _spec_input(f"{where}.{name}", quantity.text)} if quantity else {},
-                note=None if quantity is not None else "not reported",
-                typed=None if quantity is None else quantity.text)
-
-        rep("F_peak", "Peak vertical load", "F_peak", reported.peak_vertical_load, "force",
-            "peak_vertical_load")
-        rep("d_s", "Maximum strut stroke", "d_s", reported.strut_stroke, "length", "strut_stroke")
-        rep("d_t", "Maximum tyre deflection", "d_t", reported.tyre_deflection, "length",
-            "tyre_deflection")
-        total = None
-        if reported.strut_stroke is not None and reported.tyre_deflection is not None:
-            total = reported.tyre_deflection.si + reported.strut_stroke.si * cos_theta
-        put("d", "Tyre deflection plus vertical axle travel", "d", total, "m", "length",
-            "14 CFR 23.725(b); certkit M2", "d = d_t + d_s·cos θ", {"d_t": "d_t", "d_s": "d_s"},
-            "upper bound from the reported maxima" if total is not None else "not computable")
-        rep("E_s", "Energy absorbed by the strut", "E_s", reported.strut_energy, "energy",
-            "strut_energy")
-        rep("E_t", "Energy absorbed by the tyre", "E_t", reported.tyre_energy, "energy",
-            "tyre_energy")
-        put("E_d", "Energy absorbed at maximum total travel", "E_d", None, "J", "energy",
-            "certkit E5", note="not known from reported values: E_s and E_t each run to their "
-                               "own maximum, so their sum is not the work at maximum travel")
+        _reported_values(put, reported, f"{prefix}.reported.gears.{gear_id}", cos_theta)
     else:
         basis = "no data"
-        for key, label, kind, un in (("F_peak", "Peak vertical load", "force", "N"),
-                                     ("d_s", "Maximum strut stroke", "length", "m"),
-                                     ("d_t", "Maximum tyre deflection", "length", "m"),
-                                     ("d", "Tyre deflection plus vertical axle travel", "length", "m"),
-                                     ("E_s", "Energy absorbed by the strut", "energy", "J"),
-                                     ("E_t", "Energy absorbed by the tyre", "energy", "J"),
-                                     ("E_d", "Energy absorbed at maximum total travel", "energy",
-                                      "J")):
-            put(key, label, key, None, un, kind, "none", note="no time series and no reported value")
-
-    result = GearResult(run.id, gear_id, basis, values, measures)
+        _no_data_values(put)
+    result = GearResult(run.id, gear_id, basis, collected.values, measures)
     _derived_gear_values(result, run, unit, cos_theta)
     return result
+
+
+def _measured_values(put, series: RunSeries, gear_series, unit: GearUnit, weight: float,
+                     inclination: float) -> GearMeasures:
+    """The values measured from a gear unit's time series (certkit M1-M3, E1, E5)."""
+    strut = unit.strut
+    unsprung = strut.unsprung_mass.si if strut and strut.unsprung_mass else 0.0
+    measures = measure_gear(series.time, gear_series.load, gear_series.stroke,
+                            gear_series.tyre, weight, inclination, unsprung)
+    source_file = {"data": series.file}
+    put("t0", "Touchdown time", "t_0", measures.touchdown_time, "s", "time", "certkit M3",
+        inputs=source_file,
+        note=None if measures.touchdown_time is not None else
+        "record starts with the tyre already loaded: touchdown not observed")
+    put("F_peak", "Peak vertical load", "F_peak", measures.peak_load, "N", "force",
+        "certkit M1", "F_peak = max F_V(t)", source_file)
+    put("d_s", "Maximum strut stroke", "d_s", measures.max_stroke, "m", "length",
+        "certkit M2", "d_s = max s(t)", source_file,
+        None if measures.max_stroke is not None else "stroke not recorded")
+    put("d_t", "Maximum tyre deflection", "d_t", measures.max_tyre, "m", "length",
+        "certkit M2", "d_t = max δ(t)", source_file,
+        None if measures.max_tyre is not None else "tyre deflection not recorded")
+    put("d", "Tyre deflection plus vertical axle travel", "d", measures.max_total_travel,
+        "m", "length", "14 CFR 23.725(b); certkit M2", "d = max(δ + s·cos θ)", source_file,
+        None if measures.max_total_travel is not None else "needs stroke and tyre channels")
+    put("E_s", "Energy absorbed by the strut", "E_s", measures.strut_energy, "J", "energy",
+        "certkit E1", "E_s = ∫ F_s ds, F_s/cos θ = F_V − m2·(g − δ̈), loading stroke",
+        source_file | {"m2": _spec_input(f"gear_units[{unit.id}].strut.unsprung_mass",
+                                         strut.unsprung_mass.text if unsprung else "not declared")},
+        None if unsprung else "unsprung mass not declared: F_s = F_V·cos θ")
+    put("E_t", "Energy absorbed by the tyre", "E_t", measures.tyre_energy, "J", "energy",
+        "certkit E1", "E_t = ∫ F_V dδ, loading stroke", source_file)
+    put("E_d", "Energy absorbed at maximum total travel", "E_d",
+        measures.energy_at_max_travel, "J", "energy", "certkit E5",
+        "E_d = E_s(t_d) + E_t(t_d), t_d the instant of maximum δ + s·cos θ", source_file,
+        None if measures.energy_at_max_travel is not None
+        else "needs stroke and tyre channels")
+    return measures
+
+
+def _reported_values(put, reported, where: str, cos_theta: float) -> None:
+    """The values a source reported for a gear unit without time series."""
+    def rep(key, label, symbol, quantity, kind, name):
+        put(key, label, symbol, None if quantity is None else quantity.si,
+            {"force": "N", "length": "m", "energy": "J"}[kind], kind, "reported",
+            inputs={symbol: _spec_input(f"{where}.{name}", quantity.text)} if quantity else {},
+            note=None if quantity is not None else "not reported",
+            typed=None if quantity is None else quantity.text)
+
+    rep("F_peak", "Peak vertical load", "F_peak", reported.peak_vertical_load, "force",
+        "peak_vertical_load")
+    rep("d_s", "Maximum strut stroke", "d_s", reported.strut_stroke, "length", "strut_stroke")
+    rep("d_t", "Maximum tyre deflection", "d_t", reported.tyre_deflection, "length",
+        "tyre_deflection")
+    total = None
+    if reported.strut_stroke is not None and reported.tyre_deflection is not None:
+        total = reported.tyre_deflection.si + reported.strut_stroke.si * cos_theta
+    put("d", "Tyre deflection plus vertical axle travel", "d", total, "m", "length",
+        "14 CFR 23.725(b); certkit M2", "d = d_t + d_s·cos θ", {"d_t": "d_t", "d_s": "d_s"},
+        "upper bound from the reported maxima" if total is not None else "not computable")
+    rep("E_s", "Energy absorbed by the strut", "E_s", reported.strut_energy, "energy",
+        "strut_energy")
+    rep("E_t", "Energy absorbed by the tyre", "E_t", reported.tyre_energy, "energy",
+        "tyre_energy")
+    put("E_d", "Energy absorbed at maximum total travel", "E_d", None, "J", "energy",
+        "certkit E5", note="not known from reported values: E_s and E_t each run to their "
+                           "own maximum, so their sum is not the work at maximum travel")
+
+
+def _no_data_values(put) -> None:
+    """Neither time series nor reported values: every measured value absent, and why."""
+    for key, label, kind, un in (("F_peak", "Peak vertical load", "force", "N"),
+                                 ("d_s", "Maximum strut stroke", "length", "m"),
+                                 ("d_t", "Maximum tyre deflection", "length", "m"),
+                                 ("d", "Tyre deflection plus vertical axle travel", "length", "m"),
+                                 ("E_s", "Energy absorbed by the strut", "energy", "J"),
+                                 ("E_t", "Energy absorbed by the tyre", "energy", "J"),
+                                 ("E_d", "Energy absorbed at maximum total travel", "energy",
+                                  "J")):
+        put(key, label, key, None, un, kind, "none", note="no time series and no reported value")
 
 
 def _derived_gear_values(result: GearResult, run: Run, unit: GearUnit, cos_theta: float) -> None:
