@@ -27,18 +27,8 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
 from certkit import __version__
-from certkit.archive.bag import (
-    TAGMANIFEST,
-    BagError,
-    Change,
-    bag_hash,
-    check_bag,
-    extract_zip,
-    read_info,
-    sha256_of,
-    write_bag,
-    write_zip,
-)
+from certkit.archive.bag import (TAGMANIFEST, BagError, Change, bag_hash, check_bag, extract_zip,
+                                 read_info, sha256_of, write_bag, write_zip)
 from certkit.compliance.engine import assess
 from certkit.compliance.results import RESULTS_FORMAT
 from certkit.errors import CertkitInputError

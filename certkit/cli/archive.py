@@ -15,15 +15,7 @@ from certkit.archive.bag import BagError
 from certkit.archive.campaign_bag import archive_campaign, verify_archive
 from certkit.archive.catalog import CatalogRefusal, add
 from certkit.archive.catalog import search as run_search
-from certkit.cli.app import (
-    SpecArgument,
-    bad_option,
-    catalog_app,
-    command,
-    err,
-    error,
-    out,
-)
+from certkit.cli.app import SpecArgument, bad_option, catalog_app, command, err, error, out
 
 
 @command()

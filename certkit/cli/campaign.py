@@ -12,15 +12,8 @@ from rich.status import Status
 
 from certkit.cli.app import SpecArgument, bad_option, command, err, fail, out
 from certkit.compliance.engine import assess
-from certkit.evidence.audit import (
-    audit_rows,
-    baseline_rows,
-    passed,
-    to_csv,
-    to_json,
-    to_junit,
-    to_markdown,
-)
+from certkit.evidence.audit import (audit_rows, baseline_rows, passed, to_csv, to_json, to_junit,
+                                    to_markdown)
 from certkit.evidence.comparison import compare, read_baseline
 from certkit.evidence.report import render_report, results_document
 from certkit.outputs import write_text_atomically

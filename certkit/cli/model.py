@@ -17,8 +17,9 @@ import typer
 from rich.table import Table
 
 from certkit.cli.app import SpecArgument, bad_option, command, err, fail, out, warning
-from certkit.display import display, with_unit
+from certkit.display import display
 from certkit.display import parameter as parameter_text
+from certkit.display import with_unit
 from certkit.evidence.report import largest_disagreement
 from certkit.outputs import check_target, staged_folder
 from certkit.spec.campaign import load_campaign
@@ -76,11 +77,7 @@ def simulate(spec: SpecArgument,
                  "--noise/--no-noise", help="add sensor noise, quantisation and offsets")] = True,
              ) -> None:
     """Simulate every run with the gear's drop model; write data files and a campaign file."""
-    from certkit.physics.synthetic import (
-        NO_SENSOR_EFFECTS,
-        SensorModel,
-        simulate_campaign,
-    )
+    from certkit.physics.synthetic import NO_SENSOR_EFFECTS, SensorModel, simulate_campaign
 
 
     campaign = load_campaign(spec)
@@ -155,11 +152,7 @@ def identify(spec: SpecArgument,
              json_file: Annotated[Path | None, typer.Option(
                  "--json", help="also write the results to this JSON file")] = None) -> None:
     """Identify Hammerstein, Wiener and NARX models of each gear and validate them."""
-    from certkit.ident.protocol import (
-        OUTPUT_LABELS,
-        PROTOCOL_NAMES,
-        identification_document,
-    )
+    from certkit.ident.protocol import OUTPUT_LABELS, PROTOCOL_NAMES, identification_document
     from certkit.ident.protocol import identify as run_identification
 
 

@@ -12,15 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from certkit.compliance.measures import GearMeasures
-from certkit.compliance.results import (
-    FAIL,
-    NOT_SHOWN,
-    PASS,
-    Comparison,
-    Finding,
-    Value,
-    Verdict,
-)
+from certkit.compliance.results import FAIL, NOT_SHOWN, PASS, Comparison, Finding, Value, Verdict
 from certkit.spec.campaign import Campaign
 from certkit.spec.requirement_sets import RequirementSet
 from certkit.spec.rundata import RunSeries

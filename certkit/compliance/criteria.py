@@ -10,13 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from certkit.compliance.assessment import Assessment, BasisResult, RunResult
-from certkit.compliance.results import (
-    EQUALITY_TOLERANCE,
-    FAIL,
-    NOT_SHOWN,
-    PASS,
-    Verdict,
-)
+from certkit.compliance.results import EQUALITY_TOLERANCE, FAIL, NOT_SHOWN, PASS, Verdict
 from certkit.spec.requirement_sets import Criterion, RequirementSet
 
 

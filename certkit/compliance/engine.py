@@ -12,28 +12,13 @@ from __future__ import annotations
 import math
 
 from certkit.compliance import clauses
-from certkit.compliance.assessment import (
-    Assessment,
-    BasisResult,
-    GearResult,
-    RunResult,
-    is_planning,
-)
+from certkit.compliance.assessment import (Assessment, BasisResult, GearResult, RunResult,
+                                           is_planning)
 from certkit.compliance.criteria import evaluate
-from certkit.compliance.drop_conditions import (
-    drop_weight_share,
-    lift_force_ratio,
-    lift_ratio,
-)
-from certkit.compliance.measures import (
-    SETTLING_BAND,
-    TOUCHDOWN_SHARE,
-    VELOCITY_WINDOW,
-    GearMeasures,
-    contact_velocity,
-    drop_mass_load_factor,
-    measure_gear,
-)
+from certkit.compliance.drop_conditions import drop_weight_share, lift_force_ratio, lift_ratio
+from certkit.compliance.measures import (SETTLING_BAND, TOUCHDOWN_SHARE, VELOCITY_WINDOW,
+                                         GearMeasures, contact_velocity, drop_mass_load_factor,
+                                         measure_gear)
 from certkit.compliance.quality import audit
 from certkit.compliance.results import Value
 from certkit.display import number, with_unit

@@ -4,16 +4,9 @@ The report prints this table in its methods section; a value whose source is
 ``certkit E1`` is traceable to the line ``E1`` here.
 """
 
-from certkit.compliance.measures import (
-    AXLE_POLYORDER,
-    AXLE_WINDOW,
-    FINAL_SHARE,
-    SETTLING_BAND,
-    TOUCHDOWN_SHARE,
-    TOUCHDOWN_SIGMAS,
-    VELOCITY_WINDOW,
-    window_samples,
-)
+from certkit.compliance.measures import (AXLE_POLYORDER, AXLE_WINDOW, FINAL_SHARE, SETTLING_BAND,
+                                         TOUCHDOWN_SHARE, TOUCHDOWN_SIGMAS, VELOCITY_WINDOW,
+                                         window_samples)
 
 
 def _share(value: float) -> str:

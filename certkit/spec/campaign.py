@@ -13,9 +13,9 @@ from pathlib import Path
 
 from pydantic import BaseModel, ValidationError
 
+from certkit.errors import CertkitInputError, Problem, key_path
 from certkit.spec import requirement_sets
 from certkit.spec.blind_record import BlindCheckRecord, BlindRecordError, read_blind_check
-from certkit.errors import CertkitInputError, Problem, key_path
 from certkit.spec.rundata import RunSeries, read_run
 from certkit.spec.schema import CampaignSpec, GearUnit
 from certkit.spec.yamlsource import LineMap, line_of, load_yaml

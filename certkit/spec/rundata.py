@@ -303,7 +303,7 @@ def _time_base(check: _Checker, frame, first_line: int, column: TimeColumn,
                declared: float | None, tolerance: float) -> tuple[np.ndarray, float]:
     """The time column in s, checked (numbers, increasing, the declared rate, no gaps), and
     the sampling rate its median step gives."""
-    import pandas as pd   # lazy, as in _read_table
+    import pandas as pd  # lazy, as in _read_table
 
     if pd.api.types.is_datetime64_any_dtype(frame[column.column]):
         check.spec_error(check.key("time", "column"),
@@ -349,7 +349,7 @@ def _channel(check: _Checker, frame, first_line: int, location: tuple, column: C
              kind: str) -> np.ndarray:
     """One channel in SI after sign, scale, offset and unit; missing values and clipping
     are waivable problems."""
-    import pandas as pd   # lazy, as in _read_table
+    import pandas as pd  # lazy, as in _read_table
 
     raw = pd.to_numeric(frame[column.column], errors="coerce").to_numpy(dtype=float)
     missing = np.flatnonzero(~np.isfinite(raw))

@@ -18,7 +18,8 @@ from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, PlainSerial
                       PlainValidator, WithJsonSchema, field_validator, model_validator)
 from pydantic_core import PydanticCustomError
 
-from certkit.units import QuantityError, SpecQuantity, _example_unit, kind_phrase, parse_quantity, parse_unit
+from certkit.units import (QuantityError, SpecQuantity, _example_unit, kind_phrase, parse_quantity,
+                           parse_unit)
 
 
 def _quantity(kind: str, description: str | None = None, minimum: float | None = 0.0,
