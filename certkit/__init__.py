@@ -8,13 +8,12 @@ Library use (what the CLI does)::
     certkit.render_report(assessment, "out")
 """
 
-__version__ = "0.1.0"
-
-from certkit.compliance.assessment import Assessment  # noqa: E402
-from certkit.compliance.engine import assess  # noqa: E402
-from certkit.errors import CertkitInputError  # noqa: E402
-from certkit.evidence.report import render_report  # noqa: E402
-from certkit.spec.campaign import Campaign, load_campaign  # noqa: E402
+from certkit.compliance.assessment import Assessment
+from certkit.compliance.engine import assess
+from certkit.errors import CertkitInputError
+from certkit.evidence.report import render_report
+from certkit.spec.campaign import Campaign, load_campaign
+from certkit.version import VERSION as __version__
 
 __all__ = ["Assessment", "Campaign", "CertkitInputError", "assess", "load_campaign",
            "render_report", "__version__"]

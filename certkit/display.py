@@ -10,7 +10,7 @@ The rule
   kind (``report.units`` of the spec; see :class:`certkit.spec.schema.DisplayUnits`).
 * A margin (value − limit, or limit − value) is shown to the same decimal place as the
   limit it is measured from, and as a percentage of that limit.  A tie (within
-  :data:`~certkit.compliance.results.EQUALITY_TOLERANCE`) reads 0, never a float artefact such as
+  :data:`~certkit.results.EQUALITY_TOLERANCE`) reads 0, never a float artefact such as
   1e-13; any other margin finer than the limit's last shown digit keeps its sign, to two
   significant figures.
 * A value typed by the user is quoted as typed (its ``text``), not through this module.
@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 import re
 
-from certkit.compliance.results import EQUALITY_TOLERANCE
+from certkit.results import EQUALITY_TOLERANCE
 from certkit.units import convert
 
 #: SI unit in which each physical kind is held inside certkit.

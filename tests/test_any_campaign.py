@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 
 from certkit import assess, load_campaign, render_report
 from certkit.display import margin
-from certkit.compliance.results import FAIL, PASS
+from certkit.results import FAIL, PASS
 from certkit.spec.schema import DisplayUnits
 
 from . import conftest

@@ -3,7 +3,7 @@
 import pytest
 
 from certkit import assess, load_campaign
-from certkit.compliance.results import NOT_SHOWN, PASS
+from certkit.results import NOT_SHOWN, PASS
 
 from .conftest import SEED
 

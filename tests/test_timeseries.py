@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from certkit import assess, load_campaign
-from certkit.compliance.results import PASS
+from certkit.results import PASS
 
 from .conftest import (A_PEAK, ANALYTIC_STRUT_ENERGY, ANALYTIC_TYRE_ENERGY, D_MAX, F0, G, S_MAX,
                        T0, V0)

@@ -3,7 +3,7 @@
 import pytest
 
 from certkit import assess, load_campaign
-from certkit.compliance.results import FAIL, NOT_SHOWN, PASS
+from certkit.results import FAIL, NOT_SHOWN, PASS
 
 G = 9.80665
 # The analytic campaign: W/S = 600 kg * g / 12 m^2 = 490.33 Pa = 10.2407 lb/ft^2,

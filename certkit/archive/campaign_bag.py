@@ -26,16 +26,16 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
-from certkit import __version__
 from certkit.archive.bag import (TAGMANIFEST, BagError, Change, bag_hash, check_bag, extract_zip,
                                  read_info, sha256_of, write_bag, write_zip)
 from certkit.compliance.engine import assess
-from certkit.compliance.results import RESULTS_FORMAT
 from certkit.errors import CertkitInputError
 from certkit.evidence.comparison import differences
 from certkit.evidence.provenance import environment
 from certkit.evidence.report import render_report, results_json
+from certkit.results import RESULTS_FORMAT
 from certkit.spec.campaign import load_campaign
+from certkit.version import VERSION
 
 CAMPAIGN = "data/campaign"
 RESULTS = "data/results"
@@ -104,7 +104,7 @@ def _bag_info(campaign, assessment, model) -> list[tuple[str, str]]:
         ("External-Identifier", spec.campaign.id),
         ("External-Description", spec.campaign.title),
         ("Bagging-Date", document.date.isoformat()),
-        ("Bag-Software-Agent", f"certkit {__version__}"),
+        ("Bag-Software-Agent", f"certkit {VERSION}"),
         ("Campaign-Id", spec.campaign.id),
         ("Campaign-Spec", f"{CAMPAIGN}/{campaign.inputs[0].name}"),
         ("Aircraft-Model", spec.aircraft.model),

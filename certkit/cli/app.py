@@ -23,9 +23,9 @@ import typer
 from rich.console import Console
 from rich.text import Text
 
-from certkit import __version__
 from certkit.archive.bag import BagError
 from certkit.errors import CampaignError, CertkitInputError
+from certkit.version import VERSION
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="Turn a landing-gear drop-test campaign into airworthiness evidence.")
@@ -98,7 +98,7 @@ def command(group: typer.Typer = app, name: str | None = None, context: str = ""
 
 def _version(value: bool) -> None:
     if value:
-        out.print(f"certkit {__version__}")
+        out.print(f"certkit {VERSION}")
         raise typer.Exit()
 
 

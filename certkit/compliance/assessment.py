@@ -2,7 +2,7 @@
 the data-quality audit, the report and the audit tables read.
 
 Values per aircraft, requirement set, run and gear unit (each a
-:class:`~certkit.compliance.results.Value` with its provenance), the criterion verdicts, the
+:class:`~certkit.results.Value` with its provenance), the criterion verdicts, the
 data-quality findings and the comparison of reported against recomputed values; and the
 campaign's outcome with its reasons.
 """
@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from certkit.compliance.measures import GearMeasures
-from certkit.compliance.results import FAIL, NOT_SHOWN, PASS, Comparison, Finding, Value, Verdict
+from certkit.results import FAIL, NOT_SHOWN, PASS, Comparison, Finding, Value, Verdict
 from certkit.spec.campaign import Campaign
 from certkit.spec.requirement_sets import RequirementSet
 from certkit.spec.rundata import RunSeries

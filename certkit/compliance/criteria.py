@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from certkit.compliance.assessment import Assessment, BasisResult, RunResult
-from certkit.compliance.results import EQUALITY_TOLERANCE, FAIL, NOT_SHOWN, PASS, Verdict
+from certkit.results import EQUALITY_TOLERANCE, FAIL, NOT_SHOWN, PASS, Verdict
 from certkit.spec.requirement_sets import Criterion, RequirementSet
 
 
@@ -43,7 +43,7 @@ def _slack(value: float, limit: float, resolution: float | None) -> float:
 
 def at_least(value: float, limit: float, resolution: float | None = None) -> str:
     """PASS when ``value`` is not less than ``limit``: equality holds, as "not less than" in
-    14 CFR 23.725-23.727.  Equal means within :data:`~certkit.compliance.results.EQUALITY_TOLERANCE`
+    14 CFR 23.725-23.727.  Equal means within :data:`~certkit.results.EQUALITY_TOLERANCE`
     (relative), and never more than ``resolution``: half a unit in the last digit of the
     typed value the criterion turns on (its ``stated_resolution_si``)."""
     return PASS if value >= limit - _slack(value, limit, resolution) else FAIL

@@ -20,8 +20,8 @@ from certkit.compliance.measures import (SETTLING_BAND, TOUCHDOWN_SHARE, VELOCIT
                                          GearMeasures, contact_velocity, drop_mass_load_factor,
                                          measure_gear)
 from certkit.compliance.quality import audit
-from certkit.compliance.results import Value
 from certkit.display import number, with_unit
+from certkit.results import Value
 from certkit.spec import requirement_sets
 from certkit.spec.campaign import Campaign
 from certkit.spec.requirement_sets import RequirementSet

@@ -1,6 +1,6 @@
 """The data-quality audit: physical consistency of the evidence and reported-vs-recomputed values.
 
-Each check is one function appending :class:`~certkit.compliance.results.Finding` records;
+Each check is one function appending :class:`~certkit.results.Finding` records;
 thresholds come from the campaign's ``audit`` section, so a lab can tighten them
 and the report states the ones used.
 """
@@ -10,8 +10,8 @@ from __future__ import annotations
 from certkit.compliance.assessment import Assessment
 from certkit.compliance.drop_conditions import lift_force_ratio
 from certkit.compliance.measures import ZERO_WINDOW
-from certkit.compliance.results import Comparison, Finding
 from certkit.display import number, with_unit
+from certkit.results import Comparison, Finding
 from certkit.units import STANDARD_GRAVITY, ureg
 
 #: Alternative units tried when a reported value disagrees: a match in another unit

@@ -22,7 +22,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from certkit.compliance.results import RESULTS_FORMAT
+from certkit.results import RESULTS_FORMAT
 from certkit.errors import CertkitInputError
 
 FORMAT = RESULTS_FORMAT

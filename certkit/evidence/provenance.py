@@ -14,7 +14,7 @@ from pathlib import Path
 from packaging.requirements import InvalidRequirement, Requirement
 from packaging.utils import canonicalize_name
 
-import certkit
+from certkit.version import VERSION
 
 DEPENDENCIES = ("numpy", "numba", "scipy", "pandas", "pyarrow", "jinja2", "matplotlib", "weasyprint",
                 "pydantic", "pint", "PyYAML")
@@ -22,7 +22,7 @@ DEPENDENCIES = ("numpy", "numba", "scipy", "pandas", "pyarrow", "jinja2", "matpl
 
 def _git_commit() -> str | None:
     """Commit of the certkit source tree, with '-dirty' when it has uncommitted changes."""
-    source = Path(certkit.__file__).resolve().parent.parent
+    source = Path(__file__).resolve().parent.parent.parent   # the repository, if any
     if not (source / ".git").exists():
         return None
     try:
@@ -45,7 +45,7 @@ def provenance(inputs) -> dict:
         except metadata.PackageNotFoundError:
             versions[name] = "not installed"
     return {
-        "certkit_version": certkit.__version__,
+        "certkit_version": VERSION,
         "certkit_commit": _git_commit(),
         "python": platform.python_version(),
         "dependencies": versions,
@@ -88,7 +88,7 @@ def environment() -> dict:
             continue
         pending.extend(_requirement_names(name))
     return {
-        "certkit_version": certkit.__version__,
+        "certkit_version": VERSION,
         "certkit_commit": _git_commit(),
         "python": f"{platform.python_implementation()} {platform.python_version()}",
         "platform": f"{platform.system()} {platform.machine()}",

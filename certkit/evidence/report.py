@@ -21,7 +21,7 @@ from pathlib import Path
 from jinja2 import Environment, FileSystemLoader, StrictUndefined, select_autoescape
 from markupsafe import Markup
 
-from certkit import __version__
+from certkit.version import VERSION
 from certkit.compliance.assessment import Assessment
 from certkit.compliance.criteria import at_least
 from certkit.display import (DISPLAY_RULE, SIGNIFICANT, display, margin, number, parameter, percent,
@@ -29,7 +29,7 @@ from certkit.display import (DISPLAY_RULE, SIGNIFICANT, display, margin, number,
 from certkit.compliance.equations import EQUATIONS, GRAVITY_NOTE
 from certkit.outputs import staged_folder
 from certkit.evidence.provenance import provenance
-from certkit.compliance.results import PASS, RESULTS_FORMAT, Value
+from certkit.results import PASS, RESULTS_FORMAT, Value
 from certkit.units import convert
 
 def templates_dir() -> Path:
@@ -272,7 +272,7 @@ def build_view(assessment: Assessment, record: dict, model=None) -> dict:
         "display_rule": DISPLAY_RULE,
         "assumptions": [a.strip() for a in spec.assumptions],
         "audit": _audit_settings(spec.audit, units),
-        "provenance": record, "version": __version__,
+        "provenance": record, "version": VERSION,
         "model": _model_view(model, units, spec.reference_results, _origins(spec),
                              spec.model.effects),
         "identification": _identification_view(model, spec.model.identification, units,

@@ -524,7 +524,7 @@ def blind_check(template: str | Path, gear_id: str | None = None,
     BlindCheckError
         When the cluster cannot be reached.
     """
-    from certkit import __version__
+    from certkit.version import VERSION as __version__
     from certkit.spec.blind_record import code_fingerprint, template_fingerprint
     from certkit.spec.campaign import load_campaign
     from certkit.errors import CertkitInputError

@@ -1,0 +1,122 @@
+"""The layout rules of ARCHITECTURE.md, checked on the source: data flows one way through the
+stages, no import circle, no monolith, no citation of a note that is not in the repository."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parent.parent / "certkit"
+TEMPLATES = PACKAGE.parent / "templates"
+
+#: The stages in the order data flows through them; a module may import its own stage and
+#: earlier ones, never a later one.  Stage 0 is the foundation every stage may use.
+FOUNDATION = {"errors", "units", "results", "display", "outputs", "version"}
+STAGES = ["spec", "compliance", "physics", "ident", "gap", "evidence", "archive", "cli"]
+LONGEST_MODULE = 600          # lines
+NOTES = ("physics.md", "identification.md", "requirements.md", "gap-diagnosis.md",
+         "report-tooling.md")
+
+
+def _modules() -> dict[str, Path]:
+    found = {}
+    for path in sorted(PACKAGE.rglob("*.py")):
+        parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        found[name] = path
+    return found
+
+
+MODULES = _modules()
+
+
+def _imports(name: str, path: Path) -> set[str]:
+    """Every certkit module ``name`` imports, at the top or inside a function."""
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            found |= {alias.name for alias in node.names}
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")[: len(package.split(".")) - node.level + 1]
+                base = ".".join(anchor + ([base] if base else []))
+            found.add(base)
+            # "from certkit.spec import schema" imports the module certkit.spec.schema
+            found |= {f"{base}.{alias.name}" for alias in node.names
+                      if f"{base}.{alias.name}" in MODULES}
+    return {target for target in found if target in MODULES and target != name}
+
+
+def _stage(name: str) -> int | None:
+    parts = name.split(".")
+    if len(parts) == 1:
+        return None                     # the package facade (certkit/__init__.py)
+    if parts[1] in FOUNDATION:
+        return 0
+    return STAGES.index(parts[1]) + 1
+
+
+def test_every_module_belongs_to_a_stage_or_the_foundation():
+    strays = [name for name in MODULES if name.count(".") >= 1
+              and name.split(".")[1] not in FOUNDATION | set(STAGES)]
+    assert strays == [], f"modules outside the stages and the foundation: {strays}"
+
+
+def test_data_flows_one_way_through_the_stages():
+    backwards = []
+    for name, path in MODULES.items():
+        stage = _stage(name)
+        if stage is None:
+            continue
+        for target in _imports(name, path):
+            target_stage = _stage(target)
+            if target_stage is not None and target_stage > stage:
+                backwards.append(f"{name} imports {target}")
+    assert backwards == [], "a module imports a later stage:\n" + "\n".join(sorted(backwards))
+
+
+def test_no_import_circle():
+    graph = {name: _imports(name, path) for name, path in MODULES.items()}
+    # a package's __init__ is imported with each of its modules: only its own imports count
+    state, circles = {}, []
+
+    def visit(node, trail):
+        state[node] = "open"
+        for target in sorted(graph[node]):
+            if state.get(target) == "open":
+                circles.append(" -> ".join(trail[trail.index(target):] + [target]))
+            elif target not in state:
+                visit(target, trail + [target])
+        state[node] = "done"
+
+    for name in sorted(graph):
+        if name not in state:
+            visit(name, [name])
+    assert circles == [], "import circles:\n" + "\n".join(circles)
+
+
+def test_no_module_is_a_monolith():
+    long = {str(path.relative_to(PACKAGE.parent)): n for path in MODULES.values()
+            if (n := len(path.read_text(encoding="utf-8").splitlines())) > LONGEST_MODULE}
+    assert long == {}, f"modules over {LONGEST_MODULE} lines: {long}"
+
+
+@pytest.mark.parametrize("folder", [PACKAGE, TEMPLATES], ids=["certkit", "templates"])
+def test_no_citation_of_a_note_outside_the_repository(folder):
+    cited = [f"{path.relative_to(folder.parent)}:{number}"
+             for path in sorted(folder.rglob("*")) if path.suffix in (".py", ".j2", ".css")
+             for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
+             if any(note in line for note in NOTES)]
+    assert cited == [], f"docstrings or templates citing notes that are not in the repo: {cited}"
+
+
+def test_the_checks_see_what_they_check():
+    # the import reader resolves both spellings, and knows the stages of real modules
+    assert "certkit.compliance.engine" in _imports("certkit.cli.campaign",
+                                                   MODULES["certkit.cli.campaign"])
+    assert _stage("certkit.errors") == 0 and _stage("certkit.cli.app") == len(STAGES)
+    assert _stage("certkit.spec.schema") < _stage("certkit.physics.dynamics")
