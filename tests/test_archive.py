@@ -265,12 +265,12 @@ def test_an_existing_target_is_never_replaced(bag, tmp_path):
 
 
 def test_a_failed_archive_leaves_nothing_behind(tmp_path, monkeypatch):
-    import certkit.archive.campaign_bag as campaign_bag
+    import certkit.evidence.pipeline as pipeline
 
     def broken(*args, **kwargs):
         raise RuntimeError("renderer failed")
 
-    monkeypatch.setattr(campaign_bag, "render_report", broken)
+    monkeypatch.setattr(pipeline, "render_report", broken)
     target = tmp_path / "new" / "deeper" / "bag"
     with pytest.raises(RuntimeError):
         archive_campaign(SEED, target, model=False)

@@ -28,11 +28,11 @@ from pathlib import Path, PurePosixPath
 
 from certkit.archive.bag import (TAGMANIFEST, BagError, Change, bag_hash, check_bag, extract_zip,
                                  read_info, sha256_of, write_bag, write_zip)
-from certkit.compliance.engine import assess
 from certkit.errors import CertkitInputError
 from certkit.evidence.comparison import differences
 from certkit.evidence.provenance import environment
-from certkit.evidence.report import render_report, results_json
+from certkit.evidence.pipeline import make_evidence, report_campaign
+from certkit.evidence.report import results_json
 from certkit.results import RESULTS_FORMAT
 from certkit.spec.campaign import load_campaign
 from certkit.version import VERSION
@@ -239,15 +239,8 @@ def archive_campaign(spec: str | Path, target: str | Path, *, model: bool = True
         progress("copying the campaign's files")
         _copy_inputs(campaign, bag / CAMPAIGN)
         campaign = _staged_campaign(campaign, bag / CAMPAIGN)
-        progress("assessing")
-        assessment = assess(campaign)
-        evidence = None
-        if model:
-            # lazy: the model stage adds ~0.5 s to every CLI start-up (see certkit.cli.model)
-            from certkit.evidence.model_evidence import model_evidence
-            progress("calibrating the drop model")
-            evidence = model_evidence(campaign)
-        render_report(assessment, bag / RESULTS, progress, evidence)
+        assessment, evidence = report_campaign(campaign, bag / RESULTS, model=model,
+                                               progress=progress)
         (bag / ENVIRONMENT).write_text(json.dumps(environment(), indent=2) + "\n",
                                        encoding="utf-8")
         progress("writing the manifests")
@@ -338,13 +331,8 @@ def recompute(folder: Path, tolerance: float, progress=None) -> Recomputed:
     except CertkitInputError as error:   # e.g. a spec this certkit no longer accepts
         return Recomputed(False, [f"the archived campaign does not load: {problem}"
                                   for problem in error.problems], [])
-    assessment = assess(campaign)
-    evidence = None
-    if archived.get("model") is not None:
-        # lazy: the model stage adds ~0.5 s to every CLI start-up (see certkit.cli.model)
-        from certkit.evidence.model_evidence import model_evidence
-        (progress or (lambda m: None))("calibrating the drop model")
-        evidence = model_evidence(campaign)
+    assessment, evidence = make_evidence(campaign, model=archived.get("model") is not None,
+                                         progress=progress)
     recomputed_bytes = results_json(assessment, evidence)
     found, software = compare_results(archived, json.loads(recomputed_bytes), tolerance)
     return Recomputed(recomputed_bytes == archived_bytes, found, software)

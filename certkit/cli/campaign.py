@@ -15,7 +15,8 @@ from certkit.compliance.engine import assess
 from certkit.evidence.audit import (audit_rows, baseline_rows, passed, to_csv, to_json, to_junit,
                                     to_markdown)
 from certkit.evidence.comparison import compare, read_baseline
-from certkit.evidence.report import render_report, results_document
+from certkit.evidence.pipeline import report_campaign
+from certkit.evidence.report import results_document
 from certkit.outputs import write_text_atomically
 from certkit.spec import requirement_sets
 from certkit.spec.campaign import load_campaign
@@ -50,19 +51,8 @@ def report(spec: SpecArgument,
             if status:
                 status.update(message)
 
-        campaign = load_campaign(spec)
-        progress("assessing")
-        assessment = assess(campaign)
-        evidence = None
-        if model:
-            # Lazy on purpose: the model stage (numba kernel, scipy, matplotlib) adds about
-            # 0.45 s to every start-up (import certkit.cli 0.51 s, with the model stage 0.95 s,
-            # medians of 3 on this machine); --no-model, validate and audit do not need it.
-            from certkit.evidence.model_evidence import model_evidence
-
-            progress("calibrating the drop model")
-            evidence = model_evidence(campaign)
-        render_report(assessment, output, progress, evidence)
+        assessment, _ = report_campaign(load_campaign(spec), output, model=model,
+                                        progress=progress)
     finally:
         if status:
             status.stop()

@@ -69,6 +69,11 @@ def _blind_check(spec: Path, gear: str | None, output: Path, workers, scheduler,
     out.print(f"written: {output}")
 
 
+def _write_json(path: Path, document: dict) -> None:
+    path.write_text(json.dumps(document, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+    out.print(f"wrote {path}")
+
+
 @command()
 def simulate(spec: SpecArgument,
              output: Annotated[Path, typer.Option("-o", "--output", help="output folder")],
@@ -142,9 +147,7 @@ def calibrate(spec: SpecArgument,
         if not fit_.success:
             warning(f"the fit did not converge: {fit_.message}")
     if json_file is not None:
-        text = json.dumps(calibration_document(result), indent=2, ensure_ascii=False)
-        json_file.write_text(text + "\n", encoding="utf-8")
-        out.print(f"wrote {json_file}")
+        _write_json(json_file, calibration_document(result))
 
 
 @command()
@@ -185,9 +188,7 @@ def identify(spec: SpecArgument,
         for note in gear.notes:
             warning(note, "note")
     if json_file is not None:
-        text = json.dumps(identification_document(result), indent=2, ensure_ascii=False)
-        json_file.write_text(text + "\n", encoding="utf-8")
-        out.print(f"wrote {json_file}")
+        _write_json(json_file, identification_document(result))
 
 
 @command()
