@@ -1,7 +1,7 @@
 """Versioned requirement sets shipped with certkit, as data files beside this module.
 
 A set names its clauses, formulas and coefficients; the checks that evaluate them
-live in :mod:`certkit.compliance.engine`, looked up by each criterion's ``check`` name.
+live in :mod:`certkit.compliance.criteria`, looked up by each criterion's ``check`` name.
 """
 
 from __future__ import annotations
