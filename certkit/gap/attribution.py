@@ -12,46 +12,12 @@ the a-priori confusability (gap-diagnosis.md §2.7, §3).
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from certkit.physics.drop_model import DropModel
-from certkit.physics.effects import (GasHeatTransfer, LegFlexibility, ReboundOrifice, SealFriction, SensorLag,
-                      TyreHysteresis)
-from certkit.units import STANDARD_GRAVITY
-
-
-@dataclass(frozen=True)
-class Candidate:
-    """An effect of the library as a one-parameter family nesting the nominal model."""
-
-    name: str
-    unit_size: str                                   # what strength 1 means, in words
-    add: Callable[[DropModel, float], DropModel]     # the model with the effect at strength φ
-    probe: float = 0.05                              # φ of the finite-difference signature
-
-
-
-CANDIDATES = (
-    Candidate("seal friction", "Coulomb friction of 5 % of the upper mass's weight",
-              lambda m, phi: m.with_effect(
-                  SealFriction(0.05 * m.upper_mass * STANDARD_GRAVITY * phi))),
-    Candidate("rebound orifice", "rebound damping 3 times the compression orifice's",
-              lambda m, phi: m.with_effect(ReboundOrifice(3.0 * m.orifice.coefficient * phi))),
-    Candidate("tyre hysteresis", "a loop of 5 % of the static tyre curve",
-              lambda m, phi: m.with_effect(TyreHysteresis(0.05 * phi))),
-    Candidate("heat transfer", "a thermal time constant of 1 s (γ = the polytropic n)",
-              lambda m, phi: m.with_effect(GasHeatTransfer(1.0 / phi, m.gas.exponent)) if phi > 0
-              else m),
-    Candidate("leg flexibility", "a leg compliance of 1/(3 kN/mm), half the unsprung mass "
-                                 "at the axle",
-              lambda m, phi: m.with_effect(LegFlexibility(0.5 * m.lower_mass, 3.0e6 / phi))
-              if phi > 0 else m, probe=0.02),
-    Candidate("sensor lag", "a first-order lag of 2 ms on every recorded channel",
-              lambda m, phi: m.with_effect(SensorLag(0.002 * phi)), probe=0.1),
-)
+from certkit.physics.effects import CANDIDATES, Candidate
 
 
 @dataclass(frozen=True)
@@ -304,8 +270,8 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
     ``split``: (training, held-out) run ids (default: :func:`certkit.gap.holdout.split_for`);
     ``calibration``: the nominal model already calibrated on the training runs (saves
     doing it again)."""
-    from certkit.physics.calibration import RunResiduals, calibrate_gear
     from certkit.gap.holdout import split_for
+    from certkit.physics.calibration import RunResiduals, calibrate_gear
 
     training, held = split or split_for(campaign, gear_id)[:2]
     if calibration is None:

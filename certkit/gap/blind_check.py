@@ -30,16 +30,15 @@ import math
 import statistics
 import tempfile
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
 
-from certkit.physics.drop_model import DropModel
-from certkit.physics.effects import (GasHeatTransfer, LegFlexibility, ReboundOrifice, SealFriction,
-                      SensorDynamics, TyreHysteresis)
-from certkit.units import STANDARD_GRAVITY
 from certkit.errors import CampaignError
+from certkit.physics.drop_model import DropModel
+from certkit.physics.effects import TRUTHS, Truth
+from certkit.units import STANDARD_GRAVITY
 
 #: How far a sized effect's load change may miss its target (a share).
 SIZE_TOLERANCE = 0.05
@@ -52,65 +51,6 @@ SCATTERED = ("discharge-coefficient", "gas-precharge", "polytropic-exponent", "t
 
 class SizingError(ValueError):
     """An effect cannot be sized to the asked multiple of the noise on this campaign."""
-
-
-@dataclass(frozen=True)
-class Truth:
-    """An effect as the truth generator has it, at a size s > 0 (the functions below say
-    what s scales)."""
-
-    candidate: str        # the library candidate a right diagnosis names
-    form: str             # the truth's form, and how it differs from the candidate
-    sizes: tuple          # (smallest, largest) s searched when sizing
-    mechanics: Callable[[DropModel, float], DropModel] | None = None
-    sensor: Callable[[float], SensorDynamics] | None = None
-    #: what the truth's size is measured from, when that is not the nominal model itself
-    base: Callable[[DropModel], DropModel] | None = None
-
-    def model(self, model: DropModel, size: float) -> DropModel:
-        return self.mechanics(model, size) if self.mechanics else model
-
-    def start(self, model: DropModel) -> DropModel:
-        return self.base(model) if self.base else model
-
-    def recorder(self, size: float) -> SensorDynamics | None:
-        return self.sensor(size) if self.sensor else None
-
-
-def _friction(model: DropModel, s: float) -> DropModel:
-    level = 0.05 * model.upper_mass * STANDARD_GRAVITY * s
-    return model.with_effect(SealFriction(level, breakaway=0.5 * level, stribeck_velocity=0.02))
-
-
-def _leg(model: DropModel, s: float) -> DropModel:
-    axle, stiffness = 0.35 * model.lower_mass, 3.0e6 / s
-    damping = 2 * 0.05 * math.sqrt(stiffness * axle)           # 5 % of critical
-    return model.with_effect(LegFlexibility(axle, stiffness, damping))
-
-
-TRUTHS: dict[str, Truth] = {truth.candidate: truth for truth in (
-    Truth("seal friction", "Stribeck seal friction: breakaway force 1.5 times the Coulomb "
-                           "level, decaying over 20 mm/s (the candidate: Coulomb only)",
-          (0.02, 20.0), mechanics=_friction),
-    Truth("rebound orifice", "rebound damping K_reb − K_h (the candidate's own form)",
-          (0.01, 20.0),
-          mechanics=lambda m, s: m.with_effect(ReboundOrifice(3.0 * m.orifice.coefficient * s))),
-    Truth("tyre hysteresis", "a tyre hysteresis loop switching within 5 mm/s (the "
-                             "candidate: 10 mm/s)", (0.02, 20.0),
-          mechanics=lambda m, s: m.with_effect(TyreHysteresis(0.05 * s, smoothing_velocity=0.005))),
-    Truth("heat transfer", "nitrogen (γ = 1.4) exchanging heat with the walls, sized from "
-                           "its adiabatic limit (the candidate: γ = the calibrated "
-                           "polytropic exponent n)", (0.01, 50.0),
-          mechanics=lambda m, s: m.with_effect(GasHeatTransfer(1.0 / s, 1.4)),
-          base=lambda m: replace(m, gas=replace(m.gas, exponent=1.4))),
-    Truth("leg flexibility", "a leg mode with 35 % of the unsprung mass at the axle and 5 % "
-                             "damping (the candidate: 50 %, undamped)", (0.02, 5.0),
-          mechanics=_leg),
-    Truth("sensor lag", "a 2nd-order Butterworth low-pass (cut-off 300 Hz/s) plus a pure "
-                        "delay (0.1 ms·s) on every channel, sized by what remains with the "
-                        "touchdowns aligned (the candidate: a first-order lag)",
-          (0.7, 20.0), sensor=lambda s: SensorDynamics(300.0 / s, 2, 0.0001 * s)),
-)}
 
 
 @dataclass(frozen=True)
@@ -249,11 +189,11 @@ def write_case(template: str, gear_id: str, case: Case, settings: Settings,
     """Simulate ``case`` from the ``template`` campaign into ``folder``: returns the written
     spec's path and the size of every truth effect (sealed: not written).  ``clean``: the
     same truth without noise, quantisation or offsets (for scoring only)."""
-    from certkit.spec.campaign import load_campaign
     from certkit.compliance.clauses import ideal_impact_velocity
-    from certkit.physics.gear_model import drop_model_for
     from certkit.gap.holdout import recorded_drops
+    from certkit.physics.gear_model import drop_model_for
     from certkit.physics.synthetic import NO_SENSOR_EFFECTS, SensorModel, simulate_campaign
+    from certkit.spec.campaign import load_campaign
 
     campaign = load_campaign(template)
     spec = campaign.spec
@@ -524,11 +464,11 @@ def blind_check(template: str | Path, gear_id: str | None = None,
     BlindCheckError
         When the cluster cannot be reached.
     """
-    from certkit.version import VERSION as __version__
-    from certkit.spec.blind_record import code_fingerprint, template_fingerprint
-    from certkit.spec.campaign import load_campaign
     from certkit.errors import CertkitInputError
     from certkit.gap.holdout import split_for
+    from certkit.spec.blind_record import code_fingerprint, template_fingerprint
+    from certkit.spec.campaign import load_campaign
+    from certkit.version import VERSION as __version__
 
     template = str(Path(template).resolve())
     campaign = load_campaign(template)

@@ -19,45 +19,28 @@ lower bounds on the real uncertainty.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-from certkit.spec.campaign import Campaign
 from certkit.compliance.clauses import ideal_impact_velocity
-from certkit.physics.drop_model import DropModel
+from certkit.compliance.measures import contact_velocity, touchdown_time
 from certkit.errors import CertkitInputError
+from certkit.physics.drop_model import DropModel
+from certkit.physics.effects import KNOBS as EFFECT_KNOBS
+from certkit.physics.effects.base import Knob, set_effect
 from certkit.physics.fitting import FitParameter, FitResult, fit
 from certkit.physics.gear_model import drop_model_for
-from certkit.compliance.measures import contact_velocity, touchdown_time
 from certkit.physics.simulation import batch_step, simulate_batch
+from certkit.spec.campaign import Campaign
 
 CHANNELS = ("load", "stroke", "tyre")
 CHANNEL_UNITS = {"load": "N", "stroke": "m", "tyre": "m"}
 
 
 # --------------------------------------------------------------------------- the knobs
-@dataclass(frozen=True)
-class Knob:
-    """A model parameter calibration may move: how to read and set it, and its bounds."""
-
-    name: str
-    label: str
-    unit: str
-    read: Callable[[DropModel], float]
-    write: Callable[[DropModel, float], DropModel]
-    bounds: Callable[[float], tuple[float, float]]
-    needs: str | None = None   # the effect that must be on for this knob to exist
-
-
 def _set_term(model: DropModel, attribute: str, **values) -> DropModel:
     return replace(model, **{attribute: replace(getattr(model, attribute), **values)})
-
-
-def _set_effect(model: DropModel, name: str, **values) -> DropModel:
-    effects = tuple(replace(e, **values) if e.name == name else e for e in model.effects)
-    return replace(model, effects=effects)
 
 
 def _set_discharge(model: DropModel, value: float) -> DropModel:
@@ -67,9 +50,9 @@ def _set_discharge(model: DropModel, value: float) -> DropModel:
     model = _set_term(model, "orifice", discharge=value)
     for effect in model.effects:
         if effect.name == "metering pin":
-            model = _set_effect(model, "metering pin", discharge=value)
+            model = set_effect(model, "metering pin", discharge=value)
         if effect.name == "rebound orifice":
-            model = _set_effect(model, "rebound orifice",
+            model = set_effect(model, "rebound orifice",
                                 extra_coefficient=effect.extra_coefficient * (old / value) ** 2)
     return model
 
@@ -103,19 +86,7 @@ KNOBS: dict[str, Knob] = {knob.name: knob for knob in [
     Knob("tyre-damping", "tyre damping C_T", "s/m",
          lambda m: m.tyre.damping, lambda m, v: _set_term(m, "tyre", damping=v),
          _absolute(0.0, 0.5)),
-    Knob("friction", "seal friction F_0", "N",
-         lambda m: m.effect("seal friction").constant,
-         lambda m, v: _set_effect(m, "seal friction", constant=v),
-         lambda nominal: (0.0, max(4.0 * nominal, 500.0)), needs="seal friction"),
-    Knob("friction-pressure-factor", "pressure-energised friction μ", "1",
-         lambda m: m.effect("seal friction").pressure_factor,
-         lambda m, v: _set_effect(m, "seal friction", pressure_factor=v), _absolute(0.0, 0.2),
-         needs="seal friction"),
-    Knob("rebound-damping", "rebound damping excess K_reb − K_h", "N*s^2/m^2",
-         lambda m: m.effect("rebound orifice").extra_coefficient,
-         lambda m, v: _set_effect(m, "rebound orifice", extra_coefficient=v),
-         lambda nominal: (0.0, max(10.0 * nominal, 1.0)), needs="rebound orifice"),
-]}
+] + list(EFFECT_KNOBS)}
 
 #: Calibrated unless the spec chooses: the gas law, the orifice and the tyre's stiffness,
 #: and the friction level when seal friction is on.

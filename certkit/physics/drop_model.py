@@ -67,6 +67,12 @@ class Term:
     def pack(self, p: np.ndarray) -> None:  # pragma: no cover - every term overrides it
         raise NotImplementedError
 
+    def recorded(self, step: float, channel: str, signal: np.ndarray) -> np.ndarray:
+        """``signal``, the recorded ``channel`` (sampled every ``step`` s), as this term
+        changes it: unchanged for a term of the mechanics, changed by one that acts on what
+        the instruments record (a sensor lag, a load-cell gain error)."""
+        return signal
+
 
 # --------------------------------------------------------------------------- strut terms
 @dataclass(frozen=True)

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import least_squares
+
 from certkit.errors import CampaignError
 
 # A direction in log-parameter space whose singular value is below this fraction of the

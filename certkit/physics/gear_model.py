@@ -10,12 +10,12 @@ from __future__ import annotations
 import math
 
 from certkit.compliance.drop_conditions import drop_weight_share, lift_force_ratio
-from certkit.physics.dynamics import PIN_POINTS
-from certkit.physics.drop_model import P_ATM, DropModel, EndStops, GasSpring, Orifice, Tyre
-from certkit.physics.effects import (GasHeatTransfer, LegFlexibility, MeteringPin, OilCompressibility,
-                      PlatformCompliance, ReboundOrifice, SealFriction, TyreHysteresis)
 from certkit.errors import CertkitInputError, Problem
+from certkit.physics.drop_model import P_ATM, DropModel, EndStops, GasSpring, Orifice, Tyre
+from certkit.physics.effects import BY_NAME, EFFECTS
+from certkit.physics.effects.base import Gear
 from certkit.spec.schema import CampaignSpec, Run
+from certkit.spec.yamlsource import line_of
 from certkit.units import STANDARD_GRAVITY
 
 #: Stop stiffness and damping: stiff enough that the stop compression under the largest
@@ -48,8 +48,6 @@ def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = 
     CertkitInputError
         Listing every parameter the model needs that the spec does not give.
     """
-    from certkit.spec.yamlsource import line_of
-
     index = next(i for i, g in enumerate(spec.gear_units) if g.id == gear_id)
     unit = spec.gear_units[index]
     strut, tyre = unit.strut, unit.tyre
@@ -82,26 +80,20 @@ def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = 
             orifice_area = _circle(strut.orifice_diameter.si)
         else:
             need(strut, "orifice_diameter", ("strut",))
-    chosen = spec.model.effects if effects is None else effects
-    if "rebound-orifice" in chosen:
-        need(strut, "rebound_orifice_diameter", ("strut",))
-    if "seal-friction" in chosen:
-        need(strut, "seal_friction", ("strut",))
-    if "metering-pin" in chosen:
-        need(strut, "metering_pin", ("strut",))
-    if "tyre-hysteresis" in chosen:
-        need(tyre, "hysteresis", ("tyre",))
-    if "heat-transfer" in chosen:
-        need(strut, "heat_transfer", ("strut",))
-    if "oil-compressibility" in chosen:
-        need(strut, "oil", ("strut",))
-    if "leg-flexibility" in chosen:
-        need(unit, "leg", ())
+    chosen = [BY_NAME[name] for name in (spec.model.effects if effects is None else effects)]
     platform = spec.instrumentation.platform if spec.instrumentation else None
-    if "platform-compliance" in chosen and platform is None:
-        missing.append(Problem(spec_file, line_of(lines, ("instrumentation",)) if lines else None,
-                               "instrumentation.platform", "needed to simulate the platform's "
-                               "compliance (effect platform-compliance)"))
+    for effect in chosen:
+        for need_ in effect.needs:
+            path, message = need_ if isinstance(need_[0], tuple) else (need_, None)
+            if path[0] == "instrumentation":
+                if platform is None:
+                    missing.append(Problem(spec_file, line_of(lines, path[:1]) if lines else None,
+                                           ".".join(path), message))
+            else:
+                owner = unit
+                for step in path[:-1]:
+                    owner = getattr(owner, step, None) if owner is not None else None
+                need(owner, path[-1], path[:-1])
     if missing:
         raise CertkitInputError(missing)
 
@@ -127,46 +119,9 @@ def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = 
             f"the gas spring cannot hold the static load within the design stroke "
             f"{unit.design_stroke.text} (pre-charge too low or gas volume too small)")
     orifice = Orifice(hydraulic.si, orifice_area, discharge.si, density.si)
-    terms = []
-    if "rebound-orifice" in chosen:
-        rebound = Orifice(hydraulic.si, _circle(strut.rebound_orifice_diameter.si), discharge.si,
-                          density.si)
-        terms.append(ReboundOrifice(rebound.coefficient - orifice.coefficient))
-    if "seal-friction" in chosen:
-        friction = strut.seal_friction
-        terms.append(SealFriction(friction.constant.si, friction.pressure_factor.si,
-                                  friction.breakaway.si, friction.stribeck_velocity.si))
-    if "metering-pin" in chosen:
-        pin = strut.metering_pin
-        strokes = tuple(q.si for q in pin.strokes)
-        if (len(pin.strokes) != len(pin.areas) or len(pin.strokes) > PIN_POINTS
-                or any(b <= a for a, b in zip(strokes, strokes[1:]))):
-            raise CertkitInputError.single(
-                spec_file, None, f"gear_units[{index}].strut.metering_pin",
-                f"expected as many areas as strokes (at most {PIN_POINTS}), with the strokes "
-                f"increasing; found {len(pin.strokes)} strokes and {len(pin.areas)} areas")
-        terms.append(MeteringPin(strokes, tuple(q.si for q in pin.areas), hydraulic.si,
-                                 orifice_area, discharge.si, density.si))
-    if "tyre-hysteresis" in chosen:
-        terms.append(TyreHysteresis(tyre.hysteresis.si))
-    if "heat-transfer" in chosen:
-        heat = strut.heat_transfer
-        terms.append(GasHeatTransfer(heat.time_constant.si, heat.ratio_of_specific_heats.si))
-    if "oil-compressibility" in chosen:
-        terms.append(OilCompressibility.from_oil(strut.oil.bulk_modulus.si, hydraulic.si,
-                                                 strut.oil.volume.si))
-    if "leg-flexibility" in chosen:
-        leg = unit.leg
-        if leg.axle_mass.si >= unsprung.si:
-            raise CertkitInputError.single(
-                spec_file, line_of(lines, ("gear_units", index, "leg", "axle_mass")) if lines
-                else None, f"gear_units[{index}].leg.axle_mass",
-                f"{leg.axle_mass.text} is not less than the unsprung mass {unsprung.text} it is "
-                f"part of")
-        terms.append(LegFlexibility(leg.axle_mass.si, leg.stiffness.si, leg.damping.si))
-    if "platform-compliance" in chosen:
-        terms.append(PlatformCompliance(platform.mass.si, platform.stiffness.si,
-                                        platform.damping.si))
+    gear = Gear(unit, index, platform, orifice, unsprung.si, spec_file,
+                lambda location: line_of(lines, location) if lines else None)
+    terms = [effect.build(gear) for effect in EFFECTS if effect in chosen and effect.build]
     return DropModel(
         upper_mass=total - unsprung.si, lower_mass=unsprung.si, gas=gas, orifice=orifice,
         stops=EndStops(unit.design_stroke.si, STOP_STIFFNESS, STOP_DAMPING),

@@ -17,11 +17,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from certkit.errors import CampaignError
 from certkit.physics import dynamics as dyn
 from certkit.physics.drop_model import DropModel, orifice_coefficient
 from certkit.units import STANDARD_GRAVITY
-from certkit.errors import CampaignError
-
 
 #: The channels a logger records (what sensor effects act on).
 RECORDED = ("load", "stroke", "tyre", "acceleration", "displacement")
@@ -120,10 +119,9 @@ def simulate_reference(model: DropModel, contact_velocity: float, duration: floa
         strut_work=np.concatenate([zeros, y[dyn.STRUT_WORK]]),
         tyre_work=np.concatenate([zeros, y[dyn.TYRE_WORK]]),
     )
-    lag = model.effect("sensor lag")
-    if lag is not None:   # acts on the recorded channels, from the start of the record
+    for effect in model.effects:   # those acting on the recorded channels (sensor lag, ...)
         for name in RECORDED:
-            setattr(drop, name, lag.apply(1.0 / sample_rate, getattr(drop, name)))
+            setattr(drop, name, effect.recorded(1.0 / sample_rate, name, getattr(drop, name)))
     return drop
 
 
@@ -272,11 +270,10 @@ def simulate_batch(models, contact_velocity, duration: float = 2.0,
         mechanical=out[:, :, dyn.ENERGY] - out[:, :1, dyn.ENERGY],
         dissipated=final[:, dyn.DISSIPATED])
     for index, model in enumerate(models):   # effects on the recorded channels
-        lag = model.effect("sensor lag")
-        if lag is not None:
+        for effect in model.effects:
             for name in RECORDED:
                 values = getattr(drops, name)
-                values[index] = lag.apply(1.0 / sample_rate, values[index])
+                values[index] = effect.recorded(1.0 / sample_rate, name, values[index])
     return drops
 
 

@@ -18,14 +18,14 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from certkit.spec.campaign import Campaign
 from certkit.compliance.clauses import ideal_impact_velocity
+from certkit.errors import CertkitInputError
+from certkit.outputs import staged_folder
 from certkit.physics.drop_model import DropModel
 from certkit.physics.effects import SensorDynamics
-from certkit.errors import CertkitInputError
 from certkit.physics.gear_model import drop_model_for
-from certkit.outputs import staged_folder
 from certkit.physics.simulation import simulate_reference
+from certkit.spec.campaign import Campaign
 
 
 @dataclass(frozen=True)

@@ -53,9 +53,10 @@ METRICS = {
 }
 
 
-#: The modules whose code decides a blind check's outcome (simulation, data, diagnosis).
+#: The modules whose code decides a blind check's outcome (simulation, data, diagnosis);
+#: a folder stands for every module in it.
 DIAGNOSIS_CODE = ("gap/attribution.py", "gap/blind_check.py", "physics/calibration.py",
-                  "physics/drop_model.py", "physics/dynamics.py", "physics/effects.py",
+                  "physics/drop_model.py", "physics/dynamics.py", "physics/effects/",
                   "physics/fitting.py", "gap/holdout.py", "compliance/measures.py",
                   "gap/phases.py", "gap/residuals.py", "spec/rundata.py",
                   "physics/simulation.py", "physics/synthetic.py")
@@ -78,8 +79,11 @@ def code_fingerprint() -> str:
     thresholds, another simulator) says so in the report."""
     digest = hashlib.sha256()
     folder = Path(__file__).resolve().parent.parent   # the certkit package
-    for name in DIAGNOSIS_CODE:
-        digest.update(name.encode("utf-8") + b"\0" + (folder / name).read_bytes())
+    for entry in DIAGNOSIS_CODE:
+        names = ([f"{entry}{path.name}" for path in sorted((folder / entry).glob("*.py"))]
+                 if entry.endswith("/") else [entry])
+        for name in names:
+            digest.update(name.encode("utf-8") + b"\0" + (folder / name).read_bytes())
     return digest.hexdigest()
 
 
