@@ -89,9 +89,9 @@ KNOBS: dict[str, Knob] = {knob.name: knob for knob in [
 ] + list(EFFECT_KNOBS)}
 
 #: Calibrated unless the spec chooses: the gas law, the orifice and the tyre's stiffness,
-#: and the friction level when seal friction is on.
+#: and the friction level when seal friction is on, the load-cell gain when that is on.
 DEFAULT_KNOBS = ("discharge-coefficient", "gas-precharge", "polytropic-exponent",
-                 "tyre-stiffness", "friction")
+                 "tyre-stiffness", "friction", "load-cell-gain")
 
 
 # --------------------------------------------------------------------------- results

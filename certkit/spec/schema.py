@@ -518,9 +518,11 @@ class DisplayUnits(_Model):
         return {**UNIT_SYSTEMS[system], **data}
 
 
+#: The effects a campaign can switch on: the names of certkit.physics.effects' registry (kept
+#: here so a spec validates without the physics; tests/test_effects.py holds the two equal).
 Effect = Literal["seal-friction", "rebound-orifice", "metering-pin", "tyre-hysteresis",
                  "heat-transfer", "oil-compressibility", "leg-flexibility",
-                 "platform-compliance", "sensor-dynamics"]
+                 "platform-compliance", "sensor-dynamics", "load-cell-gain"]
 
 
 class SensorSpec(_Model):
@@ -534,7 +536,7 @@ class SensorSpec(_Model):
 CalibrationParameter = Literal[
     "discharge-coefficient", "gas-precharge", "gas-volume", "polytropic-exponent",
     "tyre-stiffness", "tyre-exponent", "tyre-damping", "friction", "friction-pressure-factor",
-    "rebound-damping"]
+    "rebound-damping", "load-cell-gain"]
 
 
 class CalibrationSpec(_Model):

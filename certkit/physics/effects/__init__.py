@@ -46,7 +46,7 @@ EFFECTS: tuple[Effect, ...] = (
     platform_compliance.EFFECT,
     sensor_lag.EFFECT,
     sensor_dynamics.EFFECT,
-    # load_cell_gain.EFFECT,
+    load_cell_gain.EFFECT,
 )
 
 #: The effects a spec can switch on, by their name in ``model.effects``.
