@@ -82,6 +82,11 @@ def display(value: float | None, kind: str, units, digits: int = SIGNIFICANT
     return number(to_display(value, kind, units), digits), unit
 
 
+def magnitude(value: float | None, kind: str, units, digits: int = SIGNIFICANT) -> str:
+    """An SI value in its display unit, without the unit ("—" when None)."""
+    return display(value, kind, units, digits)[0]
+
+
 def with_unit(value: float | None, kind: str, units, digits: int = SIGNIFICANT) -> str:
     """``"645 lbf"``: an SI value in its display unit, with the unit ("—" when None)."""
     if value is None:

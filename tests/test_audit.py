@@ -100,7 +100,7 @@ BASELINE = SEED.parent / "audit-baseline" / "results.json"
 
 
 def _current():
-    from certkit.evidence.report import results_document
+    from certkit.evidence.results_document import results_document
 
     return results_document(assess(load_campaign(SEED)), {})
 

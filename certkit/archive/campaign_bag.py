@@ -32,7 +32,7 @@ from certkit.errors import CertkitInputError
 from certkit.evidence.comparison import differences
 from certkit.evidence.provenance import environment
 from certkit.evidence.pipeline import make_evidence, report_campaign
-from certkit.evidence.report import results_json
+from certkit.evidence.results_document import results_json
 from certkit.results import RESULTS_FORMAT
 from certkit.spec.campaign import load_campaign
 from certkit.version import VERSION

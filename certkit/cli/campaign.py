@@ -16,7 +16,7 @@ from certkit.evidence.audit import (audit_rows, baseline_rows, passed, to_csv, t
                                     to_markdown)
 from certkit.evidence.comparison import compare, read_baseline
 from certkit.evidence.pipeline import report_campaign
-from certkit.evidence.report import results_document
+from certkit.evidence.results_document import results_document
 from certkit.outputs import write_text_atomically
 from certkit.spec import requirement_sets
 from certkit.spec.campaign import load_campaign

@@ -20,7 +20,7 @@ from certkit.cli.app import SpecArgument, bad_option, command, err, fail, out, w
 from certkit.display import display
 from certkit.display import parameter as parameter_text
 from certkit.display import with_unit
-from certkit.evidence.report import largest_disagreement
+from certkit.evidence.gap_view import largest_disagreement
 from certkit.outputs import check_target, staged_folder
 from certkit.spec.campaign import load_campaign
 from certkit.spec.rundata import CHANNEL_LABELS

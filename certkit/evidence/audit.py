@@ -21,13 +21,14 @@ from __future__ import annotations
 import csv
 import io
 import json
-import re
 import math
+import re
 from dataclasses import asdict, dataclass
 from xml.etree import ElementTree
 
 from certkit.compliance.assessment import Assessment
-from certkit.display import margin as margin_text, with_unit
+from certkit.display import margin as margin_text
+from certkit.display import with_unit
 from certkit.spec.schema import DisplayUnits
 
 PASS = "PASS"

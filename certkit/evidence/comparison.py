@@ -22,8 +22,8 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from certkit.results import RESULTS_FORMAT
 from certkit.errors import CertkitInputError
+from certkit.results import RESULTS_FORMAT
 
 FORMAT = RESULTS_FORMAT
 

@@ -12,8 +12,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from certkit.spec.rundata import CHANNEL_LABELS  # noqa: E402
 from certkit.display import with_unit  # noqa: E402
+from certkit.spec.rundata import CHANNEL_LABELS  # noqa: E402
 from certkit.units import convert  # noqa: E402
 
 _STYLE = {

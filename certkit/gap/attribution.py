@@ -17,6 +17,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from certkit.physics.drop_model import DropModel
+from certkit.display import percent
 from certkit.physics.effects import CANDIDATES, Candidate
 
 
@@ -39,6 +40,19 @@ class Attribution:
     sigma2: float
     profiles: dict | None = None   # name -> (best strength of STARTS, its profile cost)
     relevant: tuple = ()           # the names that qualified for a refit (see diagnose)
+    #: what became of each candidate at this step, in score order (see :func:`_decisions`)
+    decisions: tuple = ()
+    #: why no candidate was refitted at this step ("" when some were)
+    no_refit: str = ""
+
+
+@dataclass(frozen=True)
+class Decision:
+    """What the diagnosis decided about one candidate, or one refit, and why: recorded where
+    the rule is applied, so the report states it and never re-derives it."""
+
+    name: str        # the candidate, or the refit's effects joined by " + "
+    status: str      # the decision in words, with the thresholds that made it
 
 
 def score_candidates(residuals, models: list[DropModel], nominal_jacobian: np.ndarray,
@@ -234,6 +248,7 @@ class Diagnosis:
     refit: Refit | None = None     # the named effects' refit (None: abstained)
     chosen: tuple = ()             # the named effects' Candidates, in the refit's order
     step_costs: tuple = ()         # training cost each step had to beat (before its refits)
+    refit_decisions: tuple = ()    # per step, a Decision for each of its refits
 
     def configure(self, model: DropModel) -> DropModel:
         """``model`` (nominal, of this gear, any run) as the diagnosis leaves it: the
@@ -298,9 +313,11 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
         relevant = {s.name for s in attribution.scores[:LEADING] if s.explained >= RELEVANT}
         relevant |= {n for n in profile if profile[n][1] <= (1 - GAIN) * cost}
         leading = sorted(relevant, key=lambda n: (profile[n][1], n))[:LEADING]
-        attribution = replace(attribution, relevant=tuple(sorted(relevant)))
         fits = [refit(residuals, calibration, chosen + [names[n]], start=profile[n][0])
                 for n in leading]
+        attribution = replace(attribution, relevant=tuple(sorted(relevant)),
+                              decisions=_decisions(attribution, relevant, leading),
+                              no_refit="" if fits else _NO_REFIT)
         steps.append((attribution, fits))
         useful = sorted((f for f in fits if f.training_cost <= (1 - GAIN) * cost),
                         key=lambda f: f.training_cost)
@@ -334,4 +351,48 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
         rmse.update({("with " + " and ".join(answer),) + key: value
                      for key, value in after.items()})
     return Diagnosis(gear_id, tuple(training), tuple(held), answer, statement, steps, rmse,
-                     calibration, current, tuple(chosen), tuple(step_costs))
+                     calibration, current, tuple(chosen), tuple(step_costs),
+                     _refit_decisions(steps, answer, step_costs))
+
+
+_NO_REFIT = (f"No candidate would remove {RELEVANT:g} σ or more, nor cut the training cost "
+             f"by {percent(GAIN, 0)} in its profile: none was refitted.")
+
+
+def _decisions(attribution: Attribution, relevant: set, leading: list) -> tuple:
+    """What became of each scored candidate at one step: refitted (relevant and among the
+    :data:`LEADING` best profiles), relevant but not refitted, or not relevant (and why)."""
+    decisions = []
+    for score in attribution.scores:
+        if score.name in leading:
+            status = "refitted"
+        elif score.name in relevant:
+            status = f"relevant, not among the {LEADING} best profiles"
+        elif score.direction < 0:
+            status = ("its score points the other way and its profile cuts the training "
+                      f"cost by less than {percent(GAIN, 0)}: not relevant")
+        else:
+            status = (f"not among the {LEADING} best scores with {RELEVANT:g} σ or more, "
+                      f"and its profile cuts the training cost by less than "
+                      f"{percent(GAIN, 0)}: not relevant")
+        decisions.append(Decision(score.name, status))
+    return tuple(decisions)
+
+
+def _refit_decisions(steps: list, answer: tuple, step_costs: list) -> tuple:
+    """Per step, what became of each refit: named, or not named and why."""
+    out = []
+    for index, (_, fits) in enumerate(steps):
+        named = tuple(answer[:index + 1])
+        decisions = []
+        for fit in fits:
+            if fit.effects == named and len(named) == index + 1:
+                status = "named"
+            elif fit.training_cost > (1 - GAIN) * step_costs[index]:
+                status = f"cuts the training cost by less than {percent(GAIN, 0)}: not named"
+            else:
+                status = (f"cuts the training cost by {percent(GAIN, 0)} or more; not named "
+                          f"(see the statement)")
+            decisions.append(Decision(" + ".join(fit.effects), status))
+        out.append(tuple(decisions))
+    return tuple(out)

@@ -1,0 +1,283 @@
+"""The report's views of the drop model: calibration (section 9) and identification
+(section 10), every number formatted in the campaign's display units.
+"""
+
+from __future__ import annotations
+
+import math
+
+from markupsafe import Markup
+
+from certkit.display import display, magnitude, number, parameter, percent, pretty, typed, with_unit
+from certkit.evidence.sections import IdentificationSection, ModelSection
+from certkit.units import convert
+
+
+def _reference_error(reference, gear_id: str, channel: str, model: str, run: str):
+    """A published RMSE (the spec's quantity) of the campaign's reference_results for this
+    gear unit, run, channel and model (a field of
+    :class:`~certkit.spec.schema.ReferenceModelErrors`), None when it has none."""
+    if reference is None or (reference.gear is not None and reference.gear != gear_id) or (
+            reference.run is not None and reference.run != run):
+        return None
+    errors = getattr(reference, channel, None) if channel in ("stroke", "tyre") else None
+    return getattr(errors, model, None) if errors is not None else None
+
+
+def _reference_view(reference, units) -> dict | None:
+    """How the report names the campaign's published reference results (None: it has none)."""
+    if reference is None:
+        return None
+    return {"source": reference.source, "gear": reference.gear or "not stated",
+            "run": reference.run or "not stated",
+            "window": with_unit(reference.window.si, "time", units),
+            "note": (reference.note or "").strip()}
+
+
+#: What the model sections say when the report was made without the drop model.
+NO_MODEL = ("The drop model was not run for this report (certkit report --no-model, or "
+            "render_report without a model evidence): the governing-equation, identification "
+            "and gap sections are left out of it.")
+
+
+def model_view(evidence, units, reference=None, origins=None, effects=()) -> ModelSection:
+    """The governing-equation model section: calibration per gear unit, or why none."""
+    if evidence is None:
+        return ModelSection(available=False, note=NO_MODEL, synthetic="", gears=[],
+                            effects=", ".join(effects) or "none", reference_rows=[],
+                            reference=None)
+    synthetic = ""
+    if evidence.synthetic_runs:
+        synthetic = (f"The time histories of run(s) {', '.join(evidence.synthetic_runs)} are "
+                     f"SYNTHETIC (simulated, declared origin: synthetic), not measured: the "
+                     f"model is compared here with simulated data, which shows the method, "
+                     f"not the real gear's behaviour.")
+    calibration = evidence.calibration
+    if calibration is None:
+        return ModelSection(available=False, note=evidence.note, synthetic=synthetic, gears=[],
+                            effects="—", reference_rows=[], reference=None)
+    from certkit.evidence.figures import model_figure
+    from certkit.spec.rundata import CHANNEL_LABELS
+
+    gears, reference_rows = [], []
+    for gear in calibration.gears:
+        fit = gear.fit
+        parameters = []
+        for knob, p, estimate, error in zip(gear.knobs, fit.parameters, fit.estimate,
+                                            fit.standard_error):
+            nominal, unit = parameter(p.nominal, p.unit, units)
+            value = parameter(float(estimate), p.unit, units)[0]
+            se = ("not determined" if not math.isfinite(error)
+                  else parameter(float(error), p.unit, units)[0])
+            bounds = (f"{parameter(p.lower, p.unit, units)[0]} to "
+                      f"{parameter(p.upper, p.unit, units)[0]}")
+            parameters.append({"name": knob.label, "unit": unit, "nominal": nominal,
+                               "estimate": value, "error": se, "bounds": bounds})
+        names = [p.name for p in fit.parameters]
+        correlation = [{"name": f"({i}) {name}",
+                        "cells": ["—" if not math.isfinite(c) else f"{c:+.2f}" for c in row]}
+                       for i, (name, row) in enumerate(zip(names, fit.correlation), start=1)]
+        rmse = []
+        for e in gear.errors:
+            kind = "force" if e.channel == "load" else "length"
+            before, unit = display(e.nominal, kind, units)
+            after, _ = display(e.calibrated, kind, units)
+            change = (e.calibrated / e.nominal - 1) if e.nominal else float("nan")
+            rmse.append({"run": e.run, "channel": CHANNEL_LABELS[e.channel], "unit": unit,
+                         "nominal": before, "calibrated": after,
+                         "change": f"{change:+.1%}" if math.isfinite(change) else "—"})
+        for trace in gear.traces:
+            published = _reference_error(reference, gear.gear_id, trace.channel,
+                                         "governing_equation", trace.run)
+            if published is None:
+                continue
+            first = trace.time <= reference.window.si
+            nominal = math.sqrt(float(((trace.nominal - trace.measured)[first] ** 2).mean()))
+            fitted = math.sqrt(float(((trace.calibrated - trace.measured)[first] ** 2).mean()))
+            reference_rows.append({
+                "gear": gear.gear_id, "run": trace.run,
+                "channel": CHANNEL_LABELS[trace.channel],
+                "reference": " ".join(typed(published.text, published.si, "length", units)),
+                "nominal": with_unit(nominal, "length", units),
+                "calibrated": with_unit(fitted, "length", units)})
+        figures = [model_figure(gear.gear_id, run, [t for t in gear.traces if t.run == run], units,
+                                origin=(origins or {}).get(run, "measured"))
+                   for run in gear.runs]
+        figures = [dict(f, svg=Markup(f["svg"])) for f in figures]
+        velocities = "; ".join(f"{run}: {with_unit(v, 'velocity', units)} ({source})"
+                               for run, (v, source) in gear.contact_velocities.items())
+        gears.append({
+            "id": gear.gear_id, "runs": ", ".join(gear.runs), "parameters": parameters,
+            "correlation_header": [f"({i})" for i in range(1, len(names) + 1)],
+            "correlation": correlation, "warnings": list(fit.warnings),
+            "converged": fit.success, "message": fit.message, "evaluations": fit.evaluations,
+            "cost": f"{fit.cost_nominal:.4g} → {fit.cost:.4g}", "rmse": rmse,
+            "figures": figures, "velocities": velocities, "step": with_unit(gear.step, "time", units)})
+    return ModelSection(available=True, note=evidence.note, synthetic=synthetic, gears=gears,
+                        effects=", ".join(calibration.effects) or "none",
+                        reference_rows=reference_rows, reference=_reference_view(reference, units))
+
+
+_MODEL_ORDER = ("governing equation, nominal", "governing equation, calibrated", "Hammerstein",
+                "Wiener (small-signal)", "Wiener (BLA)", "NARX")
+
+
+#: Fields of the spec's reference_results that correspond to certkit's models.
+_REFERENCE_MODELS = {"governing equation, nominal": "governing_equation",
+                     "Hammerstein": "hammerstein", "Wiener (small-signal)": "wiener",
+                     "NARX": "narx"}
+
+
+def _mm(value_mm: float, units) -> str:
+    """An identification error (computed in mm) in the display length unit, with the unit."""
+    return f"{magnitude(value_mm * 1e-3, 'length', units)} {units.length}"
+
+
+def _ranking_sentence(scores, output: str, protocol: str, run: str, units) -> str:
+    chosen = sorted((s for s in scores if s.output == output and s.protocol == protocol
+                     and s.run == run), key=lambda s: s.rmse)
+    return ", ".join(f"{s.model} {_mm(s.rmse, units)}" for s in chosen)
+
+
+def _discussion(gear, reference, units) -> list[str]:
+    """Where the ranking of the models the campaign's reference results rank differs from
+    what the data say here (nothing when the campaign has no reference results)."""
+    from certkit.ident.protocol import OUTPUT_LABELS, PAPER_TRAINING, PAPER_TRAINING_DURATION
+
+    run = gear.held_out[0]
+    sentences = []
+    for output in ("stroke", "tyre"):
+        published = {model: _reference_error(reference, gear.gear_id, output, field, run)
+                     for model, field in _REFERENCE_MODELS.items()}
+        published = {model: value.si for model, value in published.items() if value is not None}
+        if len(published) < 2:
+            continue
+        chosen = [x for x in gear.scores if x.output == output and x.protocol == "held-out"
+                  and x.run == run and x.model in published]
+        held = [x.model for x in sorted(chosen, key=lambda x: x.rmse)]
+        ranked = sorted(published, key=published.get)
+        text = (f"{OUTPUT_LABELS[output].capitalize()}: the reference results "
+                f"({reference.source}) rank {' < '.join(ranked)} (RMSE). On the held-out drop "
+                f"{run} the order here is {' < '.join(held) or 'not available'}")
+        text += ("; the same." if held == ranked else "; it differs.")
+        paper_full = [x for x in gear.scores if x.output == output and x.protocol == "paper"]
+        held_full = [x for x in gear.scores if x.output == output and x.protocol == "held-out"
+                     and x.run == run]
+        if paper_full and held_full:
+            best_paper = min(paper_full, key=lambda x: x.rmse)
+            best_held = min(held_full, key=lambda x: x.rmse)
+            text += (f" Trained on the first {PAPER_TRAINING} samples ("
+                     f"{with_unit(PAPER_TRAINING_DURATION, 'time', units)}) of the very drop it then "
+                     f"simulates, the best model reaches {_mm(best_paper.rmse, units)} "
+                     f"({best_paper.model}); trained on other drop heights, "
+                     f"{_mm(best_held.rmse, units)} ({best_held.model}).")
+        sentences.append(text)
+    return sentences
+
+
+def identification_view(evidence, settings, units, reference=None, origins=None) -> dict:
+    """The identification section: RMSE tables (beside the campaign's reference results when
+    it has some), linear blocks, figures.
+
+    ``settings``: the spec's ``model.identification``; ``reference``: its reference_results."""
+    from certkit.ident.protocol import (MODEL_RATE, PAPER_TRAINING, PAPER_TRAINING_DURATION,
+                                        PROTOCOL_NAMES, WHITENESS_CONFIDENCE, WHITENESS_LAGS,
+                                        WINDOW, WINDOW_DURATION)
+
+    method = {"window": (f"{with_unit(WINDOW_DURATION, 'time', units)} ({WINDOW} samples at "
+                         f"the identification rate of {MODEL_RATE:g} Hz; a record logged at "
+                         f"another rate is low-passed and resampled to it)"),
+              "paper_samples": f"{with_unit(PAPER_TRAINING_DURATION, 'time', units)} "
+                               f"({PAPER_TRAINING} samples)",
+              "gain": settings.small_signal.gain.text,
+              "tolerance": settings.small_signal.tolerance.text,
+              "whiteness": f"{WHITENESS_CONFIDENCE:.0%} bounds, {WHITENESS_LAGS} lags",
+              "force_unit": pretty(units.force), "length_unit": pretty(units.length),
+              "reference": _reference_view(reference, units)}
+    identification = getattr(evidence, "identification", None)
+    if identification is None or not identification.gears:
+        skipped = list(getattr(identification, "skipped", []) or [])
+        return IdentificationSection(**{"available": False, "gears": [], "plant_note": "",
+                "note": NO_MODEL if evidence is None else
+                "Not run: it needs time histories of at least two drops of a gear unit "
+                "whose drop model can be built from the spec, each recorded for "
+                f"{with_unit(WINDOW_DURATION, 'time', units)} after touchdown."
+                + (" " + "; ".join(skipped) + "." if skipped else ""), **method})
+    from certkit.evidence.figures import identification_figures
+    from certkit.ident.protocol import OUTPUT_LABELS
+
+    # the static gain of a linear block, mm/kN, in display units per display unit
+    gain_scale = convert(1e-6, "m", units.length) / convert(1.0, "N", units.force)
+    gears = []
+    for gear in identification.gears:
+        run = gear.held_out[0]
+
+        def published(model: str, output: str):
+            return _reference_error(reference, gear.gear_id, output,
+                                    _REFERENCE_MODELS.get(model, ""), run)
+
+        # the reference column only where the campaign has such figures for this gear
+        with_reference = any(published(m, o) for m in _MODEL_ORDER for o in ("stroke", "tyre"))
+        table = []
+        for model in _MODEL_ORDER:
+            cells = []
+            for output in ("stroke", "tyre"):
+                for protocol in ("paper", "held-out"):
+                    score = next((x for x in gear.scores if (x.model, x.output, x.protocol, x.run)
+                                  == (model, output, protocol, run)), None)
+                    cells.append("—" if score is None
+                                 else magnitude(score.rmse * 1e-3, "length", units))
+                if with_reference:
+                    quantity = published(model, output)
+                    cells.append("—" if quantity is None
+                                 else typed(quantity.text, quantity.si, "length", units)[0])
+            table.append({"model": model, "cells": cells})
+        details = [{"model": x.model, "protocol": PROTOCOL_NAMES[x.protocol],
+                    "output": OUTPUT_LABELS[x.output], "run": x.run,
+                    "rmse": magnitude(x.rmse * 1e-3, "length", units), "nrmse": f"{x.nrmse:.4g}",
+                    "fit": f"{x.fit:.1f}", "max": magnitude(x.max_error * 1e-3, "length", units)}
+                   for x in sorted(gear.scores, key=lambda x: (x.output, x.protocol,
+                                                               _MODEL_ORDER.index(x.model)))]
+        blocks = []
+        for (route, output), arx in gear.linear_blocks.items():
+            blocks.append({"route": route, "output": OUTPUT_LABELS[output],
+                           "a": ", ".join(number(v, 6) for v in arx.a_),
+                           "b": ", ".join(number(v * gain_scale, 6) for v in arx.b_),
+                           "gain": (f"{number(arx.static_gain_ * gain_scale, 4)} "
+                                    f"{units.length}/{units.force}"
+                                    if math.isfinite(arx.static_gain_) else "not determined"),
+                           "stable": "yes" if arx.stable_ else "NO"})
+        steps = [{"output": OUTPUT_LABELS[output],
+                  "amplitude": with_unit(step.amplitude, "force", units, 4),
+                  "mismatch": percent(step.mismatch[output]),
+                  "accepted": "accepted" if step.accepted else "not linear: shrink"}
+                 for output, recorded in gear.small_signal.items() for step in recorded]
+        one_step = [{"model": m, "output": OUTPUT_LABELS[o], "run": r,
+                     "rmse": _mm(v, units)} for m, o, r, v in gear.one_step]
+        whiteness = [{"model": m, "output": OUTPUT_LABELS[o],
+                      "auto": f"{int(a.autocorrelation_ok.sum())}/{a.autocorrelation_ok.size}",
+                      "cross": (f"{int(a.cross_correlation_ok.sum())}/{a.cross_correlation_ok.size}"
+                                if a.cross_correlation_ok is not None else "—"),
+                      "white": "yes" if a.white else "no"} for m, o, a in gear.whiteness]
+        rankings = [f"{OUTPUT_LABELS[o]}, {PROTOCOL_NAMES[p]} protocol, run {gear.held_out[0]}: "
+                    f"{_ranking_sentence(gear.scores, o, p, gear.held_out[0], units)}"
+                    for o in ("stroke", "tyre") for p in ("held-out", "paper")]
+        origin = (origins or {}).get(gear.held_out[0], "measured")
+        figures = [dict(f, svg=Markup(f["svg"]))
+                   for f in identification_figures(gear, units, origin)]
+        gears.append({"id": gear.gear_id, "training": ", ".join(gear.training),
+                      "held_out": ", ".join(gear.held_out), "table": table,
+                      "with_reference": with_reference, "details": details,
+                      "blocks": blocks, "steps": steps, "one_step": one_step,
+                      "whiteness": whiteness, "rankings": rankings, "figures": figures,
+                      "discussion": _discussion(gear, reference, units),
+                      "ratios": ", ".join(f"{OUTPUT_LABELS[o]} {r:.3g}"
+                                          for o, r in gear.hammerstein_ratio.items()),
+                      "notes": list(gear.notes)})
+    return IdentificationSection(**{"available": True, "gears": gears,
+                                    "plant_note": identification.plant_note, "note": "", **method})
+
+
+def origins(spec) -> dict[str, str]:
+    """run id -> declared origin of its time histories (measured / synthetic)."""
+    return {run.id: run.data.origin for run in spec.runs if run.data is not None}

@@ -1,0 +1,304 @@
+"""The report's view: plain data for the templates, every string already formatted in the
+campaign's display units; the templates only lay it out.
+"""
+
+from __future__ import annotations
+
+from markupsafe import Markup
+
+from certkit.compliance.assessment import Assessment
+from certkit.compliance.criteria import at_least
+from certkit.compliance.equations import EQUATIONS, GRAVITY_NOTE
+from certkit.display import DISPLAY_RULE, display, margin, number, pretty, typed, with_unit
+from certkit.evidence.gap_view import gap_view
+from certkit.evidence.model_view import identification_view, model_view, origins
+from certkit.evidence.sections import (AircraftSection, CampaignSection, DocumentSection,
+                                       InstrumentationSection, ReportView)
+from certkit.results import PASS, Value
+from certkit.version import VERSION
+
+
+# --------------------------------------------------------------------------- formatting
+def _value_row(value: Value, units) -> dict:
+    number, unit = typed(value.typed, value.value, value.kind, units)
+    return {"label": value.label, "symbol": value.symbol, "value": number, "unit": unit,
+            "source": value.source, "formula": value.formula,
+            "inputs": "; ".join(f"{k}: {v}" for k, v in value.inputs.items()),
+            "note": value.note or ""}
+
+
+# --------------------------------------------------------------------------- view model
+def build_view(assessment: Assessment, record: dict, model=None) -> ReportView:
+    """Plain data for the templates: every string already formatted.
+
+    ``model`` is the :class:`~certkit.evidence.model_evidence.ModelEvidence` of the governing-equation
+    section (None: the section says the model was not run)."""
+    campaign = assessment.campaign
+    spec = campaign.spec
+    units = spec.report.units
+    doc = spec.document
+
+    basis = []
+    for item in assessment.basis:
+        rules = item.rules
+        criteria = []
+        for criterion in rules.criteria:
+            applicable = not criterion.applies_if or getattr(item.entry, criterion.applies_if)
+            criteria.append({"id": criterion.id, "clause": criterion.clause,
+                             "title": criterion.title, "formula": criterion.formula,
+                             "applicable": "yes" if applicable else
+                             "no (strength not shown dynamically)"})
+        basis.append({
+            "id": rules.id, "title": rules.title, "edition": rules.edition,
+            "stated_edition": item.entry.edition or "not stated", "to_confirm": rules.to_confirm,
+            "status_note": rules.status_note, "criteria": criteria,
+            "derived": [_value_row(v, units) for v in item.values.values()]})
+
+    gear_rows = []
+    for gear in spec.gear_units:
+        strut = gear.strut
+        fields = [("Position", gear.position), ("Static weight W", gear.static_weight.text),
+                  ("Basis of W", gear.static_weight_basis + (f" — {gear.static_weight_note.strip()}"
+                                                           if gear.static_weight_note else "")),
+                  ("Shock absorber", gear.shock_absorber),
+                  ("Design stroke", gear.design_stroke.text),
+                  ("Tyre", f"{gear.tyre.size}, {gear.tyre.pressure.text} "
+                           f"({gear.tyre.pressure_reference})")]
+        if gear.wheel_diameter:
+            fields.append(("Wheel diameter", gear.wheel_diameter.text))
+        if strut is not None:
+            for name, label in (("gas_precharge_pressure", "Gas pre-charge pressure"),
+                                ("pressure_reference", "Gas pressure reference"),
+                                ("gas_volume", "Gas volume (extended)"),
+                                ("pneumatic_area", "Pneumatic area"),
+                                ("hydraulic_area", "Hydraulic area"),
+                                ("orifice_diameter", "Orifice diameter (compression)"),
+                                ("orifice_area", "Orifice area"),
+                                ("rebound_orifice_diameter", "Orifice diameter (rebound)"),
+                                ("discharge_coefficient", "Discharge coefficient"),
+                                ("oil_density", "Oil density"),
+                                ("polytropic_exponent", "Polytropic exponent"),
+                                ("inclination", "Strut inclination"),
+                                ("static_stroke", "Static stroke"),
+                                ("minimum_stroke", "Minimum stroke"),
+                                ("unsprung_mass", "Unsprung mass"), ("notes", "Notes")):
+                value = getattr(strut, name)
+                if value is not None:
+                    fields.append((label, getattr(value, "text", value)))
+        gear_rows.append({"id": gear.id, "fields": fields})
+
+    instrumentation = None
+    if spec.instrumentation:
+        inst = spec.instrumentation
+        instrumentation = InstrumentationSection(**{
+            "sampling_rate": inst.sampling_rate.text, "logger": inst.logger or "not stated",
+            "channels": [{"name": c.name, "measures": c.measures,
+                          "transducer": c.transducer or "—", "range": c.range or "—",
+                          "filter": c.filter or "—",
+                          "calibration": (f"{c.calibration_date.isoformat()}"
+                                          f"{' (' + c.calibration_reference + ')' if c.calibration_reference else ''}"
+                                          if c.calibration_date else "not stated")}
+                         for c in inst.channels]})
+
+    matrix = []
+    for run in assessment.runs:
+        spec_run = run.run
+        matrix.append({
+            "id": spec_run.id, "type": spec_run.test_type,
+            "gears": ", ".join(spec_run.gear_units), "height": spec_run.drop_height.text,
+            "mass": spec_run.drop_mass.text,
+            "lift": spec_run.lift.method + (f", L = {spec_run.lift.ratio.text}"
+                                            if spec_run.lift.ratio else ""),
+            "data": spec_run.data.file if spec_run.data else "none (reported values)",
+            "date": spec_run.date.isoformat() if spec_run.date else "—"})
+    completeness = []
+    for item in assessment.basis:
+        for key, test_type, what in (("h_req", "limit", "Limit drop at ≥ h_req"),
+                                     ("h_reserve", "reserve", "Reserve drop at ≥ 1.44·h_req")):
+            if key not in item.values:
+                continue
+            required = item.values[key].value
+            runs = [r.run.id for r in assessment.runs
+                    if r.run.test_type == test_type and at_least(r.get("h"), required) == PASS]
+            completeness.append({"set": item.rules.id, "requirement": what,
+                                 "required": with_unit(required, "length", units),
+                                 "runs": ", ".join(runs) or "none",
+                                 "status": "present" if runs else "missing"})
+
+    results_rows = []
+    for run in assessment.runs:
+        for gear in run.gears:
+            def cell(key, kind, gear=gear):
+                value = gear.values.get(key)
+                return ("—" if value is None
+                        else typed(value.typed, value.value, kind, units)[0])
+            energy_keys = [k for k in gear.values if k.startswith("n_j_energy[")]
+            results_rows.append({
+                "run": run.run.id, "gear": gear.gear_id,
+                "height": typed(run.run.drop_height.text, run.get("h"), "length", units)[0],
+                "d_s": cell("d_s", "length"), "d_t": cell("d_t", "length"),
+                "F_peak": cell("F_peak", "force"), "E_s": cell("E_s", "energy"),
+                "E_t": cell("E_t", "energy"), "eta_s": cell("eta_s", "ratio"),
+                "eta_t": cell("eta_t", "ratio"), "FW": cell("F/W", "ratio"),
+                "nE": cell(energy_keys[0], "ratio") if energy_keys else "—",
+                "basis": gear.basis})
+    results_units = {kind: pretty(getattr(units, kind))
+                     for kind in ("length", "force", "energy")}
+    load_factors, load_factor_statement = _load_factor_view(assessment)
+
+    runs = []
+    for run in assessment.runs:
+        gears = []
+        for gear in run.gears:
+            gears.append({"id": gear.gear_id, "basis": gear.basis,
+                          "value_rows": [_value_row(v, units) for v in gear.values.values()]})
+        figures = []
+        if run.series is not None:
+            from certkit.evidence.figures import \
+                run_figures  # matplotlib only when there is something to plot
+
+            touchdowns = [g.get("t0") for g in run.gears if g.get("t0") is not None]
+            figures = [dict(f, svg=Markup(f["svg"])) for f in run_figures(
+                run.run.id, run.series.time,
+                {g.gear_id: (run.series.gears[g.gear_id], g.measures) for g in run.gears
+                 if g.measures is not None},
+                min(touchdowns) if touchdowns else None, units)]
+        inspection = run.run.inspection
+        runs.append({
+            "id": run.run.id, "type": run.run.test_type,
+            "value_rows": [_value_row(v, units) for v in run.values.values()],
+            "gears": gears, "figures": figures,
+            "deviations": list(run.run.deviations),
+            "inspection": None if inspection is None else {
+                "failure": {True: "yes", False: "no", None: "not recorded"}[inspection.failure],
+                "yielding": {True: "yes", False: "no", None: "not recorded"}[inspection.yielding],
+                "permanent_set": inspection.permanent_set.text if inspection.permanent_set
+                else "not recorded", "notes": inspection.notes or ""},
+            "notes": run.run.notes or ""})
+
+    verdicts = []
+    for verdict in assessment.verdicts:
+        kind = verdict.kind
+        verdicts.append({
+            "id": verdict.id, "set": verdict.requirement_set, "clause": verdict.clause,
+            "title": verdict.title, "scope": " / ".join(p for p in (verdict.run, verdict.gear) if p)
+            or "campaign", "value": with_unit(verdict.value, kind, units),
+            "limit": (f"{verdict.comparison} {with_unit(verdict.limit, kind, units)}"
+                      if verdict.limit is not None else "—"),
+            "margin": margin(verdict.margin, verdict.limit, kind, units),
+            "verdict": verdict.verdict,
+            "css": verdict.verdict.replace(" ", "-").lower(), "reason": verdict.reason,
+            "to_confirm": verdict.to_confirm})
+
+    findings = [{"id": f.id, "severity": f.severity, "message": f.message}
+                for f in sorted(assessment.findings,
+                                key=lambda f: ("error", "warning", "info").index(f.severity))]
+    comparisons = []
+    for item in assessment.comparisons:
+        comparisons.append({
+            "scope": " / ".join(p for p in (item.run, item.gear) if p) or "campaign",
+            "quantity": item.quantity, "reported": item.reported_text,
+            "recomputed": with_unit(item.recomputed, item.kind, units),
+            "difference": ("—" if item.difference is None or item.recomputed in (None, 0)
+                           else f"{item.difference / item.recomputed:+.2%}"),
+            "tolerance": with_unit(item.tolerance, item.kind, units),
+            "agrees": {True: "agrees", False: "DISAGREES", None: "—"}[item.agrees],
+            "basis": item.basis})
+
+    counts = assessment.counts()
+    finding_counts = assessment.finding_counts()
+    signatories = [{"role": s.role, "name": s.name, "organisation": s.organisation or "",
+                    "date": s.date.isoformat() if s.date else ""} for s in doc.signatories]
+    return ReportView(**{
+        "lang": "en",
+        "title": f"{doc.report_number} rev {doc.revision}: {spec.campaign.title}",
+        "campaign": CampaignSection(spec.campaign.id, spec.campaign.title,
+                                    (spec.campaign.description or "").strip()),
+        "document": DocumentSection(**{"report_number": doc.report_number, "revision": doc.revision,
+                     "date": doc.date.isoformat(), "applicant": doc.applicant,
+                     "facility": doc.facility,
+                     "test_dates": ", ".join(d.isoformat() for d in doc.test_dates),
+                     "checklist": doc.compliance_checklist_item or "—",
+                     "signatories": signatories,
+                     "revisions": [{"revision": r.revision, "date": r.date.isoformat(),
+                                    "description": r.description} for r in doc.revisions]}),
+        "created": f"{doc.date.isoformat()}T00:00:00Z",
+        "outcome": assessment.outcome,
+        "outcome_css": ("planning" if assessment.planning
+                        else assessment.outcome.replace(" ", "-").lower()),
+        "planning": assessment.planning,
+        "outcome_reasons": assessment.outcome_reasons(),
+        "counts": counts, "finding_counts": finding_counts,
+        "aircraft": AircraftSection(spec.aircraft.model, (spec.aircraft.notes or "").strip()),
+        "design": [_value_row(v, units) for v in assessment.design.values()],
+        "basis": basis, "any_to_confirm": any(b["to_confirm"] for b in basis),
+        "gear_units": gear_rows, "instrumentation": instrumentation,
+        "matrix": matrix, "completeness": completeness,
+        "results_rows": results_rows, "results_units": results_units,
+        "load_factors": load_factors, "load_factor_statement": load_factor_statement,
+        # a column only where some run has something in it (a single-gear rig has no ΣF_peak)
+        "load_factor_columns": {column: any(r[column] not in ("", "—") for r in load_factors)
+                                for column in ("stated", "combined", "n_j", "n", "n_energy")},
+        "runs": runs, "verdicts": verdicts, "findings": findings, "comparisons": comparisons,
+        "equations": sorted(EQUATIONS.items()), "gravity_note": GRAVITY_NOTE,
+        "display_rule": DISPLAY_RULE,
+        "assumptions": [a.strip() for a in spec.assumptions],
+        "audit": _audit_settings(spec.audit, units),
+        "provenance": record, "version": VERSION,
+        "model": model_view(model, units, spec.reference_results, origins(spec),
+                             spec.model.effects),
+        "identification": identification_view(model, spec.model.identification, units,
+                                               spec.reference_results, origins(spec)),
+        "gap": gap_view(model, campaign, units),
+    })
+
+
+def _audit_settings(settings, units) -> dict[str, str]:
+    """The audit's thresholds: as typed where the spec sets them, else the default in the
+    display units (a length) or as a share."""
+    shown = {}
+    for name in type(settings).model_fields:
+        quantity = getattr(settings, name)
+        if name in settings.model_fields_set:
+            shown[name] = quantity.text
+        elif quantity.unit == "m":
+            shown[name] = f"{' '.join(typed(quantity.text, quantity.si, 'length', units))} (default)"
+        else:
+            shown[name] = f"{quantity.text} (default)"
+    return shown
+
+
+def _load_factor_view(assessment: Assessment) -> tuple[list[dict], str]:
+    """Every load factor of each run side by side, and what a stated one turned out to be."""
+    rows = []
+    for run in assessment.runs:
+        stated = run.run.reported.impact_load_factor if run.run.reported else None
+        for index, gear in enumerate(run.gears):
+            energy = [(key.split("[")[1].rstrip("]"), gear.get(key)) for key in gear.values
+                      if key.startswith("n_energy[")]
+            rows.append({
+                "run": run.run.id if index == 0 else "", "gear": gear.gear_id,
+                "stated": (stated.text if stated is not None else "—") if index == 0 else "",
+                "combined": display(run.get("n_combined"), "ratio", None)[0] if index == 0 else "",
+                "n_j": display(run.get("n_j"), "ratio", None)[0] if index == 0 else "",
+                "FW": display(gear.get("F/W"), "ratio", None)[0],
+                "n": display(gear.get("n"), "ratio", None)[0],
+                "n_energy": "; ".join(f"{display(v, 'ratio', None)[0]} ({set_id})"
+                                      for set_id, v in energy) or "—"})
+    checked = [c for c in assessment.comparisons if c.quantity == "impact load factor"]
+    if not checked:
+        return rows, ""
+    pairs = ", ".join(f"{c.reported_text} → {number(c.recomputed)}" for c in checked)
+    if all(c.agrees for c in checked):
+        statement = (f"The source's stated impact load factors are reproduced, to the precision "
+                     f"stated, by ΣF_peak(main units)/(m_drop·g) (certkit G2): {pairs}. They are "
+                     f"the sum of the main-unit peak loads over the weight dropped, whether or "
+                     f"not the peaks coincide in time and without the nose unit's load. They are "
+                     f"neither the inertia load factor n = n_j·W_e/W + L of 14 CFR 23.725(e) "
+                     f"(which needs the drop-mass acceleration) nor a bound on it, nor a per-unit "
+                     f"ground-reaction factor F_peak/W; those are listed beside them.")
+    else:
+        statement = (f"The source's stated impact load factors are not all reproduced by "
+                     f"ΣF_peak(main units)/(m_drop·g) (certkit G2): {pairs}; their definition "
+                     f"is unknown.")
+    return rows, statement
