@@ -145,3 +145,27 @@ def test_gap_command_on_the_example_names_effects_of_its_truth(physics_campaign)
     assert set(named) <= {"rebound orifice", "seal friction", "tyre hysteresis"} and named
     outcome = runner.invoke(app, ["gap", str(physics_campaign)])
     assert outcome.exit_code == 2 and "no run has time histories" in outcome.output
+
+
+def test_each_candidate_decision_names_the_rule_that_made_it():
+    from certkit.gap.attribution import (GAIN, LEADING, RELEVANT, Attribution, Score, _decisions,
+                                         _refit_decisions)
+
+    scores = (Score("a", 9.0, 1.0, 1.0, 0.9), Score("b", 4.0, 1.0, 1.0, 0.5),
+              Score("c", 0.0, -1.0, 1.0, 0.0), Score("d", 0.1, 1.0, 1.0, 0.01))
+    attribution = Attribution(scores, {}, 1.0)
+    decided = {d.name: d.status for d in _decisions(attribution, {"a", "b"}, ["a"])}
+    assert decided["a"] == "refitted"
+    assert decided["b"] == f"relevant, not among the {LEADING} best profiles"
+    assert decided["c"].startswith("its score points the other way") and \
+        decided["c"].endswith("not relevant")
+    assert decided["d"].startswith(f"not among the {LEADING} best scores with {RELEVANT:g} σ")
+    # refits: the named one, one that gains too little, one that gains but lost to it
+    from types import SimpleNamespace as Fit
+    fits = [Fit(effects=("a",), training_cost=0.5), Fit(effects=("b",), training_cost=0.95),
+            Fit(effects=("e",), training_cost=0.6)]
+    outcomes = [d.status for d in _refit_decisions([(attribution, fits)], ("a",), [1.0])[0]]
+    assert outcomes[0] == "named"
+    assert outcomes[1].endswith("not named") and f"less than {100 * GAIN:.0f} %" in outcomes[1]
+    assert outcomes[2] == (f"cuts the training cost by {100 * GAIN:.0f} % or more; not named "
+                           f"(see the statement)")

@@ -318,3 +318,32 @@ def test_the_report_summarises_the_blind_check_and_says_what_falls_short(with_hy
     record = json.loads((out / "results.json").read_text(encoding="utf-8"))["provenance"]
     names = {i["file"]: i["sha256"] for i in record["inputs"]}
     assert names["blind/blind_check.json"] == hashlib.sha256(BLIND.read_bytes()).hexdigest()
+
+
+def test_the_report_states_the_recorded_decisions_and_derives_none():
+    # statuses no rule of the attribution could produce: the report must print them as
+    # recorded, so a change of the rules can never be mis-described by the report
+    from types import SimpleNamespace
+
+    from certkit.evidence.gap_view import _gap_steps
+    from certkit.gap.attribution import Attribution, Decision, Score
+    from certkit.spec.schema import DisplayUnits
+
+    attribution = Attribution(
+        scores=(Score("seal friction", 12.0, 1.0, 1.0, 0.5),
+                Score("tyre hysteresis", 3.0, -1.0, 1.0, 0.1)),
+        confusability={}, sigma2=1.0, profiles=None, relevant=(),
+        decisions=(Decision("seal friction", "RECORDED: refitted, by decree"),
+                   Decision("tyre hysteresis", "RECORDED: set aside")),
+        no_refit="RECORDED: why nothing was refitted")
+    fit = SimpleNamespace(effects=("seal friction",), strengths=(1.0,), strength_errors=(0.1,),
+                          training_cost=0.95)
+    diagnosis = SimpleNamespace(steps=[(attribution, [fit])], step_costs=(1.0,),
+                                refit_decisions=((Decision("seal friction", "RECORDED: named"),),),
+                                answer=())
+    gap = SimpleNamespace(diagnosis=diagnosis, refit_held_out={})
+    step = _gap_steps(gap, DisplayUnits())[0]
+    assert [s["status"] for s in step["scores"]] == ["RECORDED: refitted, by decree",
+                                                     "RECORDED: set aside"]
+    assert step["refits"][0]["outcome"] == "RECORDED: named"
+    assert step["no_refit"] == "RECORDED: why nothing was refitted"
