@@ -46,7 +46,9 @@ from pathlib import Path
 
 import numpy as np
 
-from certkit.ident.lssvm import NARX, rmse, tune
+from certkit.ident.lssvm import tune
+from certkit.ident.narx import NARX
+from certkit.ident.validation import rmse
 
 REPO = Path(__file__).resolve().parent.parent
 DATA = REPO.parent / "shared" / "data" / "silverbox"

@@ -17,9 +17,10 @@ from scipy.spatial.distance import cdist
 from sklearn.kernel_ridge import KernelRidge
 from threadpoolctl import threadpool_limits
 
-from certkit.ident.lssvm import (NARX, FixedSizeLSSVM, LSSVMRegressor, fit_percent, kfold_cost,
-                           max_abs_error, narx_regressors, nrmse, rbf_kernel,
-                           residual_analysis, rmse, select_prototypes, tune)
+from certkit.ident.fixed_size import FixedSizeLSSVM, select_prototypes
+from certkit.ident.lssvm import LSSVMRegressor, kfold_cost, rbf_kernel, tune
+from certkit.ident.narx import NARX, narx_regressors
+from certkit.ident.validation import fit_percent, max_abs_error, nrmse, residual_analysis, rmse
 
 
 @pytest.fixture(autouse=True, scope="module")
@@ -308,7 +309,6 @@ def test_white_noise_passes_and_coloured_residuals_fail():
 def test_refinement_may_start_from_a_grid_end_point():
     # a cost falling towards the upper σ² bound: its best grid point is the bound itself,
     # which after the log10 round trip can sit a rounding error outside the range
-    from certkit.ident.lssvm import tune
 
     def cost(gamma, sigma2):
         return 1.0 / sigma2 + (math.log10(gamma) - 2.0) ** 2

@@ -40,6 +40,8 @@ from collections.abc import Sequence
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve, solve
 
+from certkit.ident.experiments import experiments as experiments_of
+from certkit.ident.experiments import signal
 from certkit.ident.lssvm import rbf_kernel
 
 NORMALISATIONS = ("static_gain", "b0", "unit_norm")
@@ -69,38 +71,6 @@ def ar_poles(a: Sequence[float]) -> np.ndarray:
 def is_stable(a: Sequence[float]) -> bool:
     """True when every pole of ``1 - sum_i a_i z^-i`` lies strictly inside the unit circle."""
     return bool(np.all(np.abs(ar_poles(a)) < 1.0))
-
-
-def _as_signal(x, name: str) -> np.ndarray:
-    arr = np.asarray(x, dtype=float)
-    if arr.ndim != 1:
-        raise ValueError(f"{name} must be a 1-D array (one sample per time step), got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} contains NaN or infinite values")
-    return arr
-
-
-def _as_experiments(u, y) -> list[tuple[np.ndarray, np.ndarray]]:
-    """One experiment ``(u, y)`` or lists of experiments -> list of validated ``(u, y)`` pairs."""
-    several = isinstance(u, (list, tuple)) or isinstance(y, (list, tuple))
-    if several:
-        if not (isinstance(u, (list, tuple)) and isinstance(y, (list, tuple))):
-            raise ValueError("give u and y both as arrays (one experiment) or both as lists of arrays")
-        if len(u) != len(y) or len(u) == 0:
-            raise ValueError(f"u and y must list the same, non-zero number of experiments "
-                             f"(got {len(u)} and {len(y)})")
-        pairs = list(zip(u, y))
-    else:
-        pairs = [(u, y)]
-    out = []
-    for k, (uk, yk) in enumerate(pairs):
-        uk = _as_signal(uk, f"u (experiment {k})")
-        yk = _as_signal(yk, f"y (experiment {k})")
-        if uk.shape != yk.shape:
-            raise ValueError(f"experiment {k}: u and y have different lengths "
-                             f"({uk.size} and {yk.size})")
-        out.append((uk, yk))
-    return out
 
 
 class HammersteinLSSVM:
@@ -301,7 +271,7 @@ class HammersteinLSSVM:
             normalisation.
         """
         self._check_hyperparameters()
-        experiments = _as_experiments(u, y)
+        experiments = experiments_of(u, y)[0]
         lag = self._lag
         for k, (uk, _) in enumerate(experiments):
             if uk.size <= lag:
@@ -397,7 +367,7 @@ class HammersteinLSSVM:
     def components(self, u) -> np.ndarray:
         """Over-parametrised components ``g_j(u)`` (before the rank-one step), shape (nb, len(u))."""
         self._check_fitted()
-        arr = _as_signal(u, "u")
+        arr = signal("u", u)
         return (self._kernel(arr, self.support_inputs_) @ self._weights).T
 
     def _forcing(self, u: np.ndarray) -> np.ndarray:
@@ -425,8 +395,8 @@ class HammersteinLSSVM:
             out when scoring).
         """
         self._check_fitted()
-        u = _as_signal(u, "u")
-        y_init = _as_signal(y_init, "y_init")
+        u = signal("u", u)
+        y_init = signal("y_init", y_init)
         n0 = y_init.size
         if n0 < self._lag or n0 > u.size:
             raise ValueError(f"y_init must hold between max(na, nb - 1) = {self._lag} and "
@@ -435,7 +405,7 @@ class HammersteinLSSVM:
         out[:n0] = y_init
         if n0 == u.size:
             return out
-        from scipy.signal import lfilter, lfiltic   # here: scipy.signal takes ~1 s to import
+        from scipy.signal import lfilter, lfiltic  # here: scipy.signal takes ~1 s to import
 
         den = np.concatenate(([1.0], -self.a_))
         past = y_init[::-1][:self.na]                # y_{n0-1}, y_{n0-2}, ...
@@ -461,7 +431,7 @@ class HammersteinLSSVM:
             Predictions; the first ``max(na, nb - 1)`` entries are copies of ``y``.
         """
         self._check_fitted()
-        u, y = _as_signal(u, "u"), _as_signal(y, "y")
+        u, y = signal("u", u), signal("y", y)
         if u.shape != y.shape:
             raise ValueError(f"u and y have different lengths ({u.size} and {y.size})")
         lag = self._lag

@@ -11,19 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-
-def _as_experiments(u, y) -> list[tuple[np.ndarray, np.ndarray]]:
-    if isinstance(u, np.ndarray) and u.ndim == 1:
-        u, y = [u], [y]
-    pairs = [(np.asarray(a, dtype=float), np.asarray(b, dtype=float)) for a, b in zip(u, y)]
-    if len(pairs) != len(u) or len(u) != len(y):
-        raise ValueError("give as many output records as input records")
-    for a, b in pairs:
-        if a.shape != b.shape or a.ndim != 1:
-            raise ValueError("each experiment needs 1-D input and output of one length")
-        if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
-            raise ValueError("the data must be finite")
-    return pairs
+from certkit.ident.experiments import experiments
 
 
 @dataclass
@@ -49,7 +37,7 @@ class ARX:
 
     def fit(self, u, y) -> ARX:
         """Least squares on one experiment (arrays) or several (lists of arrays)."""
-        rows, targets = zip(*(self._rows(a, b) for a, b in _as_experiments(u, y)))
+        rows, targets = zip(*(self._rows(a, b) for a, b in experiments(u, y)[0]))
         X, target = np.vstack(rows), np.concatenate(targets)
         theta, *_ = np.linalg.lstsq(X, target, rcond=None)
         self.a_, self.b_ = theta[:self.na], theta[self.na:]
@@ -86,7 +74,7 @@ class ARX:
         """Free-run simulation from rest (zero past inputs and outputs; no measured output
         is used).  Identification signals are deviations that start at rest: the load and
         travels of a drop from touchdown, or the departures from a static point."""
-        from scipy.signal import lfilter   # here: scipy.signal takes ~1 s to import
+        from scipy.signal import lfilter  # here: scipy.signal takes ~1 s to import
 
         return lfilter(self.b_, np.concatenate([[1.0], -self.a_]), np.asarray(u, dtype=float))
 

@@ -35,16 +35,17 @@ from dataclasses import dataclass, field
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from certkit.spec.campaign import Campaign
+from certkit.compliance.measures import touchdown_index, touchdown_time
 from certkit.display import with_unit
 from certkit.ident.hammerstein import HammersteinLSSVM
-from certkit.ident.lssvm import (NARX, LSSVMRegressor, fit_percent, kfold_cost, max_abs_error, nrmse,
-                    residual_analysis, rmse, tune)
-from certkit.compliance.measures import touchdown_index, touchdown_time
+from certkit.ident.lssvm import LSSVMRegressor, kfold_cost, tune
+from certkit.ident.narx import NARX
+from certkit.ident.validation import fit_percent, max_abs_error, nrmse, residual_analysis, rmse
+from certkit.ident.wiener import (SmallSignalExperiment, WienerModel, best_linear_records,
+                                  physics_plant, small_signal_records)
+from certkit.spec.campaign import Campaign
 from certkit.spec.rundata import CHANNEL_LABELS
 from certkit.units import STANDARD_GRAVITY
-from certkit.ident.wiener import (SmallSignalExperiment, WienerModel, best_linear_records, physics_plant,
-                     small_signal_records)
 
 #: How reports and the terminal name the validation protocols (Score.protocol).
 PROTOCOL_NAMES = {"paper": "short training", "held-out": "held-out"}
@@ -59,7 +60,7 @@ PLANT_DURATION = 2.0            # s: each record of the Wiener plant (small-sign
 WINDOW = round(WINDOW_DURATION * MODEL_RATE)                    # samples at MODEL_RATE
 PAPER_TRAINING = round(PAPER_TRAINING_DURATION * MODEL_RATE)    # samples at MODEL_RATE
 PLANT_SAMPLES = round(PLANT_DURATION * MODEL_RATE)              # samples at MODEL_RATE
-WHITENESS_LAGS = 25     # residual correlation lags at MODEL_RATE (identification.md §1.5)
+WHITENESS_LAGS = 25     # residual correlation lags at MODEL_RATE (Ljung 1999, §16.6)
 WHITENESS_CONFIDENCE = 0.99
 
 
@@ -268,8 +269,8 @@ def _governing_equation(campaign: Campaign, gear_id: str, result: GearIdentifica
                         held: list[Drop]):
     """Nominal and calibrated (on the training runs only) drop models on the held-out runs;
     returns the calibrated model of the first held-out run (the Wiener plant), or None."""
-    from certkit.physics.calibration import calibrate_gear, simulate_like_runs
     from certkit.errors import CertkitInputError
+    from certkit.physics.calibration import calibrate_gear, simulate_like_runs
     from certkit.physics.gear_model import drop_model_for
 
     try:
