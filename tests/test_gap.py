@@ -13,12 +13,13 @@ import numpy as np
 import pytest
 
 from certkit import assess, load_campaign, render_report
-from certkit.evidence import report as report_module
-from certkit.physics.calibration import AlignedRecord
 from certkit.errors import CertkitInputError
-from certkit.gap.diagnosis import WHOLE, default_split, gap_diagnosis, gap_document, held_out_errors
+from certkit.evidence import report as report_module
+from certkit.gap.diagnosis import WHOLE, gap_diagnosis, gap_document, held_out_errors
 from certkit.gap.holdout import split_for
 from certkit.gap.phases import PHASES, Phase
+from certkit.physics.calibration import AlignedRecord
+from certkit.physics.drops import default_split
 from certkit.physics.synthetic import simulate_campaign
 
 BLIND = Path(__file__).parent / "data" / "blind_check.json"
@@ -208,8 +209,8 @@ def test_held_out_shrink_per_channel_and_phase(diagnosed):
 
 
 def test_the_gap_results_are_plain_json_and_csv(diagnosed, with_hysteresis, tmp_path):
-    from certkit.physics.calibration import Calibration
     from certkit.evidence.model_evidence import ModelEvidence
+    from certkit.physics.calibration import Calibration
 
     document = gap_document(diagnosed)
     text = json.dumps(document, allow_nan=False)
@@ -231,9 +232,9 @@ def test_the_gap_results_are_plain_json_and_csv(diagnosed, with_hysteresis, tmp_
 
 
 def test_the_gap_section_lays_out_the_diagnosis(diagnosed, with_hysteresis):
-    from certkit.physics.calibration import Calibration
     from certkit.evidence.model_evidence import ModelEvidence
     from certkit.evidence.provenance import provenance
+    from certkit.physics.calibration import Calibration
 
     campaign = load_campaign(with_hysteresis)
     evidence = ModelEvidence(Calibration((), ()), "", gap={"left-main": diagnosed},

@@ -1,6 +1,10 @@
-"""The report's view of the sim-to-real gap (section 11): the method in words with the
-code's thresholds, the gap map, each step of the diagnosis as it recorded its decisions,
-the shrink on the held-out drops and the blind check's record.
+"""The report's view of the sim-to-real gap (section 11): the gap map, each step of the
+diagnosis as it recorded its decisions, the shrink on the held-out drops and the blind
+check's record.
+
+The gap stage and matplotlib are imported inside the functions that draw on them: a report
+made without the drop model never loads them (about 0.66 s and 0.26 s of start-up,
+``python -X importtime``).
 """
 
 from __future__ import annotations
@@ -9,9 +13,13 @@ import math
 
 from markupsafe import Markup
 
-from certkit.display import magnitude, percent, pretty, to_display, with_unit
+from certkit.display import magnitude, percent, pretty, to_display
+from certkit.evidence.methods import gap_method
 from certkit.evidence.model_view import origins
 from certkit.evidence.sections import BlindSection, GapSection
+from certkit.physics.drops import MIDDLE_FROM
+from certkit.spec.blind_record import METRICS, code_fingerprint, template_fingerprint
+from certkit.spec.rundata import CHANNEL_LABELS
 
 
 # --------------------------------------------------------------------------- the gap section
@@ -19,62 +27,7 @@ def _channel_kind(channel: str) -> str:
     return "force" if channel == "load" else "length"
 
 
-def _gap_method(units) -> dict:
-    """The method in words, every threshold taken from the code that applies it."""
-    from certkit.gap.attribution import (CANDIDATES, GAIN, LEADING, RELEVANT, STARTS, TIE_COSINE,
-                                         TIE_COST)
-    from certkit.gap.holdout import MIDDLE_FROM
-    from certkit.gap.phases import BREAKOUT_TRAVEL, BREAKOUT_WINDOW, REBOUND_DROP
-    from certkit.gap.residuals import BANDS, MAX_LAG
-
-    bands = ", ".join(f"{name} ({low:g}-{high:g} Hz)" if math.isfinite(high)
-                      else f"{name}" for name, low, high in BANDS)
-    return {
-        "split": (f"The nominal drop model (no optional effects) is calibrated on the training "
-                  f"runs only. The held-out runs are used for nothing but the errors reported "
-                  f"as held out: by default every drop at the highest drop height (the "
-                  f"certification case is extrapolation), and the middle height's drops too "
-                  f"when there are {MIDDLE_FROM} heights or more; the spec's model.gap.held_out "
-                  f"overrides the default."),
-        "where": (f"Where: the residual (measured − model) of each channel is cut by the "
-                  f"measured run's phases: free fall; tyre-only contact from touchdown; strut "
-                  f"breakout, the first {with_unit(BREAKOUT_WINDOW, 'time', units)} after the "
-                  f"stroke exceeds {with_unit(BREAKOUT_TRAVEL, 'length', units)}; compression "
-                  f"to peak load; rebound to the end of the extension (the first stroke "
-                  f"minimum once the stroke has come down {percent(REBOUND_DROP, 0)} of its "
-                  f"travel); settling. Per channel, "
-                  f"phase and run: RMS, bias (mean of measured − model) and timing lag (the "
-                  f"cross-correlation peak within ±{with_unit(MAX_LAG, 'time', units)}; "
-                  f"positive: the model is late). The residual's energy from touchdown is split "
-                  f"into bands: {bands}."),
-        "which": (f"Which: each candidate effect is a one-parameter family that nests the "
-                  f"nominal model (strength 0: the effect is absent). Its score "
-                  f"(Lagrange-multiplier) statistic LM is computed on the training runs after "
-                  f"projecting out what re-tuning the nominal parameters can absorb, and "
-                  f"converted into the RMS of the residual it would remove, √(LM/N), in units "
-                  f"of the noise σ. Because the test looks only at zero strength, each "
-                  f"candidate is also profiled: its training cost at the strengths "
-                  f"{', '.join(f'{v:g}' for v in STARTS)}, with what re-tuning the nominal "
-                  f"parameters absorbs projected out (an effect strongly nonlinear in its "
-                  f"strength can point the wrong way at zero and still explain the gap). "
-                  f"A candidate is relevant when it is among the {LEADING} best scores and "
-                  f"would remove at least {RELEVANT:g} σ, or when its profile already cuts the "
-                  f"training cost by {percent(GAIN, 0)}; the {LEADING} relevant ones with the "
-                  f"best profiles are refitted together with the nominal parameters on the "
-                  f"training runs, each from its profile's best strength. The refit that cuts the "
-                  f"training cost (RMS of the residuals divided by each channel's range) most, "
-                  f"by at least {percent(GAIN, 0)}, is named. When the two best refits' training costs "
-                  f"lie within a ratio of {TIE_COST:g} and the cosine of their projected "
-                  f"signatures is at least {TIE_COSINE:g}, the two cannot be told apart and "
-                  f"the diagnosis says so instead of naming one. A second effect is then looked "
-                  f"for the same way. The held-out errors are computed after the choice and "
-                  f"play no part in it."),
-        "candidates": [{"name": c.name, "unit_size": c.unit_size} for c in CANDIDATES],
-    }
-
-
 def _gap_cells(before, after, units) -> list[dict]:
-    from certkit.spec.rundata import CHANNEL_LABELS
 
     later = {(c.run, c.channel, c.phase): c for c in after.cells} if after else {}
     rows = []
@@ -123,7 +76,6 @@ def _gap_largest(gap_map, units) -> str:
 
 def _gap_steps(gap, units) -> list[dict]:
     from certkit.gap.attribution import CANDIDATES, TIE_COSINE, TIE_COST
-    from certkit.spec.rundata import CHANNEL_LABELS
 
     diagnosis = gap.diagnosis
     sizes = {c.name: c.unit_size for c in CANDIDATES}
@@ -174,7 +126,6 @@ def _gap_steps(gap, units) -> list[dict]:
 
 
 def _gap_shrink(gap, units) -> list[dict]:
-    from certkit.spec.rundata import CHANNEL_LABELS
 
     rows = []
     for error in gap.held_out_errors:
@@ -192,7 +143,6 @@ def _gap_shrink(gap, units) -> list[dict]:
 def _blind_view(campaign) -> dict:
     """The blind check's record (model.gap.blind_check) in words and tables, or how to make
     one."""
-    from certkit.spec.blind_record import METRICS
 
     command = f"certkit gap --blind-check {campaign.spec_path.name} -o DIR"
     record = campaign.blind_check
@@ -203,7 +153,6 @@ def _blind_view(campaign) -> dict:
                           "the right effect. To record it, run the command below and name the "
                           "JSON file it writes in the spec's model.gap.blind_check."})
     from certkit.evidence.figures import blind_curve
-    from certkit.spec.blind_record import code_fingerprint, template_fingerprint
 
     now, code = template_fingerprint(campaign), code_fingerprint()
     name = campaign.spec.model.gap.blind_check
@@ -279,7 +228,7 @@ def _blind_view(campaign) -> dict:
 
 def gap_view(evidence, campaign, units) -> GapSection:
     """The sim-to-real gap section: per gear unit where, which and how far; the blind check."""
-    method = _gap_method(units)
+    method = gap_method(units)
     blind = _blind_view(campaign)
     if evidence is None or evidence.calibration is None:
         note = ("The gap diagnosis was not run for this report (the drop model was not run)."
@@ -287,7 +236,6 @@ def gap_view(evidence, campaign, units) -> GapSection:
         return GapSection(**{"available": False, "note": note, "notes": [], "gears": [],
                              "blind": blind, "time_unit": units.time, **method})
     from certkit.evidence.figures import gap_heatmap, gap_overlay
-    from certkit.gap.holdout import MIDDLE_FROM
 
     gears = []
     for gear_id, gap in evidence.gap.items():

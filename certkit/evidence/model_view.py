@@ -9,6 +9,7 @@ import math
 from markupsafe import Markup
 
 from certkit.display import display, magnitude, number, parameter, percent, pretty, typed, with_unit
+from certkit.evidence.methods import MODEL_METHOD, held_out_drops, identification_method
 from certkit.evidence.sections import IdentificationSection, ModelSection
 from certkit.units import convert
 
@@ -43,7 +44,7 @@ NO_MODEL = ("The drop model was not run for this report (certkit report --no-mod
 def model_view(evidence, units, reference=None, origins=None, effects=()) -> ModelSection:
     """The governing-equation model section: calibration per gear unit, or why none."""
     if evidence is None:
-        return ModelSection(available=False, note=NO_MODEL, synthetic="", gears=[],
+        return ModelSection(method=MODEL_METHOD, available=False, note=NO_MODEL, synthetic="", gears=[],
                             effects=", ".join(effects) or "none", reference_rows=[],
                             reference=None)
     synthetic = ""
@@ -54,7 +55,8 @@ def model_view(evidence, units, reference=None, origins=None, effects=()) -> Mod
                      f"not the real gear's behaviour.")
     calibration = evidence.calibration
     if calibration is None:
-        return ModelSection(available=False, note=evidence.note, synthetic=synthetic, gears=[],
+        return ModelSection(method=MODEL_METHOD, available=False, note=evidence.note, synthetic=synthetic,
+                            gears=[],
                             effects="—", reference_rows=[], reference=None)
     from certkit.evidence.figures import model_figure
     from certkit.spec.rundata import CHANNEL_LABELS
@@ -113,7 +115,8 @@ def model_view(evidence, units, reference=None, origins=None, effects=()) -> Mod
             "converged": fit.success, "message": fit.message, "evaluations": fit.evaluations,
             "cost": f"{fit.cost_nominal:.4g} → {fit.cost:.4g}", "rmse": rmse,
             "figures": figures, "velocities": velocities, "step": with_unit(gear.step, "time", units)})
-    return ModelSection(available=True, note=evidence.note, synthetic=synthetic, gears=gears,
+    return ModelSection(method=MODEL_METHOD, available=True, note=evidence.note, synthetic=synthetic,
+                        gears=gears,
                         effects=", ".join(calibration.effects) or "none",
                         reference_rows=reference_rows, reference=_reference_view(reference, units))
 
@@ -175,7 +178,8 @@ def _discussion(gear, reference, units) -> list[str]:
     return sentences
 
 
-def identification_view(evidence, settings, units, reference=None, origins=None) -> dict:
+def identification_view(evidence, settings, units, reference=None, origins=None,
+                        heights=None) -> dict:
     """The identification section: RMSE tables (beside the campaign's reference results when
     it has some), linear blocks, figures.
 
@@ -195,6 +199,12 @@ def identification_view(evidence, settings, units, reference=None, origins=None)
               "force_unit": pretty(units.force), "length_unit": pretty(units.length),
               "reference": _reference_view(reference, units)}
     identification = getattr(evidence, "identification", None)
+    heights = heights or {}
+    at_middle = any(len({heights.get(run) for run in gear.held_out}) > 1
+                    for gear in getattr(identification, "gears", None) or [])
+    method["protocols"] = identification_method(
+        method["window"], method["paper_samples"], method["force_unit"], method["length_unit"],
+        held_out_drops(at_middle, bool(settings.held_out)))
     if identification is None or not identification.gears:
         skipped = list(getattr(identification, "skipped", []) or [])
         return IdentificationSection(**{"available": False, "gears": [], "plant_note": "",

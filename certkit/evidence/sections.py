@@ -46,6 +46,7 @@ class InstrumentationSection:
 class ModelSection:
     """Section 9: the governing-equation model, calibrated against the runs."""
 
+    method: str
     available: bool
     note: str
     synthetic: str
@@ -71,6 +72,7 @@ class IdentificationSection:
     length_unit: str
     force_unit: str
     reference: dict | None
+    protocols: str
 
 
 @dataclass(frozen=True)

@@ -14,6 +14,7 @@ from certkit.evidence.gap_view import gap_view
 from certkit.evidence.model_view import identification_view, model_view, origins
 from certkit.evidence.sections import (AircraftSection, CampaignSection, DocumentSection,
                                        InstrumentationSection, ReportView)
+from certkit.physics.drops import drop_heights
 from certkit.results import PASS, Value
 from certkit.version import VERSION
 
@@ -248,7 +249,8 @@ def build_view(assessment: Assessment, record: dict, model=None) -> ReportView:
         "model": model_view(model, units, spec.reference_results, origins(spec),
                              spec.model.effects),
         "identification": identification_view(model, spec.model.identification, units,
-                                               spec.reference_results, origins(spec)),
+                                              spec.reference_results, origins(spec),
+                                              drop_heights(campaign)),
         "gap": gap_view(model, campaign, units),
     })
 

@@ -16,8 +16,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from certkit.physics.drop_model import DropModel
 from certkit.display import percent
+from certkit.physics.drop_model import DropModel
 from certkit.physics.effects import CANDIDATES, Candidate
 
 

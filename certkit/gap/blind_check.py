@@ -37,6 +37,7 @@ import numpy as np
 
 from certkit.errors import CampaignError
 from certkit.physics.drop_model import DropModel
+from certkit.physics.drops import recorded_drops
 from certkit.physics.effects import TRUTHS, Truth
 from certkit.units import STANDARD_GRAVITY
 
@@ -190,7 +191,6 @@ def write_case(template: str, gear_id: str, case: Case, settings: Settings,
     spec's path and the size of every truth effect (sealed: not written).  ``clean``: the
     same truth without noise, quantisation or offsets (for scoring only)."""
     from certkit.compliance.clauses import ideal_impact_velocity
-    from certkit.gap.holdout import recorded_drops
     from certkit.physics.gear_model import drop_model_for
     from certkit.physics.synthetic import NO_SENSOR_EFFECTS, SensorModel, simulate_campaign
     from certkit.spec.campaign import load_campaign

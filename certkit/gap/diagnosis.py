@@ -28,13 +28,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from certkit.gap.attribution import (CANDIDATES, GAIN, LEADING, RELEVANT, TIE_COSINE, TIE_COST, Diagnosis,
-                          diagnose)
-from certkit.physics.calibration import CHANNEL_UNITS, GearCalibration, aligned_records, calibrate_gear
-from certkit.spec.campaign import Campaign
-from certkit.gap.holdout import MIDDLE_FROM, default_split, split_for  # noqa: F401  (one home: holdout)
+from certkit.gap.attribution import (CANDIDATES, GAIN, LEADING, RELEVANT, TIE_COSINE, TIE_COST,
+                                     Diagnosis, diagnose)
+from certkit.gap.holdout import split_for
 from certkit.gap.phases import segment
 from certkit.gap.residuals import BANDS, Cell, band_shares, describe, largest, residual_cells
+from certkit.physics.calibration import (CHANNEL_UNITS, GearCalibration, aligned_records,
+                                         calibrate_gear)
+from certkit.physics.drops import MIDDLE_FROM
+from certkit.spec.campaign import Campaign
 
 CHANNELS = ("load", "stroke", "tyre")
 #: The phase label of an error over the whole record from touchdown.

@@ -1,51 +1,23 @@
-"""Which drops of a gear unit the gap diagnosis trains on and which it holds out.
+"""Which drops of a gear unit the gap diagnosis trains on and which it holds out, and what
+it needs of them.
 
-The held-out drops are used for nothing but evaluation: not for the nominal calibration,
-the score tests, the refits nor the choice of an effect.  The certification case is
-extrapolation, so by default every drop at the highest drop height is held out, and with
-four heights or more the middle height's drops too (an interpolation check).  The spec's
-``model.gap.held_out`` overrides the default.
-
-Below :mod:`certkit.gap.attribution` and :mod:`certkit.gap.diagnosis`, which both split the same way.
+The rule is :func:`certkit.physics.drops.default_split`, the one the identification uses
+too; the spec's ``model.gap.held_out`` overrides it.  The held-out drops are used for
+nothing but evaluation: not for the nominal calibration, the score tests, the refits nor the
+choice of an effect.  Below :mod:`certkit.gap.attribution` and :mod:`certkit.gap.diagnosis`,
+which both split the same way.
 """
 
 from __future__ import annotations
 
-from certkit.spec.campaign import Campaign
 from certkit.errors import CertkitInputError
-
-#: Distinct drop heights from which a middle height is held out as well.
-MIDDLE_FROM = 4
+from certkit.physics.drops import by_height, default_split, recorded_drops
+from certkit.spec.campaign import Campaign
 
 NEEDS = ("The gap diagnosis needs drops of the gear unit at two drop heights or more: it "
          "calibrates the model and chooses an effect on the lower ones and holds out the "
          "highest, so that the held-out error measures extrapolation to a drop the model has "
          "not seen.")
-
-
-def recorded_drops(campaign: Campaign, gear_id: str) -> list[str]:
-    """Run ids of the drops that record ``gear_id`` with time histories (small-signal runs
-    excluded), lowest drop height first (spec order within a height)."""
-    heights = {r.id: r.drop_height.si for r in campaign.spec.runs}
-    recorded = [r.id for r in campaign.spec.runs
-                if campaign.series.get(r.id) is not None
-                and gear_id in campaign.series[r.id].gears and r.test_type != "small-signal"]
-    return sorted(recorded, key=lambda run: heights[run])
-
-
-def default_split(campaign: Campaign, gear_id: str) -> tuple[list[str], list[str]]:
-    """(training, held-out) run ids of ``gear_id``: every drop at the highest drop height held
-    out, and those at the middle height when there are :data:`MIDDLE_FROM` heights or more.
-
-    No checks: with one height everything is held out (see :func:`split_for`)."""
-    heights = {r.id: r.drop_height.si for r in campaign.spec.runs}
-    recorded = recorded_drops(campaign, gear_id)
-    levels = sorted({heights[r] for r in recorded})
-    chosen = set(levels[-1:])
-    if len(levels) >= MIDDLE_FROM:
-        chosen.add(levels[(len(levels) - 1) // 2])
-    held = [r for r in recorded if heights[r] in chosen]
-    return [r for r in recorded if r not in held], held
 
 
 def split_for(campaign: Campaign, gear_id: str) -> tuple[list[str], list[str], bool]:
@@ -62,7 +34,7 @@ def split_for(campaign: Campaign, gear_id: str) -> tuple[list[str], list[str], b
     spec = campaign.spec
     display = campaign.spec_path.name
     heights = {r.id: r.drop_height for r in spec.runs}
-    recorded = recorded_drops(campaign, gear_id)
+    recorded = by_height(campaign, recorded_drops(campaign, gear_id))
     if not recorded:
         raise CertkitInputError.single(
             display, None, "runs", f"no run records gear unit {gear_id} with time histories, "

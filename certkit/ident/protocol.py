@@ -11,8 +11,10 @@ Two validation protocols:
 
 * the seed paper's: train on the first 200 samples (0.2 s) after touchdown of a run and
   simulate that whole run (0-1 s): in-sample for its first fifth, and it is what the paper did;
-* the honest one: train and tune on some drop heights, simulate the held-out highest
-  drop in free run; the held-out run is used for nothing else (calibration included).
+* the honest one: train and tune on some drop heights, simulate the held-out drops in free
+  run (the rule the gap diagnosis uses too, :func:`certkit.physics.drops.default_split`:
+  the highest height, and the middle one from four heights up); the held-out runs are used
+  for nothing else (calibration included).
 
 Every figure is a free-run simulation (only the input and, for the models that need one,
 an initialisation window of na measured samples); one-step-ahead prediction errors are
@@ -43,6 +45,7 @@ from certkit.ident.narx import NARX
 from certkit.ident.validation import fit_percent, max_abs_error, nrmse, residual_analysis, rmse
 from certkit.ident.wiener import (SmallSignalExperiment, WienerModel, best_linear_records,
                                   physics_plant, small_signal_records)
+from certkit.physics.drops import default_split, drop_heights, recorded_drops
 from certkit.spec.campaign import Campaign
 from certkit.spec.rundata import CHANNEL_LABELS
 from certkit.units import STANDARD_GRAVITY
@@ -158,10 +161,9 @@ def _drops(campaign: Campaign, gear_id: str, unused: list | None = None) -> list
     weight = campaign.gear_units[gear_id].static_weight.si
     drops = []
     unused = [] if unused is None else unused
-    for run in campaign.spec.runs:
-        series = campaign.series.get(run.id)
-        if series is None or gear_id not in series.gears or run.test_type == "small-signal":
-            continue
+    runs = {run.id: run for run in campaign.spec.runs}
+    for run_id in recorded_drops(campaign, gear_id):
+        run, series = runs[run_id], campaign.series[run_id]
         gear = series.gears[gear_id]
         if gear.stroke is None or gear.tyre is None:
             unused.append(f"run {run.id} records no stroke or no tyre deflection")
@@ -320,16 +322,16 @@ def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None
 
     Orders, hyper-parameters, the held-out runs and the small-signal settings come from
     the spec's ``model.identification`` (defaults: the seed's orders, everything tuned,
-    the highest drop held out)."""
+    the held-out drops of :func:`certkit.physics.drops.default_split`)."""
     units = campaign.spec.report.units
     settings = campaign.spec.model.identification
     drops = _drops(campaign, gear_id)
     if len(drops) < 2:
         return None
-    heights = {r.id: r.drop_height.si for r in campaign.spec.runs}
+    heights = drop_heights(campaign)
     drops.sort(key=lambda d: heights[d.run])
-    held = ([d for d in drops if d.run in settings.held_out] if settings.held_out
-            else [drops[-1]])
+    held_out = settings.held_out or default_split(campaign, gear_id)[1]
+    held = [d for d in drops if d.run in held_out]
     held.sort(key=lambda d: -heights[d.run])
     train = [d for d in drops if d not in held]
     if not held or not train:

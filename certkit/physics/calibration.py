@@ -27,6 +27,7 @@ from certkit.compliance.clauses import ideal_impact_velocity
 from certkit.compliance.measures import contact_velocity, touchdown_time
 from certkit.errors import CertkitInputError
 from certkit.physics.drop_model import DropModel
+from certkit.physics.drops import recorded_drops
 from certkit.physics.effects import KNOBS as EFFECT_KNOBS
 from certkit.physics.effects.base import Knob, set_effect
 from certkit.physics.fitting import FitParameter, FitResult, fit
@@ -164,12 +165,11 @@ def _runs_for(campaign: Campaign, gear_id: str, effects, run_ids) -> list[_Run]:
     unit = campaign.gear_units[gear_id]
     weight = unit.static_weight.si
     chosen = []
-    for run in spec.runs:
-        if run_ids is not None and run.id not in run_ids:
+    runs = {run.id: run for run in spec.runs}
+    for run_id in recorded_drops(campaign, gear_id):
+        if run_ids is not None and run_id not in run_ids:
             continue
-        series = campaign.series.get(run.id)
-        if series is None or gear_id not in series.gears or run.test_type == "small-signal":
-            continue
+        run, series = runs[run_id], campaign.series[run_id]
         gear = series.gears[gear_id]
         found = touchdown_time(series.time, gear.load, weight)
         if found is None:

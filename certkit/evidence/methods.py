@@ -1,0 +1,105 @@
+"""What certkit does, in words, for the report's method paragraphs: the one home of that
+prose, every number in it taken from the constants of the code that applies it.
+
+The equations themselves are numbered in :mod:`certkit.compliance.equations`; the sections'
+views (:mod:`certkit.evidence.model_view`, :mod:`certkit.evidence.gap_view`) take their
+method text from here.
+"""
+
+from __future__ import annotations
+
+import math
+
+from certkit.display import percent, with_unit
+from certkit.physics.drops import MIDDLE_FROM
+
+#: Section 9: the governing-equation model and its calibration.
+MODEL_METHOD = ("The two-mass governing equations of a gear drop (airframe mass above the "
+                "strut, unsprung mass between strut and tyre), with the usual errors of their "
+                "published form corrected (hydraulic force ∝ ṡ|ṡ|, absolute gas pressures, "
+                "strut force F_s/cos θ between the masses, tyre force clipped at zero, end "
+                "stops), simulated for each gear unit and calibrated against all its runs "
+                "jointly by bounded least squares on residuals normalised by each channel's "
+                "range.")
+
+
+def held_out_drops(held_at_middle: bool, declared: bool) -> str:
+    """Which drops the held-out protocol simulates, as the split rule chose them."""
+    if declared:
+        return ("train and tune on the other drops, simulate the drops the spec holds out "
+                "(model.identification.held_out), which are used for nothing else")
+    if held_at_middle:
+        return (f"train and tune on the other drops, simulate the drops at the highest and at "
+                f"the middle drop height (held out from {MIDDLE_FROM} heights up), which are "
+                f"used for nothing else")
+    return ("train and tune on the lower drops, simulate the highest drop, which is used for "
+            "nothing else")
+
+
+def identification_method(window: str, paper_samples: str, force_unit: str, length_unit: str,
+                          held_out: str) -> str:
+    """Section 10: the identification's inputs, outputs and protocols."""
+    return (f"Input: the platform's vertical load; outputs: strut stroke and tyre deflection, "
+            f"one SISO model each, from touchdown over {window} (models are fitted in kN and "
+            f"mm; every number and figure here is in {force_unit} and {length_unit}). Two "
+            f"protocols: short training (train on the first {paper_samples} after touchdown of "
+            f"the highest drop, simulate that whole drop: in-sample for its first part) and the "
+            f"held-out one ({held_out}). All figures are free-run simulations; one-step-ahead "
+            f"errors are listed apart. RBF kernel K(x, z) = exp(−‖x − z‖²/σ²) (LS-SVMlab "
+            f"convention; some authors write 2σ²); γ and σ² tuned by cross-validation on the "
+            f"training runs.")
+
+
+def gap_method(units) -> dict:
+    """Section 11: the method in words, every threshold taken from the code that applies it
+    (the gap stage is imported here, not at the top: a report without the drop model does
+    not load it, about 0.66 s of start-up)."""
+    from certkit.gap.attribution import (CANDIDATES, GAIN, LEADING, RELEVANT, STARTS, TIE_COSINE,
+                                         TIE_COST)
+    from certkit.gap.phases import BREAKOUT_TRAVEL, BREAKOUT_WINDOW, REBOUND_DROP
+    from certkit.gap.residuals import BANDS, MAX_LAG
+
+    bands = ", ".join(f"{name} ({low:g}-{high:g} Hz)" if math.isfinite(high)
+                      else f"{name}" for name, low, high in BANDS)
+    return {
+        "split": (f"The nominal drop model (no optional effects) is calibrated on the training "
+                  f"runs only. The held-out runs are used for nothing but the errors reported "
+                  f"as held out: by default every drop at the highest drop height (the "
+                  f"certification case is extrapolation), and the middle height's drops too "
+                  f"when there are {MIDDLE_FROM} heights or more; the spec's model.gap.held_out "
+                  f"overrides the default."),
+        "where": (f"Where: the residual (measured − model) of each channel is cut by the "
+                  f"measured run's phases: free fall; tyre-only contact from touchdown; strut "
+                  f"breakout, the first {with_unit(BREAKOUT_WINDOW, 'time', units)} after the "
+                  f"stroke exceeds {with_unit(BREAKOUT_TRAVEL, 'length', units)}; compression "
+                  f"to peak load; rebound to the end of the extension (the first stroke "
+                  f"minimum once the stroke has come down {percent(REBOUND_DROP, 0)} of its "
+                  f"travel); settling. Per channel, "
+                  f"phase and run: RMS, bias (mean of measured − model) and timing lag (the "
+                  f"cross-correlation peak within ±{with_unit(MAX_LAG, 'time', units)}; "
+                  f"positive: the model is late). The residual's energy from touchdown is split "
+                  f"into bands: {bands}."),
+        "which": (f"Which: each candidate effect is a one-parameter family that nests the "
+                  f"nominal model (strength 0: the effect is absent). Its score "
+                  f"(Lagrange-multiplier) statistic LM is computed on the training runs after "
+                  f"projecting out what re-tuning the nominal parameters can absorb, and "
+                  f"converted into the RMS of the residual it would remove, √(LM/N), in units "
+                  f"of the noise σ. Because the test looks only at zero strength, each "
+                  f"candidate is also profiled: its training cost at the strengths "
+                  f"{', '.join(f'{v:g}' for v in STARTS)}, with what re-tuning the nominal "
+                  f"parameters absorbs projected out (an effect strongly nonlinear in its "
+                  f"strength can point the wrong way at zero and still explain the gap). "
+                  f"A candidate is relevant when it is among the {LEADING} best scores and "
+                  f"would remove at least {RELEVANT:g} σ, or when its profile already cuts the "
+                  f"training cost by {percent(GAIN, 0)}; the {LEADING} relevant ones with the "
+                  f"best profiles are refitted together with the nominal parameters on the "
+                  f"training runs, each from its profile's best strength. The refit that cuts the "
+                  f"training cost (RMS of the residuals divided by each channel's range) most, "
+                  f"by at least {percent(GAIN, 0)}, is named. When the two best refits' training costs "
+                  f"lie within a ratio of {TIE_COST:g} and the cosine of their projected "
+                  f"signatures is at least {TIE_COSINE:g}, the two cannot be told apart and "
+                  f"the diagnosis says so instead of naming one. A second effect is then looked "
+                  f"for the same way. The held-out errors are computed after the choice and "
+                  f"play no part in it."),
+        "candidates": [{"name": c.name, "unit_size": c.unit_size} for c in CANDIDATES],
+    }
