@@ -7,7 +7,9 @@ normalised residuals r (:class:`certkit.physics.calibration.RunResiduals`).  Wha
 nominal parameters can absorb is projected out: P⊥ = I − J(JᵀJ)⁻¹Jᵀ with J = ∂r/∂θ at the
 calibrated θ.  The score statistic is LM_k = (s_kᵀP⊥r)²/(σ²·s_kᵀP⊥s_k), σ² the residual
 variance; the candidates are ranked by it, and the cosine of their projected signatures is
-the a-priori confusability (gap-diagnosis.md §2.7, §3).
+the a-priori confusability.  The score test is Rao's (Proc. Cambridge Philos. Soc. 44,
+1948); for its use against a nested alternative see Engle, "Wald, likelihood ratio and
+Lagrange multiplier tests in econometrics", Handbook of Econometrics II, ch. 13, 1984.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """How far the gap diagnosis can be trusted: a blind check on synthetic campaigns whose
-effect is withheld (issue 5; the protocol of gap-diagnosis.md §5.2, cut to this machine).
+effect is withheld (issue 5; a battery sized for this machine).
 
 Every case is a campaign simulated from the template campaign's spec:
 

@@ -1,6 +1,6 @@
 """Physical phases of a drop, found by the same code on measured and simulated runs.
 
-Events (physics.md §4.1): contact t0 (the touchdown detector of :mod:`certkit.compliance.measures`),
+Events: contact t0 (the touchdown detector of :mod:`certkit.compliance.measures`),
 strut breakout t_bo (stroke first above its pre-contact level by ``BREAKOUT_TRAVEL``), peak
 load t_pk, maximum stroke t_smax and the end of the rebound t_ext (the first stroke minimum
 after t_smax, i.e. the strut stops extending).  Phases between them::
@@ -29,7 +29,7 @@ from certkit.compliance.measures import touchdown_index
 
 PHASES = ("free fall", "tyre-only contact", "strut breakout", "compression", "rebound",
           "settling")
-BREAKOUT_TRAVEL = 0.5e-3    # m, physics.md §4.1: s > 0.5-1 mm
+BREAKOUT_TRAVEL = 0.5e-3    # m: above stroke-transducer noise, within the first millimetre
 BREAKOUT_WINDOW = 0.010     # s, the breakout transient examined on its own
 SMOOTHING = 0.005           # s, moving average used to find the stroke minimum
 #: The end of the extension is looked for only once the stroke has come down this share of

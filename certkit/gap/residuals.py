@@ -13,7 +13,7 @@ import numpy as np
 
 from certkit.gap.phases import Phase
 
-#: Frequency bands of the residual (physics.md §4.2): rigid-body motion of the masses on the
+#: Frequency bands of the residual: rigid-body motion of the masses on the
 #: gas spring and tyre, and the band of structural, wheel-hop and platform modes.
 BANDS = (("rigid-body", 0.0, 10.0), ("structural and tyre modes", 10.0, 100.0),
          ("above 100 Hz", 100.0, float("inf")))

@@ -1,10 +1,12 @@
 """The two-mass drop model of one gear unit: the seed paper's governing equations, corrected.
 
-Coordinates (physics.md §2.1): z positive downward from the configuration at first tyre
+The two-mass model of Milwitzky & Cook (*Analysis of Landing-Gear Behavior*, NACA Report
+1154, 1953).  Coordinates: z positive downward from the configuration at first tyre
 contact; z1 the upper (sprung) mass m1, z2 the lower (unsprung) mass m2; stroke
 s = (z1 − z2)/cos θ positive in compression; tyre deflection δ = z2 on a rigid platform.
 
-Equations of motion (seed eqs. 6-7, corrected as physics.md §2.5 items 2-3)::
+Equations of motion (seed eqs. 6-7, with the strut force between the masses and the lift
+on the upper mass)::
 
     m1·z1'' = m1·g − L − F_s/cos θ
     m2·z2'' = m2·g + F_s/cos θ − F_V
@@ -13,8 +15,8 @@ For an inclined strut the vertical force the strut passes between the masses is 
 (the axial force plus the vertical share of the bearing reaction): by virtual work it is
 the force whose power over the vertical relative velocity ṡ·cos θ equals F_s·ṡ, so the
 gas spring's stored energy and the strut's work stay consistent, and a freely rolling
-wheel at rest gets the exact static balance F_s = (m1·g − L)·cos θ.  physics.md §2.2
-writes F_s·cos θ; the two agree to first order in θ only (they differ by 1/cos²θ, 9.6 %
+wheel at rest gets the exact static balance F_s = (m1·g − L)·cos θ.  The simpler form
+F_s·cos θ and this one agree to first order in θ only (they differ by 1/cos²θ, 9.6 %
 at 0.3 rad), which is why certkit uses the virtual-work form.
 
 Each force law is a separate term object with named parameters (SI) and units; the
@@ -79,7 +81,8 @@ class Term:
 class GasSpring(Term):
     """Polytropic gas spring with absolute pressures (seed eq. 3, corrected).
 
-    F_a = A_a·(p_a0·(V0/(V0 − A_a·s))^n − p_atm), physics.md §2.3 and §2.5 item 4.
+    F_a = A_a·(p_a0·(V0/(V0 − A_a·s))^n − p_atm): the polytropic law holds for absolute
+    pressures, and the atmosphere pushes back on the piston's outer face.
     The gas volume is floored at 2 % of V0 so the law stays finite past the stops.
     """
 
@@ -122,7 +125,7 @@ def orifice_coefficient(hydraulic_area, orifice_area, discharge, density):
 class Orifice(Term):
     """Orifice (hydraulic) damping proportional to ṡ|ṡ| (seed eq. 2, corrected).
 
-    F_h = ρ·A_h³·ṡ|ṡ|/(2·(C_d·A_n)²), physics.md §2.3 and §2.5 item 1 (the seed's s²
+    F_h = ρ·A_h³·ṡ|ṡ|/(2·(C_d·A_n)²) (Milwitzky & Cook 1953; the seed's s²
     is a position spring that dissipates nothing).  Only the product C_d·A_n enters.
     """
 
@@ -150,7 +153,7 @@ class Orifice(Term):
 class EndStops(Term):
     """Top-out (s < 0) and bottoming (s > s_max) stops as stiff one-sided springs with damping.
 
-    physics.md §2.3 "End stops"; the force never pulls (its damping cannot hold the strut shut).
+    A penalty contact; the force never pulls (its damping cannot hold the strut shut).
     """
 
     travel: float               # s_max [m]
@@ -171,7 +174,7 @@ class EndStops(Term):
 class Tyre(Term):
     """Tyre vertical force F_V = max(0, f(δ)·(1 + C_T·δ̇)), f(δ) = F_ref·(δ/δ_ref)^b (seed eq. 5).
 
-    Clipped at zero so the wheel can leave the platform (physics.md §2.4, §2.5 item 7).
+    Clipped at zero so the wheel can leave the platform: a tyre cannot pull.
     """
 
     reference_load: float        # F_ref [N]

@@ -9,11 +9,11 @@ batched fixed-step RK4) call the same :func:`rates`, so they differ only in the
 integrator.  An optional effect that is off has its slots at their neutral values (zero
 force, flag 0), so one compiled function serves every combination of effects.
 
-Coordinates (physics.md §2.1): z positive downward from the configuration at first tyre
+Coordinates: z positive downward from the configuration at first tyre
 contact.  z1 upper (sprung) mass, z2 lower (unsprung) mass, zw the axle when the leg is
 flexible (else the axle is the lower mass), zp the platform when it is compliant (else
 rigid at 0).  Stroke s = (z1 − z2)/cos θ, compression positive; tyre deflection
-δ = zw − zp.  Equations (seed eqs. 6-7 corrected, physics.md §2.2 and §2.5)::
+δ = zw − zp.  Equations (seed eqs. 6-7 corrected, as in :mod:`certkit.physics.drop_model`)::
 
     m1·z1'' = m1·g − L − F_s/cos θ
     m2·z2'' = m2·g + F_s/cos θ − F_leg          (F_leg = F_V without a flexible leg)
@@ -113,7 +113,7 @@ def _stop_force(p, stroke, rate):
 
 @njit(cache=True, error_model="numpy", fastmath=FAST)
 def _friction(p, rate, gas_force):
-    """Seal friction: Coulomb plus Stribeck, regularised by tanh(ṡ/v_ε) (physics.md §3 #1)."""
+    """Seal friction: Coulomb plus Stribeck, regularised by tanh(ṡ/v_ε)."""
     level = p[FRICTION] + p[FRICTION_PRESSURE] * abs(gas_force)
     if p[FRICTION_BREAKAWAY] != 0.0:
         level += p[FRICTION_BREAKAWAY] * math.exp(-(rate / p[FRICTION_STRIBECK]) ** 2)
