@@ -6,135 +6,24 @@ naming a gear unit that does not exist, ...) are checked in
 :mod:`certkit.spec.campaign`, where the line numbers are known.
 """
 
+
 from __future__ import annotations
 
-import calendar
-import datetime as dt
-import math
 import re
-from typing import Annotated, Literal
+from typing import Literal
 
-from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, PlainSerializer,
-                      PlainValidator, WithJsonSchema, field_validator, model_validator)
+from pydantic import Field, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
-from certkit.units import (QuantityError, SpecQuantity, _example_unit, kind_phrase, parse_quantity,
-                           parse_unit)
-
-
-def _quantity(kind: str, description: str | None = None, minimum: float | None = 0.0,
-              exclusive: bool = False, maximum: float | None = None):
-    """Annotated type of a quantity of ``kind``; by default it may not be negative.
-
-    ``exclusive`` makes the minimum strict (the quantity must be positive).
-    """
-    def validate(value):
-        try:
-            quantity = parse_quantity(value, kind)
-        except QuantityError as exc:
-            raise PydanticCustomError("quantity", str(exc)) from None
-        low_bad = minimum is not None and (quantity.si <= minimum if exclusive
-                                           else quantity.si < minimum)
-        if low_bad:
-            shown = f"{math.degrees(minimum):g} deg" if kind == "angle" else f"{minimum:g}"
-            word = "positive" if exclusive and minimum == 0 else (
-                "zero or more" if minimum == 0 else f"above {shown}" if exclusive
-                else f"at least {shown}")
-            raise PydanticCustomError("quantity", f'must be {word}, got "{quantity.text}"')
-        if maximum is not None and quantity.si > maximum:
-            limit = (f"{math.degrees(maximum):g} deg" if kind == "angle"
-                     else f"{maximum:g}{' (100 %)' if maximum == 1 else ''}")
-            raise PydanticCustomError("quantity", f'must be at most {limit}, got "{quantity.text}"')
-        return quantity
-
-    if kind == "dimensionless":
-        schema = {"anyOf": [{"type": "number"}, {"type": "string"}],
-                  "description": description or "a number (or a percentage such as '10 %')"}
-    else:
-        schema = {"type": "string",
-                  "description": description or f"{kind_phrase(kind)} with its unit, "
-                                                 f"e.g. '1 {_example_unit(kind)}'"}
-    return Annotated[SpecQuantity, PlainValidator(validate),
-                     PlainSerializer(lambda q: q.text, return_type=str),
-                     WithJsonSchema(schema)]
-
-
-def _unit(kind: str):
-    def validate(value):
-        if not isinstance(value, str):
-            raise PydanticCustomError("unit", f"expected a unit of {kind} as text, got {value!r}")
-        try:
-            return parse_unit(re.sub(r"\s*([*/·^])\s*", r"\1", value.strip()), kind)
-        except QuantityError as exc:
-            raise PydanticCustomError("unit", str(exc)) from None
-
-    return Annotated[str, PlainValidator(validate),
-                     WithJsonSchema({"type": "string", "description": f"a unit of {kind}"})]
-
-
-Length = _quantity("length")
-PositiveLength = _quantity("length", exclusive=True)
-Area = _quantity("area", exclusive=True)
-Volume = _quantity("volume", exclusive=True)
-Mass = _quantity("mass", exclusive=True)
-Force = _quantity("force")
-Weight = _quantity("weight", exclusive=True)
-Pressure = _quantity("pressure", exclusive=True)
-Energy = _quantity("energy")
-Frequency = _quantity("frequency", exclusive=True)
-Inclination = _quantity("angle", "strut axis from vertical, e.g. '3 deg' (at most 45 deg)",
-                        minimum=-math.pi / 4, maximum=math.pi / 4)
-Density = _quantity("density", exclusive=True)
-Stiffness = _quantity("stiffness", exclusive=True)
-Damping = _quantity("damping")
-Duration = _quantity("time", exclusive=True)
-WingLoading = _quantity("wing_loading", "a wing loading (force per area), e.g. '10.15 lbf/ft^2'",
-                        exclusive=True)
-PositiveNumber = _quantity("dimensionless", exclusive=True)
-Fraction = _quantity("dimensionless", "a fraction between 0 and 1, e.g. 0.667 or '10 %'",
-                     maximum=1.0)
-
-
-def _date(value):
-    """A date written YYYY-MM-DD (ISO 8601 calendar date); one written in that form whose
-    month or day does not exist is refused saying so (February 2025 has 28 days)."""
-
-    if isinstance(value, dt.date) and not isinstance(value, dt.datetime):
-        return value
-    if isinstance(value, str):
-        text = value.strip()
-        try:
-            return dt.date.fromisoformat(text)
-        except ValueError:
-            pass
-        parts = text.split("-")
-        if [len(part) for part in parts] == [4, 2, 2] and all(
-                part.isascii() and part.isdigit() for part in parts):
-            year, month = int(parts[0]), int(parts[1])
-            if year == 0:
-                why = "there is no year 0000 (the first is 0001)"
-            elif not 1 <= month <= 12:
-                why = f"there is no month {parts[1]} (months are 01 to 12)"
-            else:  # month names written out: calendar.month_name follows the locale
-                name = ("January", "February", "March", "April", "May", "June", "July",
-                        "August", "September", "October", "November", "December")[month - 1]
-                why = f"{name} {year} has {calendar.monthrange(year, month)[1]} days"
-            raise PydanticCustomError("date", f'"{text}" is not a date: {why}')
-    raise PydanticCustomError("date", f'expected a date as YYYY-MM-DD, got "{value}"')
-
-
-Date = Annotated[dt.date, BeforeValidator(_date)]
-
-Identifier = Annotated[str, Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$", max_length=64)]
-Text = Annotated[str, Field(min_length=1)]
-
-
-class _Model(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
+from certkit.spec.types import (Area, Damping, Date, Density, Duration, Energy, Force, Fraction,
+                                Frequency, Identifier, Inclination, Length, Mass, PositiveLength,
+                                PositiveNumber, Pressure, SpecBlock, Stiffness, Text, Volume,
+                                Weight, WingLoading, quantity, unit_text)
+from certkit.units import parse_quantity
 
 
 # --------------------------------------------------------------------------- document
-class CampaignInfo(_Model):
+class CampaignInfo(SpecBlock):
     id: Identifier
     title: Text
     description: str | None = None
@@ -145,20 +34,20 @@ class CampaignInfo(_Model):
                     "and the outcome is never a compliance statement")
 
 
-class Signatory(_Model):
+class Signatory(SpecBlock):
     role: Literal["prepared", "checked", "verified", "approved", "witnessed"]
     name: Text
     organisation: str | None = None
     date: Date | None = None
 
 
-class Revision(_Model):
+class Revision(SpecBlock):
     revision: Text
     date: Date
     description: Text
 
 
-class Document(_Model):
+class Document(SpecBlock):
     report_number: Text
     revision: Text
     date: Date = Field(description="Issue date; also fixes every date written into outputs")
@@ -170,7 +59,7 @@ class Document(_Model):
     compliance_checklist_item: str | None = None
 
 
-class BasisEntry(_Model):
+class BasisEntry(SpecBlock):
     requirement_set: Text = Field(description="id of a shipped requirement set, see `certkit sets`")
     edition: str | None = Field(None, description="edition the applicant is certifying against")
     ground_load_dynamic_test: bool = Field(
@@ -178,7 +67,7 @@ class BasisEntry(_Model):
 
 
 # --------------------------------------------------------------------------- aircraft
-class Aircraft(_Model):
+class Aircraft(SpecBlock):
     model: Text
     maximum_weight: Weight
     wing_area: Area
@@ -189,7 +78,7 @@ class Aircraft(_Model):
     notes: str | None = None
 
 
-class TyreCurve(_Model):
+class TyreCurve(SpecBlock):
     """Static load-deflection law f(δ) = reference_load·(δ/reference_deflection)^exponent."""
 
     reference_load: Force
@@ -197,7 +86,7 @@ class TyreCurve(_Model):
     exponent: PositiveNumber
 
 
-class Tyre(_Model):
+class Tyre(SpecBlock):
     size: Text
     pressure: Pressure
     pressure_reference: Literal["gauge", "absolute"]
@@ -205,42 +94,42 @@ class Tyre(_Model):
     load_deflection: TyreCurve | None = Field(None, description="static curve (physics model)")
     hysteresis: Fraction | None = Field(
         None, description="half-width of the loading/unloading loop as a share of f(δ)")
-    damping: _quantity("slowness", "C_T of F = f(δ)·(1 + C_T·δ̇), e.g. '0.05 s/m'") | None = None  # type: ignore[valid-type]
+    damping: quantity("slowness", "C_T of F = f(δ)·(1 + C_T·δ̇), e.g. '0.05 s/m'") | None = None  # type: ignore[valid-type]
 
 
-class MeteringPinSpec(_Model):
+class MeteringPinSpec(SpecBlock):
     """Net orifice area against stroke (linear between points)."""
 
     strokes: list[Length] = Field(min_length=2)
     areas: list[Area] = Field(min_length=2)
 
 
-class SealFrictionSpec(_Model):
+class SealFrictionSpec(SpecBlock):
     """Seal friction F = (constant + pressure_factor·|F_gas| + breakaway·exp(−(ṡ/v_s)²))·sign(ṡ)."""
 
     constant: Force
     pressure_factor: Fraction = Field(parse_quantity("0", "dimensionless"))
     breakaway: Force = Field(parse_quantity("0 N", "force"),
                              description="Stribeck excess of static over Coulomb friction")
-    stribeck_velocity: _quantity("velocity", exclusive=True) = Field(  # type: ignore[valid-type]
+    stribeck_velocity: quantity("velocity", exclusive=True) = Field(  # type: ignore[valid-type]
         parse_quantity("10 mm/s", "velocity"))
 
 
-class HeatTransferSpec(_Model):
+class HeatTransferSpec(SpecBlock):
     """Gas-to-wall heat transfer (effect 'heat-transfer'): replaces the polytropic law."""
 
     time_constant: Duration = Field(description="τ = m·c_v/(h·A), e.g. '1 s'")
     ratio_of_specific_heats: PositiveNumber = Field(parse_quantity("1.4", "dimensionless"))
 
 
-class OilSpec(_Model):
+class OilSpec(SpecBlock):
     """Oil compressibility (effect 'oil-compressibility'): k_oil = β·A_h²/V_oil."""
 
     bulk_modulus: Pressure = Field(description="effective β, e.g. '1.5 GPa' (less if aerated)")
     volume: Volume = Field(description="oil volume between piston and orifice")
 
 
-class LegSpec(_Model):
+class LegSpec(SpecBlock):
     """Gear-leg flexibility (effect 'leg-flexibility'): axle mass on a leg spring."""
 
     axle_mass: Mass = Field(description="axle and wheel, part of the unsprung mass")
@@ -248,7 +137,7 @@ class LegSpec(_Model):
     damping: Damping = Field(parse_quantity("0 N*s/m", "damping"))
 
 
-class Strut(_Model):
+class Strut(SpecBlock):
     """Servicing and geometry of the shock strut (used by the physics model)."""
 
     gas_precharge_pressure: Pressure | None = None
@@ -273,7 +162,7 @@ class Strut(_Model):
     notes: str | None = None
 
 
-class GearUnit(_Model):
+class GearUnit(SpecBlock):
     id: Identifier
     position: Literal["main", "nose", "tail"]
     static_weight: Weight = Field(description="W of 14 CFR 23.725(b) for this unit")
@@ -290,7 +179,7 @@ class GearUnit(_Model):
 
 
 # --------------------------------------------------------------------------- instrumentation and data
-class InstrumentChannel(_Model):
+class InstrumentChannel(SpecBlock):
     name: Text
     measures: Text
     transducer: str | None = None
@@ -300,7 +189,7 @@ class InstrumentChannel(_Model):
     calibration_reference: str | None = None
 
 
-class PlatformSpec(_Model):
+class PlatformSpec(SpecBlock):
     """The drop rig's platform on its load cells (effect 'platform-compliance')."""
 
     mass: Mass
@@ -308,14 +197,14 @@ class PlatformSpec(_Model):
     damping: Damping = Field(parse_quantity("0 N*s/m", "damping"))
 
 
-class Instrumentation(_Model):
+class Instrumentation(SpecBlock):
     sampling_rate: Frequency
     platform: PlatformSpec | None = None
     logger: str | None = None
     channels: list[InstrumentChannel] = []
 
 
-class Column(_Model):
+class Column(SpecBlock):
     """Where a channel sits in the data file and how to bring it to SI.
 
     value_SI = sign * scale * (raw - offset) converted from ``unit``.
@@ -338,26 +227,26 @@ class Column(_Model):
 
 
 class LoadColumn(Column):
-    unit: _unit("weight")  # type: ignore[valid-type]
+    unit: unit_text("weight")  # type: ignore[valid-type]
 
 
 class LengthColumn(Column):
-    unit: _unit("length")  # type: ignore[valid-type]
+    unit: unit_text("length")  # type: ignore[valid-type]
 
 
 class AccelerationColumn(Column):
-    unit: _unit("acceleration")  # type: ignore[valid-type]
+    unit: unit_text("acceleration")  # type: ignore[valid-type]
     reference: Literal["kinematic", "specific_force"] = Field(
         description="kinematic: dv/dt (free fall reads -1 g); specific_force: what an "
                     "accelerometer reads (free fall reads 0 g, rest +1 g)")
 
 
-class TimeColumn(_Model):
+class TimeColumn(SpecBlock):
     column: Text
-    unit: _unit("time")  # type: ignore[valid-type]
+    unit: unit_text("time")  # type: ignore[valid-type]
 
 
-class GearChannels(_Model):
+class GearChannels(SpecBlock):
     vertical_load: LoadColumn
     strut_stroke: LengthColumn | None = None
     tyre_deflection: LengthColumn | None = None
@@ -366,12 +255,12 @@ class GearChannels(_Model):
 WaivableCheck = Literal["sample_rate", "gaps", "clipping", "implausible_range"]
 
 
-class Waiver(_Model):
+class Waiver(SpecBlock):
     check: WaivableCheck
     reason: Text
 
 
-class RunData(_Model):
+class RunData(SpecBlock):
     file: Text
     origin: Literal["measured", "synthetic"] = Field(
         "measured", description="synthetic (simulated) data are never used as compliance "
@@ -385,12 +274,12 @@ class RunData(_Model):
     waivers: list[Waiver] = []
 
 
-class Lift(_Model):
+class Lift(SpecBlock):
     method: Literal["none", "reduced_mass", "lift_device"]
     ratio: Fraction | None = Field(None, description="L, required unless method is none")
 
 
-class ReportedGear(_Model):
+class ReportedGear(SpecBlock):
     strut_stroke: Length | None = None
     tyre_deflection: Length | None = None
     peak_vertical_load: Force | None = None
@@ -398,20 +287,20 @@ class ReportedGear(_Model):
     tyre_energy: Energy | None = None
 
 
-class ReportedRun(_Model):
+class ReportedRun(SpecBlock):
     impact_load_factor: PositiveNumber | None = Field(
         None, description="a load factor the source states for this drop (definition unknown)")
     gears: dict[str, ReportedGear] = {}
 
 
-class Inspection(_Model):
+class Inspection(SpecBlock):
     failure: bool | None = None
     yielding: bool | None = None
     permanent_set: Length | None = None
     notes: str | None = None
 
 
-class Run(_Model):
+class Run(SpecBlock):
     id: Identifier
     test_type: Literal["build-up", "limit", "reserve", "dynamic", "small-signal"]
     gear_units: list[Identifier] = Field(min_length=1)
@@ -427,12 +316,12 @@ class Run(_Model):
 
 
 # --------------------------------------------------------------------------- claims, audit, report
-class CampaignReported(_Model):
+class CampaignReported(SpecBlock):
     wing_loading: WingLoading | None = None
     required_drop_height: PositiveLength | None = None
 
 
-class ReferenceModelErrors(_Model):
+class ReferenceModelErrors(SpecBlock):
     """Published free-run RMSEs of one output, per model (each a length with its unit)."""
 
     governing_equation: Length | None = Field(None, description="the physics (EOM) model")
@@ -441,7 +330,7 @@ class ReferenceModelErrors(_Model):
     narx: Length | None = None
 
 
-class ReferenceResults(_Model):
+class ReferenceResults(SpecBlock):
     """Results a source published for this campaign's drops, shown beside certkit's own.
 
     Only a campaign that has such a source fills this block; the report shows reference
@@ -457,7 +346,7 @@ class ReferenceResults(_Model):
     tyre: ReferenceModelErrors | None = Field(None, description="tyre deflection RMSEs")
 
 
-class AuditSettings(_Model):
+class AuditSettings(SpecBlock):
     asymmetry_threshold: Fraction = Field(parse_quantity("10 %", "dimensionless"))
     reported_tolerance: Fraction = Field(parse_quantity("2 %", "dimensionless"))
     energy_tolerance: Fraction = Field(parse_quantity("1 %", "dimensionless"))
@@ -485,7 +374,7 @@ def _is_us(unit: object) -> bool:
     return isinstance(unit, str) and bool(set(re.split(r"[\s*/·^0-9+\-]+", unit)) & _US_UNITS)
 
 
-class DisplayUnits(_Model):
+class DisplayUnits(SpecBlock):
     """The units every number a person reads is shown in.
 
     A unit not given follows ``system``; without ``system``, the system of the length unit
@@ -496,15 +385,15 @@ class DisplayUnits(_Model):
 
     system: Literal["SI", "US"] | None = Field(
         None, description="unit system of the units not given (default: the length unit's)")
-    length: _unit("length") = "mm"  # type: ignore[valid-type]
-    force: _unit("weight") = "N"  # type: ignore[valid-type]
-    mass: _unit("mass") = "kg"  # type: ignore[valid-type]
-    energy: _unit("energy") = "J"  # type: ignore[valid-type]
-    velocity: _unit("velocity") = "m/s"  # type: ignore[valid-type]
-    pressure: _unit("pressure") = "kPa"  # type: ignore[valid-type]
-    area: _unit("area") = "m^2"  # type: ignore[valid-type]
-    wing_loading: _unit("wing_loading") = "N/m^2"  # type: ignore[valid-type]
-    time: _unit("time") = "ms"  # type: ignore[valid-type]
+    length: unit_text("length") = "mm"  # type: ignore[valid-type]
+    force: unit_text("weight") = "N"  # type: ignore[valid-type]
+    mass: unit_text("mass") = "kg"  # type: ignore[valid-type]
+    energy: unit_text("energy") = "J"  # type: ignore[valid-type]
+    velocity: unit_text("velocity") = "m/s"  # type: ignore[valid-type]
+    pressure: unit_text("pressure") = "kPa"  # type: ignore[valid-type]
+    area: unit_text("area") = "m^2"  # type: ignore[valid-type]
+    wing_loading: unit_text("wing_loading") = "N/m^2"  # type: ignore[valid-type]
+    time: unit_text("time") = "ms"  # type: ignore[valid-type]
 
     @model_validator(mode="before")
     @classmethod
@@ -525,12 +414,12 @@ Effect = Literal["seal-friction", "rebound-orifice", "metering-pin", "tyre-hyste
                  "platform-compliance", "sensor-dynamics", "load-cell-gain"]
 
 
-class SensorSpec(_Model):
+class SensorSpec(SpecBlock):
     """Low-pass and delay of the recorded channels (effect 'sensor-dynamics')."""
 
     cutoff: Frequency
     order: int = Field(2, ge=1, le=8)
-    delay: _quantity("time") = Field(parse_quantity("0 s", "time"))  # type: ignore[valid-type]
+    delay: quantity("time") = Field(parse_quantity("0 s", "time"))  # type: ignore[valid-type]
 
 
 CalibrationParameter = Literal[
@@ -539,14 +428,14 @@ CalibrationParameter = Literal[
     "rebound-damping", "load-cell-gain"]
 
 
-class CalibrationSpec(_Model):
+class CalibrationSpec(SpecBlock):
     """What `certkit calibrate` fits (default: C_d, pre-charge, n, tyre stiffness, friction)."""
 
     parameters: list[CalibrationParameter] = Field([], description="parameters to fit")
     runs: list[Identifier] = Field([], description="runs to fit to (default: all with data)")
 
 
-class BlockModelSpec(_Model):
+class BlockModelSpec(SpecBlock):
     """Orders and (optionally fixed) LS-SVM hyper-parameters of one identified model."""
 
     na: int = Field(ge=0, le=20, description="past outputs (denominator order)")
@@ -556,7 +445,7 @@ class BlockModelSpec(_Model):
         None, description="RBF width σ² of K = exp(−‖x − z‖²/σ²); default: tuned")
 
 
-class SmallSignalSpec(_Model):
+class SmallSignalSpec(SpecBlock):
     """The seed's small-signal method (§4): first amplitude, scaling K, linearity tolerance."""
 
     amplitude: Force = Field(parse_quantity("500 N", "force"),
@@ -565,7 +454,7 @@ class SmallSignalSpec(_Model):
     tolerance: Fraction = Field(parse_quantity("5 %", "dimensionless"))
 
 
-class IdentificationSpec(_Model):
+class IdentificationSpec(SpecBlock):
     """Identification settings; defaults follow the seed paper (6 poles, 4 input terms)."""
 
     hammerstein: BlockModelSpec = BlockModelSpec(na=6, nb=4)
@@ -580,7 +469,7 @@ class IdentificationSpec(_Model):
                     "RMSE is at or below this")
 
 
-class GapSpec(_Model):
+class GapSpec(SpecBlock):
     """Sim-to-real gap diagnosis (`certkit gap`, the report's gap section)."""
 
     held_out: list[Identifier] = Field(
@@ -593,7 +482,7 @@ class GapSpec(_Model):
                           "hashes it with the other inputs")
 
 
-class ModelSettings(_Model):
+class ModelSettings(SpecBlock):
     """The physics model used to simulate and calibrate: which optional effects are on."""
 
     effects: list[Effect] = Field([], description="optional effects switched on (default none)")
@@ -603,11 +492,11 @@ class ModelSettings(_Model):
     gap: GapSpec = GapSpec()
 
 
-class ReportSettings(_Model):
+class ReportSettings(SpecBlock):
     units: DisplayUnits = DisplayUnits()
 
 
-class CampaignSpec(_Model):
+class CampaignSpec(SpecBlock):
     """A drop-test campaign: who, what aircraft, which gear, which runs, against which rules."""
 
     certkit: Literal[1] = Field(description="spec format version")

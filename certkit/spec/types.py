@@ -1,0 +1,133 @@
+"""The typed values a campaign spec is made of: quantities with their units, dates,
+identifiers and the strict base of every spec block.
+
+A quantity is typed as a string with its unit ("12.5 in", "650 cm^3") and parsed by pint
+into SI (:mod:`certkit.units`); a bare number is accepted only where the kind is
+dimensionless.  :mod:`certkit.spec.schema` builds the spec's blocks from these.
+"""
+
+from __future__ import annotations
+
+import calendar
+import datetime as dt
+import math
+import re
+from typing import Annotated
+
+from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, PlainSerializer,
+                      PlainValidator, WithJsonSchema)
+from pydantic_core import PydanticCustomError
+
+from certkit.units import (QuantityError, SpecQuantity, _example_unit, kind_phrase, parse_quantity,
+                           parse_unit)
+
+
+def quantity(kind: str, description: str | None = None, minimum: float | None = 0.0,
+              exclusive: bool = False, maximum: float | None = None):
+    """Annotated type of a quantity of ``kind``; by default it may not be negative.
+
+    ``exclusive`` makes the minimum strict (the quantity must be positive).
+    """
+    def validate(value):
+        try:
+            quantity = parse_quantity(value, kind)
+        except QuantityError as exc:
+            raise PydanticCustomError("quantity", str(exc)) from None
+        low_bad = minimum is not None and (quantity.si <= minimum if exclusive
+                                           else quantity.si < minimum)
+        if low_bad:
+            shown = f"{math.degrees(minimum):g} deg" if kind == "angle" else f"{minimum:g}"
+            word = "positive" if exclusive and minimum == 0 else (
+                "zero or more" if minimum == 0 else f"above {shown}" if exclusive
+                else f"at least {shown}")
+            raise PydanticCustomError("quantity", f'must be {word}, got "{quantity.text}"')
+        if maximum is not None and quantity.si > maximum:
+            limit = (f"{math.degrees(maximum):g} deg" if kind == "angle"
+                     else f"{maximum:g}{' (100 %)' if maximum == 1 else ''}")
+            raise PydanticCustomError("quantity", f'must be at most {limit}, got "{quantity.text}"')
+        return quantity
+
+    if kind == "dimensionless":
+        schema = {"anyOf": [{"type": "number"}, {"type": "string"}],
+                  "description": description or "a number (or a percentage such as '10 %')"}
+    else:
+        schema = {"type": "string",
+                  "description": description or f"{kind_phrase(kind)} with its unit, "
+                                                 f"e.g. '1 {_example_unit(kind)}'"}
+    return Annotated[SpecQuantity, PlainValidator(validate),
+                     PlainSerializer(lambda q: q.text, return_type=str),
+                     WithJsonSchema(schema)]
+
+
+def unit_text(kind: str):
+    def validate(value):
+        if not isinstance(value, str):
+            raise PydanticCustomError("unit", f"expected a unit of {kind} as text, got {value!r}")
+        try:
+            return parse_unit(re.sub(r"\s*([*/·^])\s*", r"\1", value.strip()), kind)
+        except QuantityError as exc:
+            raise PydanticCustomError("unit", str(exc)) from None
+
+    return Annotated[str, PlainValidator(validate),
+                     WithJsonSchema({"type": "string", "description": f"a unit of {kind}"})]
+
+
+Length = quantity("length")
+PositiveLength = quantity("length", exclusive=True)
+Area = quantity("area", exclusive=True)
+Volume = quantity("volume", exclusive=True)
+Mass = quantity("mass", exclusive=True)
+Force = quantity("force")
+Weight = quantity("weight", exclusive=True)
+Pressure = quantity("pressure", exclusive=True)
+Energy = quantity("energy")
+Frequency = quantity("frequency", exclusive=True)
+Inclination = quantity("angle", "strut axis from vertical, e.g. '3 deg' (at most 45 deg)",
+                        minimum=-math.pi / 4, maximum=math.pi / 4)
+Density = quantity("density", exclusive=True)
+Stiffness = quantity("stiffness", exclusive=True)
+Damping = quantity("damping")
+Duration = quantity("time", exclusive=True)
+WingLoading = quantity("wing_loading", "a wing loading (force per area), e.g. '10.15 lbf/ft^2'",
+                        exclusive=True)
+PositiveNumber = quantity("dimensionless", exclusive=True)
+Fraction = quantity("dimensionless", "a fraction between 0 and 1, e.g. 0.667 or '10 %'",
+                     maximum=1.0)
+
+
+def _date(value):
+    """A date written YYYY-MM-DD (ISO 8601 calendar date); one written in that form whose
+    month or day does not exist is refused saying so (February 2025 has 28 days)."""
+
+    if isinstance(value, dt.date) and not isinstance(value, dt.datetime):
+        return value
+    if isinstance(value, str):
+        text = value.strip()
+        try:
+            return dt.date.fromisoformat(text)
+        except ValueError:
+            pass
+        parts = text.split("-")
+        if [len(part) for part in parts] == [4, 2, 2] and all(
+                part.isascii() and part.isdigit() for part in parts):
+            year, month = int(parts[0]), int(parts[1])
+            if year == 0:
+                why = "there is no year 0000 (the first is 0001)"
+            elif not 1 <= month <= 12:
+                why = f"there is no month {parts[1]} (months are 01 to 12)"
+            else:  # month names written out: calendar.month_name follows the locale
+                name = ("January", "February", "March", "April", "May", "June", "July",
+                        "August", "September", "October", "November", "December")[month - 1]
+                why = f"{name} {year} has {calendar.monthrange(year, month)[1]} days"
+            raise PydanticCustomError("date", f'"{text}" is not a date: {why}')
+    raise PydanticCustomError("date", f'expected a date as YYYY-MM-DD, got "{value}"')
+
+
+Date = Annotated[dt.date, BeforeValidator(_date)]
+
+Identifier = Annotated[str, Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$", max_length=64)]
+Text = Annotated[str, Field(min_length=1)]
+
+
+class SpecBlock(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
