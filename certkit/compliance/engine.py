@@ -20,7 +20,7 @@ from certkit.compliance.measures import (SETTLING_BAND, TOUCHDOWN_SHARE, VELOCIT
                                          GearMeasures, contact_velocity, drop_mass_load_factor,
                                          measure_gear)
 from certkit.compliance.quality import audit
-from certkit.display import number, with_unit
+from certkit.display import SI_UNITS, number, with_unit
 from certkit.results import Value
 from certkit.spec import requirement_sets
 from certkit.spec.campaign import Campaign
@@ -209,7 +209,7 @@ def _reported_values(put, reported, where: str, cos_theta: float) -> None:
     """The values a source reported for a gear unit without time series."""
     def rep(key, label, symbol, quantity, kind, name):
         put(key, label, symbol, None if quantity is None else quantity.si,
-            {"force": "N", "length": "m", "energy": "J"}[kind], kind, "reported",
+            SI_UNITS[kind], kind, "reported",
             inputs={symbol: _spec_input(f"{where}.{name}", quantity.text)} if quantity else {},
             note=None if quantity is not None else "not reported",
             typed=None if quantity is None else quantity.text)
