@@ -8,6 +8,7 @@ and the report states the ones used.
 from __future__ import annotations
 
 from certkit.compliance.assessment import Assessment
+from certkit.compliance.clauses import required_drop_height
 from certkit.compliance.drop_conditions import lift_force_ratio
 from certkit.compliance.measures import ZERO_WINDOW
 from certkit.display import number, with_unit
@@ -321,7 +322,6 @@ def check_reported_values(assessment: Assessment) -> None:
                             f"{UNIT_SLIP_TOLERANCE:.0%}: probable unit slip")
             if claims.wing_loading is not None:
                 rules = basis.rules
-                from certkit.compliance.clauses import required_drop_height
                 units = rules.parameters["drop_height_formula_units"]
                 from_stated = required_drop_height(
                     claims.wing_loading.si, rules.number("drop_height_coefficient"),

@@ -13,6 +13,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from certkit.display import with_unit  # noqa: E402
+from certkit.gap.phases import PHASES
 from certkit.spec.rundata import CHANNEL_LABELS  # noqa: E402
 from certkit.units import convert  # noqa: E402
 
@@ -227,7 +228,6 @@ def gap_heatmap(gap, title: str, caption: str, vmax: float | None = None) -> dic
     """Residual RMS over the channel's RMS (%) per channel × phase (rows) and run (columns)
     of a :class:`certkit.gap.diagnosis.GapMap`; one colour scale up to ``vmax`` (a fraction; default:
     the largest cell) so that two maps drawn with the same ``vmax`` compare."""
-    from certkit.gap.phases import PHASES
 
     runs = list(gap.training) + list(gap.held_out)
     by_key = {(c.run, c.channel, c.phase): c.normalised for c in gap.cells}

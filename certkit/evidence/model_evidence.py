@@ -13,9 +13,12 @@ from dataclasses import dataclass, field
 from threadpoolctl import threadpool_limits
 
 from certkit.errors import CertkitInputError
+from certkit.gap.diagnosis import gap_diagnosis
 from certkit.ident.protocol import identify
 from certkit.physics.calibration import Calibration, calibrate
+from certkit.physics.fitting import FitError
 from certkit.physics.gear_model import drop_model_for
+from certkit.physics.simulation import SimulationError
 from certkit.spec.campaign import Campaign
 
 
@@ -67,9 +70,6 @@ def model_evidence(campaign: Campaign, identification: bool = True,
 def _gap(campaign: Campaign, gears: list[str]) -> tuple[dict, tuple[str, ...]]:
     """The gap diagnosis of each gear unit; a unit whose drops allow none (one drop height,
     no training or held-out run left) gets a note saying why instead."""
-    from certkit.gap.diagnosis import gap_diagnosis
-    from certkit.physics.fitting import FitError
-    from certkit.physics.simulation import SimulationError
 
     diagnoses, notes = {}, []
     for gear_id in gears:

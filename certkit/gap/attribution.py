@@ -19,8 +19,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from certkit.display import percent
+from certkit.gap.holdout import split_for
+from certkit.physics.calibration import RunResiduals, aligned_records, calibrate_gear
 from certkit.physics.drop_model import DropModel
 from certkit.physics.effects import CANDIDATES, Candidate
+from certkit.physics.fitting import FitParameter, fit
 
 
 @dataclass(frozen=True)
@@ -200,7 +203,6 @@ def refit(residuals, calibration, candidates: list[Candidate],
     """Fit the calibration's knobs and the strengths (bounded to [0, ``max_strength``] of
     each candidate's unit size) on the runs of ``residuals``, from ``start`` (knobs then
     strengths; default: the calibration's estimate and every candidate at its probe)."""
-    from certkit.physics.fitting import FitParameter, fit
 
     knobs = calibration.knobs
     if start is None:
@@ -262,7 +264,6 @@ class Diagnosis:
 
 def _held_out_rmse(campaign, gear_id, held, configure) -> dict:
     """RMSE from touchdown of every channel of the held-out runs: (run, channel) -> [SI]."""
-    from certkit.physics.calibration import aligned_records
 
     out = {}
     for run_id, record in aligned_records(campaign, gear_id, configure, list(held),
@@ -287,8 +288,6 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
     ``split``: (training, held-out) run ids (default: :func:`certkit.gap.holdout.split_for`);
     ``calibration``: the nominal model already calibrated on the training runs (saves
     doing it again)."""
-    from certkit.gap.holdout import split_for
-    from certkit.physics.calibration import RunResiduals, calibrate_gear
 
     training, held = split or split_for(campaign, gear_id)[:2]
     if calibration is None:
@@ -387,14 +386,14 @@ def _refit_decisions(steps: list, answer: tuple, step_costs: list) -> tuple:
     for index, (_, fits) in enumerate(steps):
         named = tuple(answer[:index + 1])
         decisions = []
-        for fit in fits:
-            if fit.effects == named and len(named) == index + 1:
+        for refitted in fits:
+            if refitted.effects == named and len(named) == index + 1:
                 status = "named"
-            elif fit.training_cost > (1 - GAIN) * step_costs[index]:
+            elif refitted.training_cost > (1 - GAIN) * step_costs[index]:
                 status = f"cuts the training cost by less than {percent(GAIN, 0)}: not named"
             else:
                 status = (f"cuts the training cost by {percent(GAIN, 0)} or more; not named "
                           f"(see the statement)")
-            decisions.append(Decision(" + ".join(fit.effects), status))
+            decisions.append(Decision(" + ".join(refitted.effects), status))
         out.append(tuple(decisions))
     return tuple(out)

@@ -25,21 +25,38 @@ function runs in both.  Seeds are fixed; the same inputs give the same result do
 from __future__ import annotations
 
 import contextlib
+import csv
 import hashlib
+import json
 import math
+import multiprocessing
 import statistics
 import tempfile
 from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
+import numba
 import numpy as np
+from threadpoolctl import threadpool_limits
 
-from certkit.errors import CampaignError
+from certkit.compliance.clauses import ideal_impact_velocity
+from certkit.compliance.measures import touchdown_time
+from certkit.errors import CampaignError, CertkitInputError
+from certkit.gap.attribution import diagnose
+from certkit.gap.holdout import split_for
+from certkit.physics.calibration import KNOBS, aligned_records
 from certkit.physics.drop_model import DropModel
 from certkit.physics.drops import recorded_drops
 from certkit.physics.effects import TRUTHS, Truth
+from certkit.physics.gear_model import drop_model_for
+from certkit.physics.simulation import simulate_batch
+from certkit.physics.synthetic import NO_SENSOR_EFFECTS, SensorModel, simulate_campaign
+from certkit.spec.blind_record import code_fingerprint, template_fingerprint
+from certkit.spec.campaign import load_campaign
 from certkit.units import STANDARD_GRAVITY
+from certkit.version import VERSION
 
 #: How far a sized effect's load change may miss its target (a share).
 SIZE_TOLERANCE = 0.05
@@ -111,7 +128,6 @@ def battery(settings: Settings = Settings()) -> list[Case]:
 
 # --------------------------------------------------------------------------- one case
 def _scattered(model: DropModel, factors: dict) -> DropModel:
-    from certkit.physics.calibration import KNOBS
 
     for name, factor in factors.items():
         knob = KNOBS[name]
@@ -122,7 +138,6 @@ def _scattered(model: DropModel, factors: dict) -> DropModel:
 def _load_effect(models: list[DropModel], velocities, truth: Truth, sizes: np.ndarray,
                  rate: float, duration: float) -> np.ndarray:
     """RMS over the runs of the load with the truth at each size minus without it [N]."""
-    from certkit.physics.simulation import simulate_batch
 
     batch = [truth.model(m, s) for s in sizes for m in models] + list(models)
     speeds = np.array(list(velocities) * (len(sizes) + 1))
@@ -150,7 +165,6 @@ def touchdown_level(model: DropModel) -> float:
 
 def _aligned(time: np.ndarray, recorded: np.ndarray, plain: np.ndarray, level: float):
     """``recorded`` shifted so that it crosses ``level`` when ``plain`` does."""
-    from certkit.compliance.measures import touchdown_time
 
     shift = (touchdown_time(time, recorded, None, level=level)[0]
              - touchdown_time(time, plain, None, level=level)[0])
@@ -190,10 +204,6 @@ def write_case(template: str, gear_id: str, case: Case, settings: Settings,
     """Simulate ``case`` from the ``template`` campaign into ``folder``: returns the written
     spec's path and the size of every truth effect (sealed: not written).  ``clean``: the
     same truth without noise, quantisation or offsets (for scoring only)."""
-    from certkit.compliance.clauses import ideal_impact_velocity
-    from certkit.physics.gear_model import drop_model_for
-    from certkit.physics.synthetic import NO_SENSOR_EFFECTS, SensorModel, simulate_campaign
-    from certkit.spec.campaign import load_campaign
 
     campaign = load_campaign(template)
     spec = campaign.spec
@@ -233,13 +243,9 @@ def run_case(template: str, gear_id: str, case: Case, settings: Settings = Setti
     """Write ``case`` (:func:`write_case`) into a temporary folder, diagnose ``gear_id``
     blind, and return the outcome with its sealed truth (a plain dict, so that it travels
     between processes and machines)."""
-    from threadpoolctl import threadpool_limits
 
-    from certkit.gap.attribution import diagnose
-    from certkit.spec.campaign import load_campaign
 
     try:
-        import numba
         numba.set_num_threads(1)          # one case per core
     except (ImportError, ValueError):
         pass
@@ -290,7 +296,6 @@ def _gap_to_truth(clean, gear_id: str, diagnosis) -> tuple[float, float]:
     """Held-out load RMSE against the noise-free truth (``clean``: the case written without
     sensor noise, quantisation or offsets) of the calibrated nominal model and of the model
     the diagnosis leaves: the gap itself, before and after, which no noise inflates."""
-    from certkit.physics.calibration import aligned_records
 
     out = []
     for configure in (diagnosis.calibration.apply, diagnosis.configure):
@@ -432,8 +437,6 @@ def _executor(workers: int | None, scheduler: str | None):
             raise BlindCheckError(f"cannot reach the dask scheduler at {scheduler}: "
                                   f"{error}") from error
         return contextlib.closing(client), client.get_executor()
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
 
     pool = ProcessPoolExecutor(max_workers=workers,
                                mp_context=multiprocessing.get_context("spawn"))
@@ -464,11 +467,6 @@ def blind_check(template: str | Path, gear_id: str | None = None,
     BlindCheckError
         When the cluster cannot be reached.
     """
-    from certkit.errors import CertkitInputError
-    from certkit.gap.holdout import split_for
-    from certkit.spec.blind_record import code_fingerprint, template_fingerprint
-    from certkit.spec.campaign import load_campaign
-    from certkit.version import VERSION as __version__
 
     template = str(Path(template).resolve())
     campaign = load_campaign(template)
@@ -491,7 +489,7 @@ def blind_check(template: str | Path, gear_id: str | None = None,
             outcomes.append(future.result())
             if progress:
                 progress(outcomes[-1])
-    document = {"kind": "certkit blind check", "certkit": __version__,
+    document = {"kind": "certkit blind check", "certkit": VERSION,
                 "template": {"spec": Path(template).name,
                              "sha256": template_fingerprint(campaign),
                              "fingerprint": "SHA-256 of the spec's content as validated "
@@ -513,8 +511,6 @@ def blind_check(template: str | Path, gear_id: str | None = None,
 def write_blind_check(document: dict, folder: str | Path) -> None:
     """``blind-check.json`` (the whole document) and ``blind-check-cases.csv`` (a row per
     case: truth, size, what was named, held-out load RMSE before and after)."""
-    import csv
-    import json
 
     folder = Path(folder)
     text = json.dumps(document, indent=1, sort_keys=True, ensure_ascii=False) + "\n"

@@ -39,6 +39,7 @@ from collections.abc import Sequence
 
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve, solve
+from scipy.signal import lfilter, lfiltic
 
 from certkit.ident.experiments import experiments as experiments_of
 from certkit.ident.experiments import signal
@@ -405,7 +406,6 @@ class HammersteinLSSVM:
         out[:n0] = y_init
         if n0 == u.size:
             return out
-        from scipy.signal import lfilter, lfiltic  # here: scipy.signal takes ~1 s to import
 
         den = np.concatenate(([1.0], -self.a_))
         past = y_init[::-1][:self.na]                # y_{n0-1}, y_{n0-2}, ...

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.signal import lfilter
 
 from certkit.ident.experiments import experiments
 
@@ -74,7 +75,6 @@ class ARX:
         """Free-run simulation from rest (zero past inputs and outputs; no measured output
         is used).  Identification signals are deviations that start at rest: the load and
         travels of a drop from touchdown, or the departures from a static point."""
-        from scipy.signal import lfilter  # here: scipy.signal takes ~1 s to import
 
         return lfilter(self.b_, np.concatenate([[1.0], -self.a_]), np.asarray(u, dtype=float))
 

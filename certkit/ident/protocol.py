@@ -35,17 +35,22 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.interpolate import CubicSpline
+from scipy.signal import butter, sosfiltfilt
 from threadpoolctl import threadpool_limits
 
 from certkit.compliance.measures import touchdown_index, touchdown_time
 from certkit.display import with_unit
+from certkit.errors import CertkitInputError
 from certkit.ident.hammerstein import HammersteinLSSVM
 from certkit.ident.lssvm import LSSVMRegressor, kfold_cost, tune
 from certkit.ident.narx import NARX
 from certkit.ident.validation import fit_percent, max_abs_error, nrmse, residual_analysis, rmse
 from certkit.ident.wiener import (SmallSignalExperiment, WienerModel, best_linear_records,
                                   physics_plant, small_signal_records)
+from certkit.physics.calibration import calibrate_gear, simulate_like_runs
 from certkit.physics.drops import default_split, drop_heights, recorded_drops
+from certkit.physics.gear_model import drop_model_for
 from certkit.spec.campaign import Campaign
 from certkit.spec.rundata import CHANNEL_LABELS
 from certkit.units import STANDARD_GRAVITY
@@ -93,8 +98,6 @@ def at_model_rate(time: np.ndarray, channels: dict) -> tuple[np.ndarray, dict]:
     order Butterworth at :data:`ANTI_ALIAS_CUTOFF`·MODEL_RATE, zero phase), and every
     channel is interpolated on the MODEL_RATE grid by a cubic spline in time.
     """
-    from scipy.interpolate import CubicSpline
-    from scipy.signal import butter, sosfiltfilt
 
     time = np.asarray(time, dtype=float)
     rate = 1.0 / float(np.median(np.diff(time)))
@@ -271,9 +274,6 @@ def _governing_equation(campaign: Campaign, gear_id: str, result: GearIdentifica
                         held: list[Drop]):
     """Nominal and calibrated (on the training runs only) drop models on the held-out runs;
     returns the calibrated model of the first held-out run (the Wiener plant), or None."""
-    from certkit.errors import CertkitInputError
-    from certkit.physics.calibration import calibrate_gear, simulate_like_runs
-    from certkit.physics.gear_model import drop_model_for
 
     try:
         calibration = calibrate_gear(campaign, gear_id, run_ids=list(result.training))

@@ -22,8 +22,11 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.signal import butter, sosfiltfilt
 
 from certkit.ident.linear_models import ARX
+from certkit.physics.simulation import simulate_driven
+from certkit.units import STANDARD_GRAVITY
 
 Plant = Callable[[np.ndarray], dict]
 
@@ -50,7 +53,6 @@ class SmallSignalExperiment:
 def excitation(samples: int, sample_rate: float, bandwidth: float, seed: int) -> np.ndarray:
     """Zero-mean random force of unit RMS, low-passed to ``bandwidth`` [Hz] (a small random
     signal, step 1), starting and ending at zero."""
-    from scipy.signal import butter, sosfiltfilt
 
     rng = np.random.default_rng(seed)
     signal = sosfiltfilt(butter(4, bandwidth, fs=sample_rate, output="sos"),
@@ -179,8 +181,6 @@ def physics_plant(model, samples: int, sample_rate: float, outputs=("stroke", "t
 
     The applied force is the unit's weight less lift plus the excitation; the outputs are
     the departures of stroke and tyre deflection from their resting values."""
-    from certkit.physics.simulation import simulate_driven
-    from certkit.units import STANDARD_GRAVITY
 
     time = np.arange(samples) / sample_rate
     weight = model.total_mass * STANDARD_GRAVITY - model.lift
