@@ -39,172 +39,30 @@ def build_view(assessment: Assessment, record: dict, model=None) -> ReportView:
     units = spec.report.units
     doc = spec.document
 
-    basis = []
-    for item in assessment.basis:
-        rules = item.rules
-        criteria = []
-        for criterion in rules.criteria:
-            applicable = not criterion.applies_if or getattr(item.entry, criterion.applies_if)
-            criteria.append({"id": criterion.id, "clause": criterion.clause,
-                             "title": criterion.title, "formula": criterion.formula,
-                             "applicable": "yes" if applicable else
-                             "no (strength not shown dynamically)"})
-        basis.append({
-            "id": rules.id, "title": rules.title, "edition": rules.edition,
-            "stated_edition": item.entry.edition or "not stated", "to_confirm": rules.to_confirm,
-            "status_note": rules.status_note, "criteria": criteria,
-            "derived": [_value_row(v, units) for v in item.values.values()]})
+    basis = _basis_view(assessment, units)
 
-    gear_rows = []
-    for gear in spec.gear_units:
-        strut = gear.strut
-        fields = [("Position", gear.position), ("Static weight W", gear.static_weight.text),
-                  ("Basis of W", gear.static_weight_basis + (f" — {gear.static_weight_note.strip()}"
-                                                           if gear.static_weight_note else "")),
-                  ("Shock absorber", gear.shock_absorber),
-                  ("Design stroke", gear.design_stroke.text),
-                  ("Tyre", f"{gear.tyre.size}, {gear.tyre.pressure.text} "
-                           f"({gear.tyre.pressure_reference})")]
-        if gear.wheel_diameter:
-            fields.append(("Wheel diameter", gear.wheel_diameter.text))
-        if strut is not None:
-            for name, label in (("gas_precharge_pressure", "Gas pre-charge pressure"),
-                                ("pressure_reference", "Gas pressure reference"),
-                                ("gas_volume", "Gas volume (extended)"),
-                                ("pneumatic_area", "Pneumatic area"),
-                                ("hydraulic_area", "Hydraulic area"),
-                                ("orifice_diameter", "Orifice diameter (compression)"),
-                                ("orifice_area", "Orifice area"),
-                                ("rebound_orifice_diameter", "Orifice diameter (rebound)"),
-                                ("discharge_coefficient", "Discharge coefficient"),
-                                ("oil_density", "Oil density"),
-                                ("polytropic_exponent", "Polytropic exponent"),
-                                ("inclination", "Strut inclination"),
-                                ("static_stroke", "Static stroke"),
-                                ("minimum_stroke", "Minimum stroke"),
-                                ("unsprung_mass", "Unsprung mass"), ("notes", "Notes")):
-                value = getattr(strut, name)
-                if value is not None:
-                    fields.append((label, getattr(value, "text", value)))
-        gear_rows.append({"id": gear.id, "fields": fields})
+    gear_rows = _gear_unit_rows(assessment, units)
 
-    instrumentation = None
-    if spec.instrumentation:
-        inst = spec.instrumentation
-        instrumentation = InstrumentationSection(**{
-            "sampling_rate": inst.sampling_rate.text, "logger": inst.logger or "not stated",
-            "channels": [{"name": c.name, "measures": c.measures,
-                          "transducer": c.transducer or "—", "range": c.range or "—",
-                          "filter": c.filter or "—",
-                          "calibration": (f"{c.calibration_date.isoformat()}"
-                                          f"{' (' + c.calibration_reference + ')' if c.calibration_reference else ''}"
-                                          if c.calibration_date else "not stated")}
-                         for c in inst.channels]})
+    instrumentation = _instrumentation(assessment, units)
 
-    matrix = []
-    for run in assessment.runs:
-        spec_run = run.run
-        matrix.append({
-            "id": spec_run.id, "type": spec_run.test_type,
-            "gears": ", ".join(spec_run.gear_units), "height": spec_run.drop_height.text,
-            "mass": spec_run.drop_mass.text,
-            "lift": spec_run.lift.method + (f", L = {spec_run.lift.ratio.text}"
-                                            if spec_run.lift.ratio else ""),
-            "data": spec_run.data.file if spec_run.data else "none (reported values)",
-            "date": spec_run.date.isoformat() if spec_run.date else "—"})
-    completeness = []
-    for item in assessment.basis:
-        for key, test_type, what in (("h_req", "limit", "Limit drop at ≥ h_req"),
-                                     ("h_reserve", "reserve", "Reserve drop at ≥ 1.44·h_req")):
-            if key not in item.values:
-                continue
-            required = item.values[key].value
-            runs = [r.run.id for r in assessment.runs
-                    if r.run.test_type == test_type and at_least(r.get("h"), required) == PASS]
-            completeness.append({"set": item.rules.id, "requirement": what,
-                                 "required": with_unit(required, "length", units),
-                                 "runs": ", ".join(runs) or "none",
-                                 "status": "present" if runs else "missing"})
+    matrix = _matrix_rows(assessment, units)
 
-    results_rows = []
-    for run in assessment.runs:
-        for gear in run.gears:
-            def cell(key, kind, gear=gear):
-                value = gear.values.get(key)
-                return ("—" if value is None
-                        else typed(value.typed, value.value, kind, units)[0])
-            energy_keys = [k for k in gear.values if k.startswith("n_j_energy[")]
-            results_rows.append({
-                "run": run.run.id, "gear": gear.gear_id,
-                "height": typed(run.run.drop_height.text, run.get("h"), "length", units)[0],
-                "d_s": cell("d_s", "length"), "d_t": cell("d_t", "length"),
-                "F_peak": cell("F_peak", "force"), "E_s": cell("E_s", "energy"),
-                "E_t": cell("E_t", "energy"), "eta_s": cell("eta_s", "ratio"),
-                "eta_t": cell("eta_t", "ratio"), "FW": cell("F/W", "ratio"),
-                "nE": cell(energy_keys[0], "ratio") if energy_keys else "—",
-                "basis": gear.basis})
+    completeness = _completeness_rows(assessment, units)
+
+    results_rows = _results_rows(assessment, units)
+
     results_units = {kind: pretty(getattr(units, kind))
                      for kind in ("length", "force", "energy")}
     load_factors, load_factor_statement = _load_factor_view(assessment)
 
-    runs = []
-    for run in assessment.runs:
-        gears = []
-        for gear in run.gears:
-            gears.append({"id": gear.gear_id, "basis": gear.basis,
-                          "value_rows": [_value_row(v, units) for v in gear.values.values()]})
-        figures = []
-        if run.series is not None:
-            from certkit.evidence.figures import \
-                run_figures  # matplotlib only when there is something to plot
+    runs = _run_views(assessment, units)
 
-            touchdowns = [g.get("t0") for g in run.gears if g.get("t0") is not None]
-            figures = [dict(f, svg=Markup(f["svg"])) for f in run_figures(
-                run.run.id, run.series.time,
-                {g.gear_id: (run.series.gears[g.gear_id], g.measures) for g in run.gears
-                 if g.measures is not None},
-                min(touchdowns) if touchdowns else None, units)]
-        inspection = run.run.inspection
-        runs.append({
-            "id": run.run.id, "type": run.run.test_type,
-            "value_rows": [_value_row(v, units) for v in run.values.values()],
-            "gears": gears, "figures": figures,
-            "deviations": list(run.run.deviations),
-            "inspection": None if inspection is None else {
-                "failure": {True: "yes", False: "no", None: "not recorded"}[inspection.failure],
-                "yielding": {True: "yes", False: "no", None: "not recorded"}[inspection.yielding],
-                "permanent_set": inspection.permanent_set.text if inspection.permanent_set
-                else "not recorded", "notes": inspection.notes or ""},
-            "notes": run.run.notes or ""})
-
-    verdicts = []
-    for verdict in assessment.verdicts:
-        kind = verdict.kind
-        verdicts.append({
-            "id": verdict.id, "set": verdict.requirement_set, "clause": verdict.clause,
-            "title": verdict.title, "scope": " / ".join(p for p in (verdict.run, verdict.gear) if p)
-            or "campaign", "value": with_unit(verdict.value, kind, units),
-            "limit": (f"{verdict.comparison} {with_unit(verdict.limit, kind, units)}"
-                      if verdict.limit is not None else "—"),
-            "margin": margin(verdict.margin, verdict.limit, kind, units),
-            "verdict": verdict.verdict,
-            "css": verdict.verdict.replace(" ", "-").lower(), "reason": verdict.reason,
-            "to_confirm": verdict.to_confirm})
+    verdicts = _verdict_rows(assessment, units)
 
     findings = [{"id": f.id, "severity": f.severity, "message": f.message}
                 for f in sorted(assessment.findings,
                                 key=lambda f: ("error", "warning", "info").index(f.severity))]
-    comparisons = []
-    for item in assessment.comparisons:
-        comparisons.append({
-            "scope": " / ".join(p for p in (item.run, item.gear) if p) or "campaign",
-            "quantity": item.quantity, "reported": item.reported_text,
-            "recomputed": with_unit(item.recomputed, item.kind, units),
-            "difference": ("—" if item.difference is None or item.recomputed in (None, 0)
-                           else f"{item.difference / item.recomputed:+.2%}"),
-            "tolerance": with_unit(item.tolerance, item.kind, units),
-            "agrees": {True: "agrees", False: "DISAGREES", None: "—"}[item.agrees],
-            "basis": item.basis})
+    comparisons = _comparison_rows(assessment, units)
 
     counts = assessment.counts()
     finding_counts = assessment.finding_counts()
@@ -253,6 +111,205 @@ def build_view(assessment: Assessment, record: dict, model=None) -> ReportView:
                                               drop_heights(campaign)),
         "gap": gap_view(model, campaign, units),
     })
+
+
+def _basis_view(assessment: Assessment, units) -> list[dict]:
+    basis = []
+    for item in assessment.basis:
+        rules = item.rules
+        criteria = []
+        for criterion in rules.criteria:
+            applicable = not criterion.applies_if or getattr(item.entry, criterion.applies_if)
+            criteria.append({"id": criterion.id, "clause": criterion.clause,
+                             "title": criterion.title, "formula": criterion.formula,
+                             "applicable": "yes" if applicable else
+                             "no (strength not shown dynamically)"})
+        basis.append({
+            "id": rules.id, "title": rules.title, "edition": rules.edition,
+            "stated_edition": item.entry.edition or "not stated", "to_confirm": rules.to_confirm,
+            "status_note": rules.status_note, "criteria": criteria,
+            "derived": [_value_row(v, units) for v in item.values.values()]})
+    return basis
+
+
+
+def _gear_unit_rows(assessment: Assessment, units) -> list[dict]:
+    spec = assessment.campaign.spec
+    gear_rows = []
+    for gear in spec.gear_units:
+        strut = gear.strut
+        fields = [("Position", gear.position), ("Static weight W", gear.static_weight.text),
+                  ("Basis of W", gear.static_weight_basis + (f" — {gear.static_weight_note.strip()}"
+                                                           if gear.static_weight_note else "")),
+                  ("Shock absorber", gear.shock_absorber),
+                  ("Design stroke", gear.design_stroke.text),
+                  ("Tyre", f"{gear.tyre.size}, {gear.tyre.pressure.text} "
+                           f"({gear.tyre.pressure_reference})")]
+        if gear.wheel_diameter:
+            fields.append(("Wheel diameter", gear.wheel_diameter.text))
+        if strut is not None:
+            for name, label in (("gas_precharge_pressure", "Gas pre-charge pressure"),
+                                ("pressure_reference", "Gas pressure reference"),
+                                ("gas_volume", "Gas volume (extended)"),
+                                ("pneumatic_area", "Pneumatic area"),
+                                ("hydraulic_area", "Hydraulic area"),
+                                ("orifice_diameter", "Orifice diameter (compression)"),
+                                ("orifice_area", "Orifice area"),
+                                ("rebound_orifice_diameter", "Orifice diameter (rebound)"),
+                                ("discharge_coefficient", "Discharge coefficient"),
+                                ("oil_density", "Oil density"),
+                                ("polytropic_exponent", "Polytropic exponent"),
+                                ("inclination", "Strut inclination"),
+                                ("static_stroke", "Static stroke"),
+                                ("minimum_stroke", "Minimum stroke"),
+                                ("unsprung_mass", "Unsprung mass"), ("notes", "Notes")):
+                value = getattr(strut, name)
+                if value is not None:
+                    fields.append((label, getattr(value, "text", value)))
+        gear_rows.append({"id": gear.id, "fields": fields})
+    return gear_rows
+
+
+
+def _instrumentation(assessment: Assessment, units) -> InstrumentationSection | None:
+    spec = assessment.campaign.spec
+    instrumentation = None
+    if spec.instrumentation:
+        inst = spec.instrumentation
+        instrumentation = InstrumentationSection(**{
+            "sampling_rate": inst.sampling_rate.text, "logger": inst.logger or "not stated",
+            "channels": [{"name": c.name, "measures": c.measures,
+                          "transducer": c.transducer or "—", "range": c.range or "—",
+                          "filter": c.filter or "—",
+                          "calibration": (f"{c.calibration_date.isoformat()}"
+                                          f"{' (' + c.calibration_reference + ')' if c.calibration_reference else ''}"
+                                          if c.calibration_date else "not stated")}
+                         for c in inst.channels]})
+    return instrumentation
+
+
+
+def _matrix_rows(assessment: Assessment, units) -> list[dict]:
+    matrix = []
+    for run in assessment.runs:
+        spec_run = run.run
+        matrix.append({
+            "id": spec_run.id, "type": spec_run.test_type,
+            "gears": ", ".join(spec_run.gear_units), "height": spec_run.drop_height.text,
+            "mass": spec_run.drop_mass.text,
+            "lift": spec_run.lift.method + (f", L = {spec_run.lift.ratio.text}"
+                                            if spec_run.lift.ratio else ""),
+            "data": spec_run.data.file if spec_run.data else "none (reported values)",
+            "date": spec_run.date.isoformat() if spec_run.date else "—"})
+    return matrix
+
+
+
+def _completeness_rows(assessment: Assessment, units) -> list[dict]:
+    completeness = []
+    for item in assessment.basis:
+        for key, test_type, what in (("h_req", "limit", "Limit drop at ≥ h_req"),
+                                     ("h_reserve", "reserve", "Reserve drop at ≥ 1.44·h_req")):
+            if key not in item.values:
+                continue
+            required = item.values[key].value
+            runs = [r.run.id for r in assessment.runs
+                    if r.run.test_type == test_type and at_least(r.get("h"), required) == PASS]
+            completeness.append({"set": item.rules.id, "requirement": what,
+                                 "required": with_unit(required, "length", units),
+                                 "runs": ", ".join(runs) or "none",
+                                 "status": "present" if runs else "missing"})
+    return completeness
+
+
+
+def _results_rows(assessment: Assessment, units) -> list[dict]:
+    results_rows = []
+    for run in assessment.runs:
+        for gear in run.gears:
+            def cell(key, kind, gear=gear):
+                value = gear.values.get(key)
+                return ("—" if value is None
+                        else typed(value.typed, value.value, kind, units)[0])
+            energy_keys = [k for k in gear.values if k.startswith("n_j_energy[")]
+            results_rows.append({
+                "run": run.run.id, "gear": gear.gear_id,
+                "height": typed(run.run.drop_height.text, run.get("h"), "length", units)[0],
+                "d_s": cell("d_s", "length"), "d_t": cell("d_t", "length"),
+                "F_peak": cell("F_peak", "force"), "E_s": cell("E_s", "energy"),
+                "E_t": cell("E_t", "energy"), "eta_s": cell("eta_s", "ratio"),
+                "eta_t": cell("eta_t", "ratio"), "FW": cell("F/W", "ratio"),
+                "nE": cell(energy_keys[0], "ratio") if energy_keys else "—",
+                "basis": gear.basis})
+    return results_rows
+
+
+
+def _run_views(assessment: Assessment, units) -> list[dict]:
+    runs = []
+    for run in assessment.runs:
+        gears = []
+        for gear in run.gears:
+            gears.append({"id": gear.gear_id, "basis": gear.basis,
+                          "value_rows": [_value_row(v, units) for v in gear.values.values()]})
+        figures = []
+        if run.series is not None:
+            from certkit.evidence.figures import \
+                run_figures  # matplotlib only when there is something to plot
+
+            touchdowns = [g.get("t0") for g in run.gears if g.get("t0") is not None]
+            figures = [dict(f, svg=Markup(f["svg"])) for f in run_figures(
+                run.run.id, run.series.time,
+                {g.gear_id: (run.series.gears[g.gear_id], g.measures) for g in run.gears
+                 if g.measures is not None},
+                min(touchdowns) if touchdowns else None, units)]
+        inspection = run.run.inspection
+        runs.append({
+            "id": run.run.id, "type": run.run.test_type,
+            "value_rows": [_value_row(v, units) for v in run.values.values()],
+            "gears": gears, "figures": figures,
+            "deviations": list(run.run.deviations),
+            "inspection": None if inspection is None else {
+                "failure": {True: "yes", False: "no", None: "not recorded"}[inspection.failure],
+                "yielding": {True: "yes", False: "no", None: "not recorded"}[inspection.yielding],
+                "permanent_set": inspection.permanent_set.text if inspection.permanent_set
+                else "not recorded", "notes": inspection.notes or ""},
+            "notes": run.run.notes or ""})
+    return runs
+
+
+
+def _verdict_rows(assessment: Assessment, units) -> list[dict]:
+    verdicts = []
+    for verdict in assessment.verdicts:
+        kind = verdict.kind
+        verdicts.append({
+            "id": verdict.id, "set": verdict.requirement_set, "clause": verdict.clause,
+            "title": verdict.title, "scope": " / ".join(p for p in (verdict.run, verdict.gear) if p)
+            or "campaign", "value": with_unit(verdict.value, kind, units),
+            "limit": (f"{verdict.comparison} {with_unit(verdict.limit, kind, units)}"
+                      if verdict.limit is not None else "—"),
+            "margin": margin(verdict.margin, verdict.limit, kind, units),
+            "verdict": verdict.verdict,
+            "css": verdict.verdict.replace(" ", "-").lower(), "reason": verdict.reason,
+            "to_confirm": verdict.to_confirm})
+    return verdicts
+
+
+
+def _comparison_rows(assessment: Assessment, units) -> list[dict]:
+    comparisons = []
+    for item in assessment.comparisons:
+        comparisons.append({
+            "scope": " / ".join(p for p in (item.run, item.gear) if p) or "campaign",
+            "quantity": item.quantity, "reported": item.reported_text,
+            "recomputed": with_unit(item.recomputed, item.kind, units),
+            "difference": ("—" if item.difference is None or item.recomputed in (None, 0)
+                           else f"{item.difference / item.recomputed:+.2%}"),
+            "tolerance": with_unit(item.tolerance, item.kind, units),
+            "agrees": {True: "agrees", False: "DISAGREES", None: "—"}[item.agrees],
+            "basis": item.basis})
+    return comparisons
 
 
 def _audit_settings(settings, units) -> dict[str, str]:
