@@ -348,109 +348,135 @@ def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None
              else None)
     grid = np.linspace(0.0, max(d.load.max() for d in drops), 200)
     for output in OUTPUTS:
-        # Hammerstein: tuned on the training runs only, for both protocols
-        tuned = _hammerstein(train, output, settings.hammerstein)
-        paper = _refit(HammersteinLSSVM(settings.hammerstein.na, settings.hammerstein.nb,
-                                        gamma=tuned.gamma, sigma2=tuned.sigma2),
-                       [paper_train], output)
-        na = settings.hammerstein.na
-        for protocol, model in (("held-out", tuned), ("paper", paper)):
-            if not model.stable_:
-                result.notes.append(
-                    f"{OUTPUT_LABELS[output]}, {protocol} protocol: the Hammerstein model's AR "
-                    f"part is unstable (largest |pole| {np.max(np.abs(model.poles_)):.4g}); "
-                    f"its free run diverges, so it is not scored")
-                continue
-            for test in (held if protocol == "held-out" else [first]):
-                y = test.outputs[output]
-                result.scores.append(_score("Hammerstein", protocol, output, test.run, y,
-                                            model.simulate(test.load, y[:na])))
-                if protocol == "held-out":
-                    _whiteness(result, "Hammerstein", output, test, model.predict(test.load, y))
-        result.hammerstein_ratio[output] = tuned.singular_value_ratio_
-        result.nonlinearities[("Hammerstein", output)] = (grid, tuned.nonlinearity(grid))
-
-        # NARX (black-box reference), tuned on the training runs' free-run error
-        spec = settings.narx
-        tuned_narx = NARX(spec.na, spec.nb, 1, spec.gamma.si if spec.gamma else None,
-                          spec.sigma2.si if spec.sigma2 else None, engine="fixed-size",
-                          prototypes=150, tuning={"grid": 3, "max_refine": 8}).fit(
-            [d.load for d in train], [d.outputs[output] for d in train])
-        paper_narx = _refit(NARX(spec.na, spec.nb, 1, tuned_narx.gamma_, tuned_narx.sigma2_,
-                                 engine="fixed-size", prototypes=150), [paper_train], output)
-        for test in held:
-            y = test.outputs[output]
-            result.scores.append(_score("NARX", "held-out", output, test.run, y,
-                                        tuned_narx.simulate(test.load, y[:tuned_narx.init_length])))
-            _whiteness(result, "NARX", output, test, tuned_narx.predict(test.load, y))
-        y = first.outputs[output]
-        result.scores.append(_score("NARX", "paper", output, first.run, y,
-                                    paper_narx.simulate(first.load, y[:paper_narx.init_length])))
-
-        # Wiener: the linear block from small-signal records, the nonlinearity from drops
-        routes = {}
-        small = settings.small_signal
-        if recorded is not None:
-            run_id, force, outputs = recorded
-            routes["Wiener (small-signal)"] = SmallSignalExperiment(
-                force=[force], responses={output: [outputs[output]]}, accepted=True)
-            result.notes.append(f"{OUTPUT_LABELS[output]}: the small-signal Wiener block comes "
-                                f"from recorded run {run_id}; with one record the K-scaling "
-                                f"linearity check cannot be made")
-        elif plant is not None:
-            experiment = small_signal_records(plant, [output], PLANT_SAMPLES, MODEL_RATE,
-                                              amplitude=small.amplitude.si, gain=small.gain.si,
-                                              tolerance=small.tolerance.si)
-            result.small_signal[output] = experiment.steps
-            if experiment.accepted:
-                routes["Wiener (small-signal)"] = experiment
-                friction = plant_model.effect("seal friction")
-                accepted = max(step.amplitude for step in experiment.steps if step.accepted)
-                if friction is not None and output == "stroke":
-                    breakout = friction.constant + friction.pressure_factor * (
-                        plant_model.upper_mass * STANDARD_GRAVITY)
-                    if 3.0 * accepted < breakout:
-                        result.notes.append(
-                            f"strut stroke: the small-signal force accepted as linear "
-                            f"({with_unit(accepted, 'force', units)} RMS) stays below the seal "
-                            f"friction's breakout (about {with_unit(breakout, 'force', units)}): "
-                            f"the linear block describes the strut "
-                            f"held by its seals, not its dynamics in a drop")
-            else:
-                result.notes.append(f"{OUTPUT_LABELS[output]}: the small-signal method found no "
-                                    f"amplitude with a linear response; no small-signal Wiener "
-                                    f"model")
-        if plant is not None:
-            amplitude = float(np.sqrt(np.mean(np.concatenate([d.load for d in train]) ** 2)))
-            routes["Wiener (BLA)"] = best_linear_records(plant, [output], PLANT_SAMPLES,
-                                                         MODEL_RATE, amplitude=amplitude * 1e3)
-        target = settings.nonlinearity_target.si * 1e3
-        for name, records in routes.items():
-            wiener = WienerModel(settings.wiener.na, settings.wiener.nb).fit_linear(
-                [f / 1e3 for f in records.force], [r * 1e3 for r in records.responses[output]])
-            result.linear_blocks[(name, output)] = wiener.raw_linear_
-            if not wiener.raw_linear_.stable_:
-                result.notes.append(f"{OUTPUT_LABELS[output]}: the {name} linear block is "
-                                    f"unstable; no Wiener model on this route")
-                continue
-            if not wiener.raw_linear_.gain_determined:
-                result.notes.append(f"{OUTPUT_LABELS[output]}: the {name} linear block's static "
-                                    f"gain is not determined (Σb or 1 − Σa near zero); it is "
-                                    f"scaled to unit ‖b‖ instead of unit gain")
-            wiener.fit_nonlinearity([d.load for d in train], [d.outputs[output] for d in train],
-                                    _static_map(settings.wiener, target))
-            z_grid = np.linspace(*wiener.z_range_, 200)
-            result.nonlinearities[(name, output)] = (
-                z_grid, wiener.nonlinearity_.predict(z_grid[:, None]))
-            for test in held:
-                result.scores.append(_score(name, "held-out", output, test.run,
-                                            test.outputs[output], wiener.simulate(test.load)))
-            fitted = wiener.nonlinearity_   # the paper's protocol reuses the tuned (γ, σ²)
-            wiener.fit_nonlinearity([paper_train.load], [paper_train.outputs[output]],
-                                    lambda x, y: LSSVMRegressor(fitted.gamma, fitted.sigma2).fit(x, y))
-            result.scores.append(_score(name, "paper", output, first.run,
-                                        first.outputs[output], wiener.simulate(first.load)))
+        _identify_hammerstein(result, output, train, held, paper_train, settings, grid)
+        _identify_narx(result, output, train, held, paper_train, settings)
+        routes = _wiener_routes(result, output, recorded, plant, plant_model, train, settings,
+                                units)
+        _identify_wiener(result, output, routes, train, held, paper_train, settings)
     return result
+
+
+def _identify_hammerstein(result, output, train, held, paper_train, settings, grid) -> None:
+    """Hammerstein LS-SVM of one output: tuned on the training runs, scored on both protocols."""
+    first = held[0]
+    # Hammerstein: tuned on the training runs only, for both protocols
+    tuned = _hammerstein(train, output, settings.hammerstein)
+    paper = _refit(HammersteinLSSVM(settings.hammerstein.na, settings.hammerstein.nb,
+                                    gamma=tuned.gamma, sigma2=tuned.sigma2),
+                   [paper_train], output)
+    na = settings.hammerstein.na
+    for protocol, model in (("held-out", tuned), ("paper", paper)):
+        if not model.stable_:
+            result.notes.append(
+                f"{OUTPUT_LABELS[output]}, {protocol} protocol: the Hammerstein model's AR "
+                f"part is unstable (largest |pole| {np.max(np.abs(model.poles_)):.4g}); "
+                f"its free run diverges, so it is not scored")
+            continue
+        for test in (held if protocol == "held-out" else [first]):
+            y = test.outputs[output]
+            result.scores.append(_score("Hammerstein", protocol, output, test.run, y,
+                                        model.simulate(test.load, y[:na])))
+            if protocol == "held-out":
+                _whiteness(result, "Hammerstein", output, test, model.predict(test.load, y))
+    result.hammerstein_ratio[output] = tuned.singular_value_ratio_
+    result.nonlinearities[("Hammerstein", output)] = (grid, tuned.nonlinearity(grid))
+
+
+def _identify_narx(result, output, train, held, paper_train, settings) -> None:
+    """The LS-SVM NARX reference of one output, tuned on the training runs' free-run error."""
+    first = held[0]
+    # NARX (black-box reference), tuned on the training runs' free-run error
+    spec = settings.narx
+    tuned_narx = NARX(spec.na, spec.nb, 1, spec.gamma.si if spec.gamma else None,
+                      spec.sigma2.si if spec.sigma2 else None, engine="fixed-size",
+                      prototypes=150, tuning={"grid": 3, "max_refine": 8}).fit(
+        [d.load for d in train], [d.outputs[output] for d in train])
+    paper_narx = _refit(NARX(spec.na, spec.nb, 1, tuned_narx.gamma_, tuned_narx.sigma2_,
+                             engine="fixed-size", prototypes=150), [paper_train], output)
+    for test in held:
+        y = test.outputs[output]
+        result.scores.append(_score("NARX", "held-out", output, test.run, y,
+                                    tuned_narx.simulate(test.load, y[:tuned_narx.init_length])))
+        _whiteness(result, "NARX", output, test, tuned_narx.predict(test.load, y))
+    y = first.outputs[output]
+    result.scores.append(_score("NARX", "paper", output, first.run, y,
+                                paper_narx.simulate(first.load, y[:paper_narx.init_length])))
+
+
+def _wiener_routes(result, output, recorded, plant, plant_model, train, settings, units) -> dict:
+    """The records a Wiener linear block of one output is identified from, by route: a recorded
+    small-signal run, else the small-signal method on the calibrated plant; and the best
+    linear approximation on the plant."""
+    # Wiener: the linear block from small-signal records, the nonlinearity from drops
+    routes = {}
+    small = settings.small_signal
+    if recorded is not None:
+        run_id, force, outputs = recorded
+        routes["Wiener (small-signal)"] = SmallSignalExperiment(
+            force=[force], responses={output: [outputs[output]]}, accepted=True)
+        result.notes.append(f"{OUTPUT_LABELS[output]}: the small-signal Wiener block comes "
+                            f"from recorded run {run_id}; with one record the K-scaling "
+                            f"linearity check cannot be made")
+    elif plant is not None:
+        experiment = small_signal_records(plant, [output], PLANT_SAMPLES, MODEL_RATE,
+                                          amplitude=small.amplitude.si, gain=small.gain.si,
+                                          tolerance=small.tolerance.si)
+        result.small_signal[output] = experiment.steps
+        if experiment.accepted:
+            routes["Wiener (small-signal)"] = experiment
+            friction = plant_model.effect("seal friction")
+            accepted = max(step.amplitude for step in experiment.steps if step.accepted)
+            if friction is not None and output == "stroke":
+                breakout = friction.constant + friction.pressure_factor * (
+                    plant_model.upper_mass * STANDARD_GRAVITY)
+                if 3.0 * accepted < breakout:
+                    result.notes.append(
+                        f"strut stroke: the small-signal force accepted as linear "
+                        f"({with_unit(accepted, 'force', units)} RMS) stays below the seal "
+                        f"friction's breakout (about {with_unit(breakout, 'force', units)}): "
+                        f"the linear block describes the strut "
+                        f"held by its seals, not its dynamics in a drop")
+        else:
+            result.notes.append(f"{OUTPUT_LABELS[output]}: the small-signal method found no "
+                                f"amplitude with a linear response; no small-signal Wiener "
+                                f"model")
+    if plant is not None:
+        amplitude = float(np.sqrt(np.mean(np.concatenate([d.load for d in train]) ** 2)))
+        routes["Wiener (BLA)"] = best_linear_records(plant, [output], PLANT_SAMPLES,
+                                                     MODEL_RATE, amplitude=amplitude * 1e3)
+    return routes
+
+
+def _identify_wiener(result, output, routes, train, held, paper_train, settings) -> None:
+    """Wiener models of one output on each route: the linear block from its records, the
+    static nonlinearity from the training drops; scored on both protocols."""
+    first = held[0]
+    target = settings.nonlinearity_target.si * 1e3
+    for name, records in routes.items():
+        wiener = WienerModel(settings.wiener.na, settings.wiener.nb).fit_linear(
+            [f / 1e3 for f in records.force], [r * 1e3 for r in records.responses[output]])
+        result.linear_blocks[(name, output)] = wiener.raw_linear_
+        if not wiener.raw_linear_.stable_:
+            result.notes.append(f"{OUTPUT_LABELS[output]}: the {name} linear block is "
+                                f"unstable; no Wiener model on this route")
+            continue
+        if not wiener.raw_linear_.gain_determined:
+            result.notes.append(f"{OUTPUT_LABELS[output]}: the {name} linear block's static "
+                                f"gain is not determined (Σb or 1 − Σa near zero); it is "
+                                f"scaled to unit ‖b‖ instead of unit gain")
+        wiener.fit_nonlinearity([d.load for d in train], [d.outputs[output] for d in train],
+                                _static_map(settings.wiener, target))
+        z_grid = np.linspace(*wiener.z_range_, 200)
+        result.nonlinearities[(name, output)] = (
+            z_grid, wiener.nonlinearity_.predict(z_grid[:, None]))
+        for test in held:
+            result.scores.append(_score(name, "held-out", output, test.run,
+                                        test.outputs[output], wiener.simulate(test.load)))
+        fitted = wiener.nonlinearity_   # the paper's protocol reuses the tuned (γ, σ²)
+        wiener.fit_nonlinearity([paper_train.load], [paper_train.outputs[output]],
+                                lambda x, y: LSSVMRegressor(fitted.gamma, fitted.sigma2).fit(x, y))
+        result.scores.append(_score(name, "paper", output, first.run,
+                                    first.outputs[output], wiener.simulate(first.load)))
 
 
 def identify(campaign: Campaign, gears: list[str] | None = None) -> Identification:
