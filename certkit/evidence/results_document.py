@@ -1,5 +1,8 @@
 """The machine-readable evidence: results.json (``format: certkit-results/1``, SI and full
 precision) and the CSV tables, from the assessment and the model evidence.
+
+The model stage's documents are imported where a model evidence is written: a report without
+the drop model does not load that stage (about 0.66 s of start-up, ``python -X importtime``).
 """
 
 from __future__ import annotations
