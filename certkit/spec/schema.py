@@ -408,7 +408,8 @@ class DisplayUnits(SpecBlock):
 
 
 #: The effects a campaign can switch on: the names of certkit.physics.effects' registry (kept
-#: here so a spec validates without the physics; tests/test_effects.py holds the two equal).
+#: here so a spec validates without the physics; tests/test_effect_registry.py holds the two
+#: equal).
 Effect = Literal["seal-friction", "rebound-orifice", "metering-pin", "tyre-hysteresis",
                  "heat-transfer", "oil-compressibility", "leg-flexibility",
                  "platform-compliance", "sensor-dynamics", "load-cell-gain"]
