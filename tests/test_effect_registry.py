@@ -41,8 +41,11 @@ def test_every_effect_has_one_label_and_one_name():
 
 def test_each_part_of_an_effect_is_filed_under_its_own_label():
     for effect in EFFECTS:
-        if effect.candidate:
-            assert effect.candidate.name == effect.label
+        for candidate in effect.candidates:
+            assert candidate.name == effect.label
+        keys = [c.key for c in effect.candidates]   # an effect's forms are told apart
+        assert len(set(keys)) == len(keys)
+        assert all(c.form for c in effect.candidates) or len(effect.candidates) <= 1
         if effect.truth:
             assert effect.truth.candidate == effect.label
         for knob in effect.knobs:

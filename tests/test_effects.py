@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from certkit.physics.effects import (GasHeatTransfer, LegFlexibility, OilCompressibility,
-                             PlatformCompliance)
+                                     PlatformCompliance, ReboundOrifice, SensorLag,
+                                     TyreHysteresis)
 from certkit.physics.simulation import simulate_batch, simulate_reference
 
 from .test_drop_model import PISTON, seed_gear
@@ -21,7 +22,11 @@ EFFECTS = {
     "heat transfer": GasHeatTransfer(time_constant=1.0),
     "oil compressibility": OilCompressibility.from_oil(1.5e9, PISTON, 3e-4),
     "leg flexibility": LegFlexibility(axle_mass=5.0, stiffness=3e6, damping=300.0),
+    "leg above the strut": LegFlexibility(axle_mass=18.0, stiffness=1e7, damping=800.0,
+                                          above=True),
     "platform compliance": PlatformCompliance(mass=50.0, stiffness=5e7, damping=5000.0),
+    "constant tyre loop": TyreHysteresis(0.0, constant=300.0),
+    "linear rebound": ReboundOrifice(0.0, linear=2000.0),
 }
 
 
@@ -101,6 +106,7 @@ def test_cooling_gas_lets_the_strut_sink_after_the_drop(reference):
 @pytest.mark.parametrize("name, stiff", [
     ("oil compressibility", OilCompressibility(1e11)),
     ("leg flexibility", LegFlexibility(5.0, 1e9, 2e4)),
+    ("leg above the strut", LegFlexibility(5.0, 1e9, 2e4, above=True)),
     ("platform compliance", PlatformCompliance(1.0, 1e9, 2e4)),
 ])
 def test_a_very_stiff_element_reduces_to_the_nominal_model(reference, name, stiff):
@@ -195,3 +201,73 @@ def test_resting_state_with_heat_transfer_is_isothermal():
 def test_degenerate_models_are_refused(change):
     with pytest.raises(ValueError):
         replace(seed_gear(), **change)
+
+
+@pytest.mark.parametrize("above", [False, True])
+def test_the_resting_state_with_a_flexible_leg_is_an_equilibrium(above):
+    # static_state (the small-signal plant's start, the ground replaced by an applied
+    # force) puts the strut at the gas law's equilibrium and the leg's spring at the
+    # deflection its load gives (the weight below it at the axle, the weight above it when
+    # the leg is above the strut): under the unit's weight every acceleration is zero
+    from certkit.physics import dynamics as dyn
+    from certkit.physics.simulation import static_state
+
+    base = replace(seed_gear(friction=False), effects=())
+    model = replace(base, effects=(LegFlexibility(5.0, 3e6, 300.0, above=above),))
+    rates = np.empty(dyn.STATES)
+    dyn.driven_rates(model.pack(), static_state(model), rates, model.total_mass * G)
+    for slot in (dyn.V1, dyn.V2, dyn.VW):
+        assert abs(rates[slot]) < 1e-6 * G
+
+
+def test_a_constant_tyre_loop_has_the_same_width_at_any_load(reference):
+    # F = f(δ)·(1 + C_T·δ̇) + H·(1 − e^(−δ/δ_H))·tanh(δ̇/v): past the onset the loop adds
+    # +H while the tyre is compressed fast and −H while it extends fast, whatever f(δ).
+    # Compare the load with the nominal model's tyre law evaluated on the same deflection.
+    drop = reference["constant tyre loop"]
+    model = seed_gear(friction=False)
+    tyre = model.tyre
+    rate = np.gradient(drop.tyre, drop.time)
+    law = tyre.static_force(drop.tyre) * (1 + tyre.damping * rate)
+    excess = drop.load - law
+    fast = (drop.tyre > 0.01) & (np.abs(rate) > 0.1)          # δ ≫ δ_H, |δ̇| ≫ v
+    loading, unloading = excess[fast & (rate > 0)], excess[fast & (rate < 0)]
+    assert loading.size > 5 and unloading.size > 5
+    assert np.median(loading) == pytest.approx(300.0, rel=0.05)
+    assert np.median(unloading) == pytest.approx(-300.0, rel=0.05)
+
+
+@pytest.mark.parametrize("rate, extra", [(-0.5, 2000.0 * -0.5), (0.5, 0.0)])
+def test_linear_rebound_damping_acts_on_extension_only(rate, extra):
+    # c·ṡ added to the strut force when ṡ < 0: at a state with the strut extending at
+    # 0.5 m/s the upper mass's acceleration changes by −c·ṡ/m1 (its force is −F_s/m1);
+    # compressing, not at all
+    from certkit.physics import dynamics as dyn
+
+    base = replace(seed_gear(friction=False), effects=())
+    linear = replace(base, effects=(ReboundOrifice(0.0, linear=2000.0),))
+    state = base.initial_state(0.0)
+    state[dyn.Z1] = 0.05                       # 50 mm of stroke, inside the stops
+    state[dyn.V1] = rate
+    change = linear.rates(state)[dyn.V1] - base.rates(state)[dyn.V1]
+    assert change == pytest.approx(-extra / base.upper_mass, abs=1e-9)
+
+
+def test_a_second_order_sensor_lag_is_two_first_order_lags_in_cascade():
+    # a unit step through two lags of τ: 1 − (1 + t/τ)·e^(−t/τ) (the critically damped
+    # second-order step response), sampled at 1 kHz; the first-order one: 1 − e^(−t/τ)
+    step, tau = 1e-3, 2e-3
+    signal = np.r_[np.zeros(5), np.ones(40)]
+    t = np.arange(40) * step
+    second = SensorLag(tau, order=2).apply(step, signal)[5:]
+    first = SensorLag(tau).apply(step, signal)[5:]
+    # y[n] = a·y[n−1] + (1 − a)·x[n], a = e^(−Δt/τ): after a unit step at sample 0,
+    # y[k] = 1 − a^(k+1)
+    assert first == pytest.approx(1 - np.exp(-(t + step) / tau), abs=1e-12)
+    # two in cascade: impulse response (1 − a)²·(n + 1)·aⁿ, so the step response is
+    # y[k] = 1 − (k + 2)·a^(k+1) + (k + 1)·a^(k+2)
+    a, k = np.exp(-step / tau), np.arange(40)
+    assert second == pytest.approx(1 - (k + 2) * a ** (k + 1) + (k + 1) * a ** (k + 2),
+                                   abs=1e-12)
+    with pytest.raises(ValueError):
+        SensorLag(tau, order=3)

@@ -251,7 +251,7 @@ def test_the_gap_section_lays_out_the_diagnosis(diagnosed, with_hysteresis):
     assert ("the default (every drop at the highest drop height held out, and at the middle "
             "one from 4 heights up)") in section          # holdout.MIDDLE_FROM = 4
     # thresholds are the code's, not typed into the template
-    from certkit.gap.attribution import RELEVANT
+    from certkit.gap.selection import RELEVANT
     assert f"would remove at least {RELEVANT:g} σ" in section
     # no blind check recorded for this campaign: the section says how to make one
     assert "has not been recorded for this campaign" in section

@@ -75,10 +75,10 @@ def _gap_largest(gap_map, units) -> str:
 
 
 def _gap_steps(gap, units) -> list[dict]:
-    from certkit.gap.attribution import CANDIDATES, TIE_COSINE, TIE_COST
+    from certkit.gap.selection import CANDIDATES, TIE_COST
 
     diagnosis = gap.diagnosis
-    sizes = {c.name: c.unit_size for c in CANDIDATES}
+    sizes = {c.key: c.unit_size for c in CANDIDATES}
     steps = []
     for index, (attribution, fits) in enumerate(diagnosis.steps):
         beat = diagnosis.step_costs[index]
@@ -96,9 +96,10 @@ def _gap_steps(gap, units) -> list[dict]:
             cosine = attribution.confusability.get((a, b), attribution.confusability.get((b, a)))
             if cosine is not None:
                 pair = (f"Confusability of the leading pair, {a} and {b}: the cosine of their "
-                        f"projected signatures is {cosine:.3f} (at {TIE_COSINE:g} or more, with "
-                        f"refitted training costs within a ratio of {TIE_COST:g}, they count as "
-                        f"indistinguishable with these channels).")
+                        f"projected signatures is {cosine:.3f} (1: the same signature once "
+                        f"re-tuning is projected out; two effects whose refitted training costs "
+                        f"lie within a ratio of {TIE_COST:g} count as indistinguishable with "
+                        f"these channels).")
         refits = []
         for fit, decision in zip(fits, diagnosis.refit_decisions[index]):
             strengths = "; ".join(

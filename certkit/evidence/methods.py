@@ -54,8 +54,8 @@ def gap_method(units) -> dict:
     """Section 11: the method in words, every threshold taken from the code that applies it
     (the gap stage is imported here, not at the top: a report without the drop model does
     not load it, about 0.66 s of start-up)."""
-    from certkit.gap.attribution import (CANDIDATES, GAIN, LEADING, RELEVANT, STARTS, TIE_COSINE,
-                                         TIE_COST)
+    from certkit.gap.attribution import STARTS
+    from certkit.gap.selection import CANDIDATES, FLOOR_CHANNEL, GAIN, LEADING, RELEVANT, TIE_COST
     from certkit.gap.phases import BREAKOUT_TRAVEL, BREAKOUT_WINDOW, REBOUND_DROP
     from certkit.gap.residuals import BANDS, MAX_LAG
 
@@ -79,8 +79,10 @@ def gap_method(units) -> dict:
                   f"cross-correlation peak within ±{with_unit(MAX_LAG, 'time', units)}; "
                   f"positive: the model is late). The residual's energy from touchdown is split "
                   f"into bands: {bands}."),
-        "which": (f"Which: each candidate effect is a one-parameter family that nests the "
-                  f"nominal model (strength 0: the effect is absent). Its score "
+        "which": (f"Which: each candidate effect has one or more forms (friction proportional "
+                  f"to a constant or to the gas force, a tyre loop scaling with the static "
+                  f"curve or of constant amplitude, …), each a one-parameter family that nests "
+                  f"the nominal model (strength 0: the effect is absent). Each form's score "
                   f"(Lagrange-multiplier) statistic LM is computed on the training runs after "
                   f"projecting out what re-tuning the nominal parameters can absorb, and "
                   f"converted into the RMS of the residual it would remove, √(LM/N), in units "
@@ -89,17 +91,23 @@ def gap_method(units) -> dict:
                   f"{', '.join(f'{v:g}' for v in STARTS)}, with what re-tuning the nominal "
                   f"parameters absorbs projected out (an effect strongly nonlinear in its "
                   f"strength can point the wrong way at zero and still explain the gap). "
-                  f"A candidate is relevant when it is among the {LEADING} best scores and "
-                  f"would remove at least {RELEVANT:g} σ, or when its profile already cuts the "
-                  f"training cost by {percent(GAIN, 0)}; the {LEADING} relevant ones with the "
-                  f"best profiles are refitted together with the nominal parameters on the "
-                  f"training runs, each from its profile's best strength. The refit that cuts the "
-                  f"training cost (RMS of the residuals divided by each channel's range) most, "
-                  f"by at least {percent(GAIN, 0)}, is named. When the two best refits' training costs "
-                  f"lie within a ratio of {TIE_COST:g} and the cosine of their projected "
-                  f"signatures is at least {TIE_COSINE:g}, the two cannot be told apart and "
-                  f"the diagnosis says so instead of naming one. A second effect is then looked "
-                  f"for the same way. The held-out errors are computed after the choice and "
-                  f"play no part in it."),
-        "candidates": [{"name": c.name, "unit_size": c.unit_size} for c in CANDIDATES],
+                  f"A form is relevant when it belongs to one of the {LEADING} effects with "
+                  f"the best scores and would remove at least {RELEVANT:g} σ, or when its profile already cuts the "
+                  f"training cost by {percent(GAIN, 0)}. The best-profiled form of each of the "
+                  f"{LEADING} relevant effects with the best profiles is refitted together with "
+                  f"the nominal parameters on the training runs, from its profile's best "
+                  f"strength. The refit that cuts the training cost (RMS of the residuals "
+                  f"divided by each channel's range) most, by at least {percent(GAIN, 0)}, and "
+                  f"leaves no training channel worse beyond its noise (its RMSE grown by more "
+                  f"than the noise σ in quadrature, σ estimated from the channel's second "
+                  f"differences) is named, with its form. When the other effect's refit comes "
+                  f"within a ratio of {TIE_COST:g} of its training cost, the two cannot be told "
+                  f"apart and the diagnosis says so instead of naming one. A second effect is "
+                  f"then looked for the same way. The held-out errors are computed after the "
+                  f"choice and play no part in it: the statement gives the share of the "
+                  f"held-out {FLOOR_CHANNEL} error beyond its noise that the named effects "
+                  f"close and the share that stays unexplained, and names every held-out "
+                  f"channel they make worse beyond its noise."),
+        "candidates": [{"name": c.name, "form": c.form or "—", "unit_size": c.unit_size}
+                       for c in CANDIDATES],
     }

@@ -16,7 +16,7 @@ Every case is a campaign simulated from the template campaign's spec:
 - written to disk in the campaign's own data format under an opaque case id, with a note
   that names no effect.
 
-The diagnosis (:func:`certkit.gap.attribution.diagnose`) sees only the written campaign.  The
+The diagnosis (:func:`certkit.gap.selection.diagnose`) sees only the written campaign.  The
 outcome is then scored against the sealed truth (:func:`score`).  Cases run in a local
 process pool, or on a dask.distributed cluster when a scheduler address is given: the same
 function runs in both.  Seeds are fixed; the same inputs give the same result document.
@@ -44,7 +44,7 @@ from threadpoolctl import threadpool_limits
 from certkit.compliance.clauses import ideal_impact_velocity
 from certkit.compliance.measures import touchdown_time
 from certkit.errors import CampaignError, CertkitInputError
-from certkit.gap.attribution import diagnose
+from certkit.gap.selection import diagnose
 from certkit.gap.holdout import split_for
 from certkit.physics.calibration import KNOBS, aligned_records
 from certkit.physics.drop_model import DropModel

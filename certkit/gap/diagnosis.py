@@ -8,17 +8,18 @@ explains it and how far it shrinks once that effect is added (issue 5).
    measured run's phases and summarised per channel × phase × run
    (:mod:`certkit.gap.residuals`): RMS, bias, timing error and energy in frequency bands; the
    largest disagreement on the training runs is named in words.
-3. Which: :func:`certkit.gap.attribution.diagnose` scores the library's candidate effects,
-   refits the leading ones and names one or two effects, or abstains.
+3. Which: :func:`certkit.gap.selection.diagnose` scores the library's candidate effects
+   (every form of each), refits the leading ones and names one or two effects, declares a
+   tie, or abstains.
 4. How far: the held-out RMSE before (calibrated nominal) and after (refit with the named
    effects), per channel over the whole record from touchdown and per channel and phase,
    with the shrink 1 − after/before; and the residual map that remains with the named
    effects, on every run.
 
 :func:`gap_diagnosis` does all four; the CLI and the report call it.  The blind check
-(:mod:`certkit.gap.blind_check`) calls :func:`certkit.gap.attribution.diagnose`, the choice and
+(:mod:`certkit.gap.blind_check`) calls :func:`certkit.gap.selection.diagnose`, the choice and
 its held-out errors, which is what it scores.
-Data flow: this module uses :mod:`certkit.gap.attribution` and :mod:`certkit.gap.holdout`, never
+Data flow: this module uses :mod:`certkit.gap.selection` and :mod:`certkit.gap.holdout`, never
 the reverse.
 """
 
@@ -28,8 +29,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from certkit.gap.attribution import (CANDIDATES, GAIN, LEADING, RELEVANT, TIE_COSINE, TIE_COST,
-                                     Diagnosis, diagnose)
+from certkit.gap.selection import (CANDIDATES, GAIN, LEADING, RELEVANT, TIE_COST, Diagnosis,
+                                   diagnose)
 from certkit.gap.holdout import split_for
 from certkit.gap.phases import segment
 from certkit.gap.residuals import BANDS, Cell, band_shares, describe, largest, residual_cells
@@ -178,7 +179,7 @@ def gap_diagnosis(campaign: Campaign, gear_id: str) -> GapDiagnosis:
     errors = held_out_errors({r: before.records[r] for r in held},
                              {r: after.records[r] for r in held} if after else None,
                              before.phases)
-    names = {c.name: c for c in CANDIDATES}
+    names = {c.key: c for c in CANDIDATES}
     checks = {}
     for index, (_, fits) in enumerate(diagnosis.steps):
         for fit in fits:
@@ -202,7 +203,6 @@ THRESHOLDS = {
     "leading_candidates_refitted": LEADING,
     "gain_training_cost_share": GAIN,
     "tie_training_cost_ratio": TIE_COST,
-    "tie_signature_cosine": TIE_COSINE,
     "middle_height_held_out_from_heights": MIDDLE_FROM,
 }
 
@@ -263,7 +263,13 @@ def gap_document(gap: GapDiagnosis) -> dict:
                         "training_cost": gap.before.calibration.fit.cost},
         "before": _map_document(gap.before),
         "steps": steps,
-        "answer": list(diagnosis.answer), "statement": diagnosis.statement,
+        "answer": list(diagnosis.answer), "forms": list(diagnosis.forms),
+        "tie": list(diagnosis.tie), "statement": diagnosis.statement,
+        "held_out_noise": diagnosis.noise,
+        "held_out_gap_shares": None if diagnosis.shares is None else {
+            channel: None if share is None else {"closed": share[0], "unexplained": share[1]}
+            for channel, share in diagnosis.shares.items()},
+        "held_out_caveats": list(diagnosis.caveats),
         "held_out_errors": [{"run": e.run, "channel": e.channel, "phase": e.phase,
                              "unit": CHANNEL_UNITS[e.channel], "samples": e.samples,
                              "rmse_before": e.before, "rmse_after": e.after,

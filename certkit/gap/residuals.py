@@ -107,3 +107,45 @@ def describe(cell: Cell, unit_scale: float = 1.0, unit: str = "") -> str:
     return (f"The largest disagreement is in the {cell.channel} during {cell.phase} of run "
             f"{cell.run}: RMS {cell.rms * unit_scale:.3g} {unit} ({cell.normalised:.1%} of the "
             f"channel's RMS), bias {cell.bias * unit_scale:+.3g} {unit}{timing}.").replace(" ,", ",")
+
+
+# --------------------------------------------------------------------------- noise, harm, floor
+def noise_level(records) -> float:
+    """The white-noise standard deviation of measured records (one array, or several),
+    from their second differences: for white noise of variance σ², x[i+1] − 2·x[i] + x[i−1]
+    has variance 6·σ², and the median absolute deviation (× 1.4826, its ratio to σ for a
+    normal distribution) ignores the few samples where the signal itself bends sharply
+    (the impact), so the estimate is robust (Hampel, J. Amer. Statist. Assoc. 69(346),
+    1974, on the MAD; the difference-based variance estimator: Rice, Ann. Statist. 12(4),
+    1984)."""
+    parts = [np.diff(np.asarray(r, dtype=float), 2) for r in
+             (records if isinstance(records, (list, tuple)) else [records])]
+    values = np.concatenate([p for p in parts if p.size]) if parts else np.empty(0)
+    if values.size == 0:
+        return 0.0
+    deviation = np.median(np.abs(values - np.median(values)))
+    return float(1.4826 * deviation / np.sqrt(6.0))
+
+
+def harmed(before: float, after: float, noise: float) -> bool:
+    """True when an error grew beyond the noise: the model's own share of the RMSE grew,
+    √(after² − before²) > σ.  The one rule by which a named effect harms a channel (the
+    diagnosis and the blind check both apply it)."""
+    return after > before and after * after - before * before > noise * noise
+
+
+def model_gap(rmse: float, noise: float) -> float:
+    """The part of an RMSE the model can remove, √(max(RMSE² − σ², 0)): white noise of
+    variance σ² adds σ² to the mean square of any model's error."""
+    return float(np.sqrt(max(rmse * rmse - noise * noise, 0.0)))
+
+
+def gap_shares(before: float, after: float, noise: float) -> tuple[float, float] | None:
+    """(closed, unexplained): the shares of the model's gap before (:func:`model_gap` of
+    ``before``) that the named effects close and that stays, in RMS terms; they add to 1
+    (closed is negative when the error grew).  None when there is no gap beyond the noise."""
+    gap = model_gap(before, noise)
+    if gap <= 0.0:
+        return None
+    remaining = model_gap(after, noise)
+    return 1.0 - remaining / gap, remaining / gap

@@ -388,6 +388,35 @@ class RunResiduals:
         self.models = [r.model for r in self.runs]
         self.rate = 1.0 / float(np.median(np.diff(self.runs[0].time)))
 
+    def segments(self) -> list[tuple[str, str, slice, float]]:
+        """(run id, channel, its rows in a residual vector, its scale [SI]), in row order."""
+        out, start = [], 0
+        for run in self.runs:
+            for name, measured in run.channels.items():
+                out.append((run.run_id, name, slice(start, start + measured.size),
+                            run.scales[name]))
+                start += measured.size
+        return out
+
+    def measured(self) -> dict[str, list[np.ndarray]]:
+        """Channel -> the measured records from touchdown of every run [SI]."""
+        out: dict[str, list[np.ndarray]] = {}
+        for run in self.runs:
+            for name, values in run.channels.items():
+                out.setdefault(name, []).append(values)
+        return out
+
+    def channel_rmse(self, vector: np.ndarray) -> dict[str, float]:
+        """Channel -> RMS over every run of that channel's rows of a residual vector, back
+        in the channel's SI unit."""
+        sums: dict[str, list[float]] = {}
+        for _, name, rows, scale in self.segments():
+            part = vector[rows] * scale
+            total = sums.setdefault(name, [0.0, 0.0])
+            total[0] += float(part @ part)
+            total[1] += part.size
+        return {name: float(np.sqrt(total / count)) for name, (total, count) in sums.items()}
+
     def evaluate(self, model_sets: list[list[DropModel]]) -> np.ndarray:
         runs = [run for _ in model_sets for run in self.runs]
         models = [m for models in model_sets for m in models]

@@ -274,6 +274,9 @@ class DropModel:
         y = np.zeros(dyn.STATES)
         stroke0 = -self.gas.preload / self.stops.stiffness  # stop compressed just enough
         y[dyn.Z1] = stroke0 * math.cos(self.inclination)
+        leg = self.effect("leg flexibility")
+        if leg is not None and leg.above:   # the leg's mass tops the strut; its spring is slack
+            y[dyn.ZW] = y[dyn.Z1]
         y[dyn.V1] = y[dyn.V2] = y[dyn.VW] = contact_velocity
         y[dyn.THETA] = 1.0
         return y

@@ -10,16 +10,24 @@ integrator.  An optional effect that is off has its slots at their neutral value
 force, flag 0), so one compiled function serves every combination of effects.
 
 Coordinates: z positive downward from the configuration at first tyre
-contact.  z1 upper (sprung) mass, z2 lower (unsprung) mass, zw the axle when the leg is
-flexible (else the axle is the lower mass), zp the platform when it is compliant (else
-rigid at 0).  Stroke s = (z1 − z2)/cos θ, compression positive; tyre deflection
-δ = zw − zp.  Equations (seed eqs. 6-7 corrected, as in :mod:`certkit.physics.drop_model`)::
+contact.  z1 upper (sprung) mass, z2 lower (unsprung) mass, zw the third mass of a
+flexible leg (the axle, or the strut's cylinder when the leg's flexibility lies above
+the strut), zp the platform when it is compliant (else rigid at 0).  Stroke
+s = (z1 − z2)/cos θ (with the leg above the strut: (zw − z2)/cos θ), compression
+positive; tyre deflection δ = zw − zp (leg above the strut, or no leg: z2 − zp).
+Equations (seed eqs. 6-7 corrected, as in :mod:`certkit.physics.drop_model`)::
 
     m1·z1'' = m1·g − L − F_s/cos θ
     m2·z2'' = m2·g + F_s/cos θ − F_leg          (F_leg = F_V without a flexible leg)
-    mw·zw'' = mw·g + F_leg − F_V                 (flexible leg only)
+    mw·zw'' = mw·g + F_leg − F_V                 (flexible leg at the axle only)
     mp·zp'' = F_V − k_p·zp − c_p·zp'             (compliant platform only; zp from its
                                                   static position, so its weight cancels)
+
+and with the leg's flexibility above the strut (F_leg = k_l·(z1 − zw) + c_l·(z1' − zw'))::
+
+    m1·z1'' = m1·g − L − F_leg
+    mw·zw'' = mw·g + F_leg − F_s/cos θ
+    m2·z2'' = m2·g + F_s/cos θ − F_V
 
 F_s is the sum of the strut terms (gas spring, hydraulic damping, end stops, seal
 friction); F_V the tyre force, clipped at zero so the wheel may leave the platform.
@@ -58,7 +66,11 @@ OIL, OIL_STIFFNESS, OIL_SMOOTHING = 35, 36, 37
 PIN, PIN_COUNT, PIN_COEFFICIENT = 38, 39, 40         # flag, n, ρ·A_h³/(2·C_d²) [N·s²]
 PIN_STROKES = 41                                      # PIN_POINTS strokes [m]
 PIN_AREAS = PIN_STROKES + PIN_POINTS                  # PIN_POINTS areas [m^2]
-SLOTS = PIN_AREAS + PIN_POINTS
+HYSTERESIS_CONSTANT = PIN_AREAS + PIN_POINTS          # N, a tyre loop of constant amplitude
+HYSTERESIS_ONSET = HYSTERESIS_CONSTANT + 1            # m, deflection over which it builds up
+REBOUND_LINEAR = HYSTERESIS_CONSTANT + 2              # N·s/m, linear rebound damping
+LEG_ABOVE = HYSTERESIS_CONSTANT + 3                   # flag: the flexible leg above the strut
+SLOTS = HYSTERESIS_CONSTANT + 4
 
 # --------------------------------------------------------------------------- state slots
 Z1, V1, Z2, V2, ZW, VW, ZP, VP, THETA, OIL_FORCE = range(10)
@@ -129,12 +141,26 @@ def _tyre_static(p, deflection):
 
 @njit(cache=True, error_model="numpy", fastmath=FAST)
 def _tyre_force(p, deflection, rate):
-    """F_V = max(0, f(δ)·(1 + C_T·δ̇) + h·f(δ)·tanh(δ̇/v_h)) (seed eq. 5; hysteresis §3 #9)."""
+    """F_V = max(0, f(δ)·(1 + C_T·δ̇) + (h·f(δ) + H·(1 − e^(−δ/δ_H)))·tanh(δ̇/v_h))
+    (seed eq. 5 with a hysteresis loop whose half-width is a share h of the static curve,
+    a constant H built up over the first δ_H of deflection, or both)."""
     static = _tyre_static(p, deflection)
     force = static * (1.0 + p[TYRE_DAMPING] * rate)
-    if p[HYSTERESIS] != 0.0:
-        force += p[HYSTERESIS] * static * math.tanh(rate / p[HYSTERESIS_VELOCITY])
+    width = p[HYSTERESIS] * static
+    if p[HYSTERESIS_CONSTANT] != 0.0 and deflection > 0.0:
+        width += p[HYSTERESIS_CONSTANT] * (1.0 - math.exp(-deflection / p[HYSTERESIS_ONSET]))
+    if width != 0.0:
+        force += width * math.tanh(rate / p[HYSTERESIS_VELOCITY])
     return max(force, 0.0), static
+
+
+@njit(cache=True, error_model="numpy", fastmath=FAST)
+def _stroke(p, y):
+    """Stroke and stroke rate: between the upper and lower masses, or between the leg's
+    mass and the lower mass when the leg's flexibility lies above the strut."""
+    if p[LEG] > 0.0 and p[LEG_ABOVE] > 0.0:
+        return (y[ZW] - y[Z2]) / p[COS], (y[VW] - y[V2]) / p[COS]
+    return (y[Z1] - y[Z2]) / p[COS], (y[V1] - y[V2]) / p[COS]
 
 
 @njit(cache=True, error_model="numpy", fastmath=FAST)
@@ -144,11 +170,11 @@ def _evaluate(p, y, dy, driven, drive_force):
     ``driven``: the tyre contact is replaced by the applied upward force ``drive_force``.
     """
     cos_t = p[COS]
-    stroke = (y[Z1] - y[Z2]) / cos_t
-    rate = (y[V1] - y[V2]) / cos_t
     leg = p[LEG] > 0.0
+    above = leg and p[LEG_ABOVE] > 0.0
     platform = p[PLATFORM] > 0.0
-    z_axle, v_axle = (y[ZW], y[VW]) if leg else (y[Z2], y[V2])
+    stroke, rate = _stroke(p, y)
+    z_axle, v_axle = (y[ZW], y[VW]) if leg and not above else (y[Z2], y[V2])
 
     # strut: gas spring, hydraulic damping, stops, friction
     pressure = _gas_pressure(p, stroke, y[THETA])
@@ -169,6 +195,10 @@ def _evaluate(p, y, dy, driven, drive_force):
         hydraulic = k * rate * abs(rate)
         dy[OIL_FORCE] = 0.0
         dissipation += hydraulic * rate
+    if p[REBOUND_LINEAR] != 0.0 and rate < 0.0:
+        linear = p[REBOUND_LINEAR] * rate          # laminar share of the rebound valve
+        hydraulic += linear
+        dissipation += linear * rate
     stop, stop_spring = _stop_force(p, stroke, rate)
     friction = 0.0
     if p[FRICTION] != 0.0 or p[FRICTION_PRESSURE] != 0.0 or p[FRICTION_BREAKAWAY] != 0.0:
@@ -204,7 +234,14 @@ def _evaluate(p, y, dy, driven, drive_force):
     dy[Z1] = y[V1]
     dy[V1] = G - (p[LIFT] + vertical) / p[M1]
     dy[Z2] = y[V2]
-    if leg:
+    if above:
+        leg_force = (p[LEG_STIFFNESS] * (y[Z1] - y[ZW]) + p[LEG_DAMPING] * (y[V1] - y[VW]))
+        dissipation += p[LEG_DAMPING] * (y[V1] - y[VW]) ** 2
+        dy[V1] = G - (p[LIFT] + leg_force) / p[M1]
+        dy[ZW] = y[VW]
+        dy[VW] = G + (leg_force - vertical) / p[LEG_MASS]
+        dy[V2] = G + (vertical - ground) / p[M2]
+    elif leg:
         leg_force = (p[LEG_STIFFNESS] * (y[Z2] - y[ZW]) + p[LEG_DAMPING] * (y[V2] - y[VW]))
         dissipation += p[LEG_DAMPING] * (y[V2] - y[VW]) ** 2
         dy[V2] = G + (vertical - leg_force) / p[M2]
@@ -242,17 +279,17 @@ def driven_rates(p, y, dy, force):
 @njit(cache=True, error_model="numpy", fastmath=FAST)
 def stored_energy(p, y):
     """Kinetic + stored − gravity work + lift work, from the contact configuration [J]."""
-    cos_t = p[COS]
-    stroke = (y[Z1] - y[Z2]) / cos_t
     leg = p[LEG] > 0.0
-    z_axle = y[ZW] if leg else y[Z2]
+    above = leg and p[LEG_ABOVE] > 0.0
+    stroke, _ = _stroke(p, y)
+    z_axle = y[ZW] if leg and not above else y[Z2]
     kinetic = 0.5 * (p[M1] * y[V1] ** 2 + p[M2] * y[V2] ** 2)
     gravity = G * (p[M1] * y[Z1] + p[M2] * y[Z2])
     stored = 0.0
     if leg:
         kinetic += 0.5 * p[LEG_MASS] * y[VW] ** 2
         gravity += G * p[LEG_MASS] * y[ZW]
-        stored += 0.5 * p[LEG_STIFFNESS] * (y[Z2] - y[ZW]) ** 2
+        stored += 0.5 * p[LEG_STIFFNESS] * ((y[Z1] if above else y[Z2]) - y[ZW]) ** 2
     if p[PLATFORM] > 0.0:
         kinetic += 0.5 * p[PLATFORM_MASS] * y[VP] ** 2
         stored += 0.5 * p[PLATFORM_STIFFNESS] * y[ZP] ** 2
@@ -296,7 +333,7 @@ def channels(p, y, out, driven, drive_force):
     """
     dy = np.empty(STATES)
     ground = _evaluate(p, y, dy, driven, drive_force)
-    z_axle = y[ZW] if p[LEG] > 0.0 else y[Z2]
+    z_axle = y[ZW] if p[LEG] > 0.0 and p[LEG_ABOVE] == 0.0 else y[Z2]
     if driven:
         out[LOAD] = drive_force
         # quasi-static tyre: the deflection its static curve gives under the applied load
@@ -306,7 +343,7 @@ def channels(p, y, out, driven, drive_force):
         out[LOAD] = (p[PLATFORM_STIFFNESS] * y[ZP] + p[PLATFORM_DAMPING] * y[VP]
                      if p[PLATFORM] > 0.0 else ground)
         out[TYRE] = max(z_axle - y[ZP], 0.0)
-    out[STROKE] = (y[Z1] - y[Z2]) / p[COS]
+    out[STROKE] = _stroke(p, y)[0]
     out[ACCELERATION] = -dy[V1]
     out[DISPLACEMENT] = y[Z1]
     out[ENERGY] = stored_energy(p, y)

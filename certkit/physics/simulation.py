@@ -173,7 +173,7 @@ def fastest_rate(model: DropModel, contact_velocity: float) -> float:
     """
     m2 = model.lower_mass
     leg = model.effect("leg flexibility")
-    if leg is not None:
+    if leg is not None and not leg.above:
         m2 = min(m2 - leg.axle_mass, leg.axle_mass)
     tyre = model.tyre
     peak = _peak_tyre_force(model, contact_velocity)
@@ -182,7 +182,8 @@ def fastest_rate(model: DropModel, contact_velocity: float) -> float:
              tyre.damping * peak / m2]
     hysteresis = model.effect("tyre hysteresis")
     if hysteresis is not None:
-        rates.append(hysteresis.share * peak / (hysteresis.smoothing_velocity * m2))
+        rates.append((hysteresis.share * peak + hysteresis.constant)
+                     / (hysteresis.smoothing_velocity * m2))
     pin = model.effect("metering pin")
     rebound = model.effect("rebound orifice")
     largest = smallest = model.orifice.coefficient if model.orifice is not None else 0.0
@@ -192,9 +193,11 @@ def fastest_rate(model: DropModel, contact_velocity: float) -> float:
         largest, smallest = max(pinned), min(pinned)
     if rebound is not None:
         largest += rebound.extra_coefficient
+        rates.append(rebound.linear / m2)
     rates.append(2.0 * largest * abs(contact_velocity) / m2)
     if leg is not None:
-        rates += [math.sqrt(leg.stiffness / m2), leg.damping / m2]
+        mass = min(leg.axle_mass, m2) if leg.above else m2
+        rates += [math.sqrt(leg.stiffness / mass), leg.damping / mass]
     friction = model.effect("seal friction")
     if friction is not None:
         resting = (model.upper_mass * STANDARD_GRAVITY - model.lift) * math.cos(model.inclination)
@@ -306,7 +309,11 @@ def static_state(model: DropModel) -> np.ndarray:
     y[dyn.Z1] = stroke * cos_theta
     y[dyn.THETA] = 1.0
     leg = model.effect("leg flexibility")
-    if leg is not None:
+    if leg is not None and leg.above:      # the strut below the leg's mass, the spring above
+        y[dyn.ZW] = y[dyn.Z1]
+        y[dyn.Z1] += ((model.upper_mass - leg.axle_mass) * STANDARD_GRAVITY
+                      - model.lift) / leg.stiffness
+    elif leg is not None:
         above = model.total_mass * STANDARD_GRAVITY - model.lift - leg.axle_mass * STANDARD_GRAVITY
         y[dyn.Z2] = above / leg.stiffness
         y[dyn.Z1] += y[dyn.Z2]

@@ -7,7 +7,7 @@ and its truth form for the blind check), and registered once, in :data:`EFFECTS`
 The gear model, calibration, the diagnosis and the blind check read the registry; none of
 them names an effect.  Adding an effect is one module and one line in :data:`EFFECTS` (and
 its name in the spec's ``Effect`` list, which the spec stage keeps so that a campaign is
-validated without the physics; ``tests/test_effects.py`` holds the two equal).
+validated without the physics; ``tests/test_effect_registry.py`` holds the two equal).
 
 Each term is a small frozen dataclass with named SI parameters.  A mechanical term writes
 them into the slots of the compiled equations of motion (:mod:`certkit.physics.dynamics`,
@@ -55,8 +55,8 @@ BY_NAME: dict[str, Effect] = {effect.name: effect for effect in EFFECTS if effec
 KNOBS: tuple[Knob, ...] = tuple(knob for effect in EFFECTS for knob in effect.knobs)
 
 
-#: The gap diagnosis's candidate families, in registry order.
-CANDIDATES: tuple[Candidate, ...] = tuple(e.candidate for e in EFFECTS if e.candidate)
+#: The gap diagnosis's candidate families (every form of every effect), in registry order.
+CANDIDATES: tuple[Candidate, ...] = tuple(c for e in EFFECTS for c in e.candidates)
 #: The blind check's truth forms, by the label of the candidate a right diagnosis names.
 TRUTHS: dict[str, Truth] = {e.truth.candidate: e.truth for e in EFFECTS if e.truth}
 

@@ -3,8 +3,8 @@
 An effect is defined once, in its own module of :mod:`certkit.physics.effects`, as an
 :class:`Effect`: its one name in the spec and its one label everywhere else, the model term
 that carries its parameters into the compiled equations of motion, how that term is built
-from the campaign spec, the calibration knobs it adds, the one-parameter family the gap
-diagnosis tests for it (:class:`Candidate`) and the withheld form the blind check simulates
+from the campaign spec, the calibration knobs it adds, the one-parameter families (its
+forms) the gap diagnosis tests for it (:class:`Candidate`) and the withheld form the blind check simulates
 (:class:`Truth`).  The stages that use effects (spec checks, the gear model, calibration,
 attribution, the blind check) read them from the registry and nowhere else.
 """
@@ -32,12 +32,22 @@ class Knob:
 
 @dataclass(frozen=True)
 class Candidate:
-    """An effect as a one-parameter family nesting the nominal model (the gap diagnosis)."""
+    """One form of an effect as a one-parameter family nesting the nominal model (the gap
+    diagnosis).  An effect may have several forms (friction proportional to a constant or
+    to the gas force, a loop scaling with the tyre curve or of constant amplitude): the
+    diagnosis names the effect, and the form that fitted it best."""
 
-    name: str
+    name: str                                        # the effect's label
     unit_size: str                                   # what strength 1 means, in words
     add: Callable[[DropModel, float], DropModel]     # the model with the effect at strength φ
     probe: float = 0.05                              # φ of the finite-difference signature
+    form: str = ""                                   # the form's name ("": the effect's only one)
+
+    @property
+    def key(self) -> str:
+        """The form's one name among all candidates: "effect (form)", or the effect's label
+        when it has one form."""
+        return f"{self.name} ({self.form})" if self.form else self.name
 
 
 @dataclass(frozen=True)
@@ -85,7 +95,7 @@ class Effect:
     needs: tuple = ()                    # spec locations it reads, from the gear unit
     build: Callable[[Gear], object] | None = None    # the model term, from the spec
     knobs: tuple = ()                    # calibration knobs it adds
-    candidate: Candidate | None = None   # its family in the gap diagnosis
+    candidates: tuple = ()               # its families (forms) in the gap diagnosis
     truth: Truth | None = None           # its withheld form in the blind check
 
 

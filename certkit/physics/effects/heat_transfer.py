@@ -44,9 +44,9 @@ def _build(gear) -> GasHeatTransfer:
 EFFECT = Effect(
     label="heat transfer", name="heat-transfer", needs=(("strut", "heat_transfer"),),
     build=_build,
-    candidate=Candidate("heat transfer", "a thermal time constant of 1 s (γ = the polytropic n)",
+    candidates=(Candidate("heat transfer", "a thermal time constant of 1 s (γ = the polytropic n)",
                         lambda m, phi: m.with_effect(GasHeatTransfer(1.0 / phi, m.gas.exponent))
-                        if phi > 0 else m),
+                        if phi > 0 else m),),
     truth=Truth("heat transfer", "nitrogen (γ = 1.4) exchanging heat with the walls, sized from "
                                  "its adiabatic limit (the candidate: γ = the calibrated "
                                  "polytropic exponent n)", (0.01, 50.0),

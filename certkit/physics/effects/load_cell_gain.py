@@ -45,8 +45,8 @@ EFFECT = Effect(
                 lambda m: m.effect("load-cell gain").gain,
                 lambda m, v: set_effect(m, "load-cell gain", gain=v),
                 lambda nominal: (-0.1, 0.1), needs="load-cell gain"),),
-    candidate=Candidate("load-cell gain", "a load channel reading 5 % high",
-                        lambda m, phi: m.with_effect(LoadCellGain(0.05 * phi))),
+    candidates=(Candidate("load-cell gain", "a load channel reading 5 % high",
+                        lambda m, phi: m.with_effect(LoadCellGain(0.05 * phi))),),
     truth=Truth("load-cell gain", "load cells reading (1 + 0.001·s) times the platform force "
                                   "(the candidate's own form)", (0.05, 100.0),
                 mechanics=lambda m, s: m.with_effect(LoadCellGain(0.001 * s))))

@@ -70,9 +70,14 @@ EFFECT = Effect(
                 lambda m: m.effect("seal friction").pressure_factor,
                 lambda m, v: set_effect(m, "seal friction", pressure_factor=v),
                 _absolute(0.0, 0.2), needs="seal friction")),
-    candidate=Candidate("seal friction", "Coulomb friction of 5 % of the upper mass's weight",
-                        lambda m, phi: m.with_effect(
-                            SealFriction(0.05 * m.upper_mass * STANDARD_GRAVITY * phi))),
+    candidates=(
+        Candidate("seal friction", "Coulomb friction of 5 % of the upper mass's weight",
+                  lambda m, phi: m.with_effect(
+                      SealFriction(0.05 * m.upper_mass * STANDARD_GRAVITY * phi)),
+                  form="Coulomb"),
+        Candidate("seal friction", "friction of 5 % of the gas force (pressure-energised seals)",
+                  lambda m, phi: m.with_effect(SealFriction(0.0, pressure_factor=0.05 * phi)),
+                  form="pressure-energised")),
     truth=Truth("seal friction", "Stribeck seal friction: breakaway force 1.5 times the "
                                  "Coulomb level, decaying over 20 mm/s (the candidate: "
                                  "Coulomb only)", (0.02, 20.0), mechanics=_stribeck))

@@ -14,22 +14,29 @@ from certkit.physics.effects.sensor_dynamics import SensorDynamics
 
 @dataclass(frozen=True)
 class SensorLag(Term):
-    """A first-order lag of every recorded channel (time constant τ): the simplest form of
-    transducer and logger dynamics (compare like with like: the simulation sees
-    what the transducer and logger would record), as a model term.
+    """A lag of every recorded channel: ``order`` identical first-order lags of time
+    constant τ in cascade (1: the simplest form of transducer and logger dynamics; 2: a
+    critically damped second-order low-pass, closer to an anti-alias filter), as a model
+    term (compare like with like: the simulation sees what the transducer and logger
+    would record).
 
     It acts on the channels the simulation records, not on the mechanics (``pack`` writes
     nothing); :func:`certkit.physics.simulation.simulate_batch` and ``simulate_reference`` apply
-    it.  Exact discretisation of τ·ẏ + y = x for a piecewise-constant input.
+    it.  Exact discretisation of τ·ẏ + y = x for a piecewise-constant input, ``order``
+    times.
     """
 
     time_constant: float  # τ [s]
+    order: int = 1
     name = "sensor lag"
-    fields = (("time_constant", "s", "time constant τ of the first-order lag"),)
+    fields = (("time_constant", "s", "time constant τ of each first-order lag"),
+              ("order", "1", "number of first-order lags in cascade"))
 
     def __post_init__(self):
         if not self.time_constant >= 0:
             raise ValueError("the sensor lag's time constant must not be negative")
+        if self.order not in (1, 2):
+            raise ValueError("the sensor lag's order must be 1 or 2")
 
     def pack(self, p):
         pass  # recorded channels only
@@ -43,13 +50,20 @@ class SensorLag(Term):
             return np.asarray(signal, dtype=float)
         a = np.exp(-step / self.time_constant)
         signal = np.asarray(signal, dtype=float)
-        return lfilter([1 - a], [1, -a], signal, axis=-1, zi=(a * signal[..., :1]))[0]
+        for _ in range(self.order):
+            signal = lfilter([1 - a], [1, -a], signal, axis=-1, zi=(a * signal[..., :1]))[0]
+        return signal
 
 
 EFFECT = Effect(
     label="sensor lag",
-    candidate=Candidate("sensor lag", "a first-order lag of 2 ms on every recorded channel",
-                        lambda m, phi: m.with_effect(SensorLag(0.002 * phi)), probe=0.1),
+    candidates=(
+        Candidate("sensor lag", "a first-order lag of 2 ms on every recorded channel",
+                  lambda m, phi: m.with_effect(SensorLag(0.002 * phi)), probe=0.1,
+                  form="first order"),
+        Candidate("sensor lag", "two first-order lags of 1 ms in cascade on every recorded "
+                                "channel", lambda m, phi: m.with_effect(SensorLag(0.001 * phi, 2)),
+                  probe=0.1, form="second order")),
     truth=Truth("sensor lag", "a 2nd-order Butterworth low-pass (cut-off 300 Hz/s) plus a pure "
                               "delay (0.1 ms·s) on every channel, sized by what remains with the "
                               "touchdowns aligned (the candidate: a first-order lag)",

@@ -7,37 +7,52 @@ from dataclasses import dataclass
 from certkit.physics import dynamics as dyn
 from certkit.physics.drop_model import Term
 from certkit.physics.effects.base import Candidate, Effect, Truth
+from certkit.units import STANDARD_GRAVITY
 
 
 @dataclass(frozen=True)
 class TyreHysteresis(Term):
-    """Tyre hysteresis: loading above unloading by a share of the static curve (Daniels, NASA CR-201601, 1996:
-    nonlinear tyre damping).
+    """Tyre hysteresis: loading above unloading (Daniels, NASA CR-201601, 1996: nonlinear
+    tyre damping).
 
-    F = h·f(δ)·tanh(δ̇/v_ε): the loop between loading and unloading is 2·h·f(δ) wide, so a
-    share of about h of the tyre's work is lost per cycle.
+    F = (h·f(δ) + H·(1 − e^(−δ/δ_H)))·tanh(δ̇/v_ε): the loop between loading and unloading
+    is 2·h·f(δ) wide when it scales with the static curve (a share of about h of the tyre's
+    work is lost per cycle), and 2·H wide, once the first δ_H of deflection has built it
+    up, when its amplitude is constant (the rate-independent loop of a Bouc-Wen element
+    in its saturated state: Wen, J. Eng. Mech. Div. ASCE 102(2), 1976).
     """
 
     share: float                      # h [1]
     smoothing_velocity: float = 0.01  # v_ε [m/s]
+    constant: float = 0.0             # H [N]
+    onset: float = 0.002              # δ_H [m]
     name = "tyre hysteresis"
 
     def __post_init__(self):
-        if not self.smoothing_velocity > 0:
-            raise ValueError("tyre hysteresis needs a positive smoothing velocity")
+        if not (self.smoothing_velocity > 0 and self.onset > 0):
+            raise ValueError("tyre hysteresis needs a positive smoothing velocity and onset")
 
     fields = (("share", "1", "half-width h of the loop, share of f(δ)"),
-              ("smoothing_velocity", "m/s", "regularisation width v_ε"))
+              ("smoothing_velocity", "m/s", "regularisation width v_ε"),
+              ("constant", "N", "half-width H of a loop of constant amplitude"),
+              ("onset", "m", "deflection δ_H over which the constant loop builds up"))
 
     def pack(self, p):
         p[dyn.HYSTERESIS], p[dyn.HYSTERESIS_VELOCITY] = self.share, self.smoothing_velocity
+        p[dyn.HYSTERESIS_CONSTANT], p[dyn.HYSTERESIS_ONSET] = self.constant, self.onset
 
 
 EFFECT = Effect(
     label="tyre hysteresis", name="tyre-hysteresis", needs=(("tyre", "hysteresis"),),
     build=lambda gear: TyreHysteresis(gear.unit.tyre.hysteresis.si),
-    candidate=Candidate("tyre hysteresis", "a loop of 5 % of the static tyre curve",
-                        lambda m, phi: m.with_effect(TyreHysteresis(0.05 * phi))),
+    candidates=(
+        Candidate("tyre hysteresis", "a loop of 5 % of the static tyre curve",
+                  lambda m, phi: m.with_effect(TyreHysteresis(0.05 * phi)),
+                  form="a share of the static curve"),
+        Candidate("tyre hysteresis", "a loop of constant half-width, 2 % of the unit's weight",
+                  lambda m, phi: m.with_effect(TyreHysteresis(
+                      0.0, constant=0.02 * m.total_mass * STANDARD_GRAVITY * phi)),
+                  form="constant amplitude")),
     truth=Truth("tyre hysteresis", "a tyre hysteresis loop switching within 5 mm/s (the "
                                    "candidate: 10 mm/s)", (0.02, 20.0),
                 mechanics=lambda m, s: m.with_effect(

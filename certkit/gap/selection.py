@@ -1,0 +1,297 @@
+"""Which effect(s) to name: the greedy choice among the library's candidate effects, with
+its rules stated once here and every decision recorded where it is taken (issue 5 step 3;
+issue 14: forms, ties, harm and the floor).
+
+At each of at most two steps the candidates (every form of every effect not yet named)
+are scored and profiled (:mod:`certkit.gap.attribution`); the best form of each of the
+:data:`LEADING` relevant effects with the best profiles is refitted with the nominal
+parameters; the refit that cuts the training cost most, by :data:`GAIN` at least, and
+leaves no training channel worse beyond its noise (:func:`certkit.gap.residuals.harmed`)
+is named, unless another effect's refit comes within :data:`TIE_COST` of it: then the two
+cannot be told apart and neither is named.  The held-out runs are only evaluated: their
+errors before and after, the share of their gap beyond the noise that the named effects
+close and the share that stays unexplained (:func:`certkit.gap.residuals.gap_shares`), and
+a caveat for every held-out channel the named effects make worse beyond its noise.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from certkit.display import percent
+from certkit.gap.attribution import (Attribution, Decision, Refit, _central_jacobian, _configured,
+                                     nominal_jacobian, profiles, refit, score_candidates)
+from certkit.gap.holdout import split_for
+from certkit.gap.residuals import gap_shares, harmed, noise_level
+from certkit.physics.calibration import RunResiduals, aligned_records, calibrate_gear
+from certkit.physics.drop_model import DropModel
+from certkit.physics.effects import CANDIDATES, Candidate
+
+__all__ = ["CANDIDATES", "GAIN", "LEADING", "RELEVANT", "TIE_COST", "Diagnosis", "diagnose"]
+
+#: A candidate is considered only if it would remove at least this RMS (in noise units).
+RELEVANT = 0.3
+#: Refits of two effects whose training costs lie within this ratio cannot be told apart.
+TIE_COST = 1.05
+#: A candidate must cut the training cost by at least this share to be named.
+GAIN = 0.10
+#: How many relevant effects are refitted at each step (the best form of each, those with
+#: the best profiles): two, so that the tie rule can compare the best pair.
+LEADING = 2
+#: The channel whose held-out gap the statement's closed and unexplained shares are of.
+FLOOR_CHANNEL = "load"
+
+
+@dataclass
+class Diagnosis:
+    gear_id: str
+    training: tuple[str, ...]
+    held_out: tuple[str, ...]
+    answer: tuple[str, ...]        # the effect(s) named; empty: abstained
+    statement: str                 # the answer in words
+    steps: list                    # (Attribution, [Refit ...]) per greedy step
+    held_out_rmse: dict            # (label, run, channel) -> RMSE before/after [SI]
+    calibration: object = None     # certkit.physics.calibration.GearCalibration, nominal, training runs
+    refit: Refit | None = None     # the named effects' refit (None: abstained)
+    chosen: tuple = ()             # the named effects' Candidates (forms), in the refit's order
+    step_costs: tuple = ()         # training cost each step had to beat (before its refits)
+    refit_decisions: tuple = ()    # per step, a Decision for each of its refits
+    forms: tuple = ()              # the form of each named effect ("" for a one-form effect)
+    noise: dict | None = None      # channel -> noise σ of the held-out records [SI]
+    shares: dict | None = None     # channel -> (closed, unexplained) of the held-out gap
+    caveats: tuple = ()            # held-out channels the named effects make worse, in words
+    tie: tuple = ()                # the effects that could not be told apart (a tie)
+
+    def configure(self, model: DropModel) -> DropModel:
+        """``model`` (nominal, of this gear, any run) as the diagnosis leaves it: the
+        calibrated nominal parameters, or the refit with the named effects."""
+        if self.refit is None:
+            return self.calibration.apply(model)
+        return self.refit.apply(self.calibration.knobs, model, self.chosen)
+
+
+def _held_out(campaign, gear_id, held, configure) -> tuple[dict, dict]:
+    """RMSE from touchdown of every channel of the held-out runs, (run, channel) -> [SI],
+    and each channel's measured records from touchdown, channel -> [arrays]."""
+
+    rmse, measured_records = {}, {}
+    for run_id, record in aligned_records(campaign, gear_id, configure, list(held),
+                                          effects=[]).items():
+        for channel, measured in record.measured.items():
+            difference = record.simulated[channel][record.after] - measured[record.after]
+            rmse[(run_id, channel)] = float(np.sqrt(np.mean(difference ** 2)))
+            measured_records.setdefault(channel, []).append(measured[record.after])
+    return rmse, measured_records
+
+
+def pooled(rmse: dict) -> dict:
+    """Channel -> RMS over the runs of (run, channel) -> RMSE."""
+    out: dict[str, list[float]] = {}
+    for (_, channel), value in rmse.items():
+        out.setdefault(channel, []).append(value * value)
+    return {channel: float(np.sqrt(np.mean(values))) for channel, values in out.items()}
+
+
+def _form_words(candidate: Candidate) -> str:
+    return f"{candidate.name} ({candidate.form} form)" if candidate.form else candidate.name
+
+
+def _best_scored(attribution: Attribution) -> list[str]:
+    """The :data:`LEADING` effects whose best forms score highest."""
+    effects: list[str] = []
+    for score in attribution.scores:
+        if score.effect not in effects:
+            effects.append(score.effect)
+    return effects[:LEADING]
+
+
+def _leading(profile: dict, relevant: set, names: dict) -> list[str]:
+    """The best-profiled form of each relevant effect, for the :data:`LEADING` effects with
+    the best profiles."""
+    best: dict[str, str] = {}
+    for key in sorted(relevant, key=lambda k: (profile[k][1], k)):
+        best.setdefault(names[key].name, key)
+    return list(best.values())[:LEADING]
+
+
+def _training_harm(residuals: RunResiduals, base: np.ndarray, fitted: np.ndarray,
+                   noise: dict) -> list[str]:
+    """Training channels a refit makes worse beyond their noise."""
+    before, after = residuals.channel_rmse(base), residuals.channel_rmse(fitted)
+    return [channel for channel in before
+            if harmed(before[channel], after[channel], noise.get(channel, 0.0))]
+
+
+def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
+             calibration=None) -> Diagnosis:
+    """Which effect(s) of the library explain the gap of ``gear_id``'s nominal model (the
+    rules: this module's docstring).
+
+    ``split``: (training, held-out) run ids (default: :func:`certkit.gap.holdout.split_for`);
+    ``calibration``: the nominal model already calibrated on the training runs (saves
+    doing it again)."""
+
+    training, held = split or split_for(campaign, gear_id)[:2]
+    if calibration is None:
+        calibration = calibrate_gear(campaign, gear_id, effects=[], run_ids=list(training))
+    residuals = RunResiduals(campaign, gear_id, list(training), effects=[])
+    training_noise = {channel: noise_level(records)
+                      for channel, records in residuals.measured().items()}
+    chosen: list[Candidate] = []
+    current: Refit | None = None
+    cost = calibration.fit.cost
+    steps, statement, step_costs, refit_notes, tie = [], "", [], [], ()
+    names = {c.key: c for c in candidates}
+    for _ in range(2):
+        step_costs.append(cost)
+        x = list(current.values) + list(current.strengths) if current else None
+        models = (_configured(residuals, calibration.knobs, chosen, x) if current
+                  else [calibration.apply(m) for m in residuals.models])
+        jacobian = nominal_jacobian(residuals, calibration) if current is None else \
+            _central_jacobian(residuals, x,
+                              lambda v: _configured(residuals, calibration.knobs, chosen, v))
+        named_effects = {c.name for c in chosen}
+        remaining = [c for c in candidates if c.name not in named_effects]
+        attribution = score_candidates(residuals, models, jacobian, remaining)
+        profile = profiles(residuals, calibration, chosen, remaining, current, jacobian)
+        attribution = replace(attribution, profiles={n: (float(v[-1]), c)
+                                                     for n, (v, c) in profile.items()})
+        relevant = {s.name for s in attribution.scores
+                    if s.effect in _best_scored(attribution) and s.explained >= RELEVANT}
+        relevant |= {n for n in profile if profile[n][1] <= (1 - GAIN) * cost}
+        leading = _leading(profile, relevant, names)
+        fits = [refit(residuals, calibration, chosen + [names[n]], start=profile[n][0])
+                for n in leading]
+        attribution = replace(attribution, relevant=tuple(sorted(relevant)),
+                              decisions=_decisions(attribution, relevant, leading, names),
+                              no_refit="" if fits else _NO_REFIT)
+        steps.append((attribution, fits))
+        base = residuals.evaluate([models])[0]
+        fitted = residuals.evaluate([_configured(residuals, calibration.knobs,
+                                                 [names[k] for k in f.effects],
+                                                 list(f.values) + list(f.strengths))
+                                     for f in fits]) if fits else []
+        harm = {f.effects: _training_harm(residuals, base, r, training_noise)
+                for f, r in zip(fits, fitted)}
+        useful = sorted((f for f in fits if f.training_cost <= (1 - GAIN) * cost
+                         and not harm[f.effects]), key=lambda f: f.training_cost)
+        best = useful[0] if useful else None
+        if best is not None and len(useful) > 1 and \
+                useful[1].training_cost <= TIE_COST * best.training_cost:
+            tie = (names[best.effects[-1]].name, names[useful[1].effects[-1]].name)
+            statement = _tie_statement(chosen, best, useful[1], names, attribution)
+        refit_notes.append(_refit_decisions(fits, cost, harm, best if not tie else None, tie,
+                                            names))
+        if best is None:
+            if not chosen:
+                statement = "No effect in the library explains the gap."
+            break
+        if tie:
+            break
+        chosen.append(names[best.effects[-1]])
+        current, cost = best, best.training_cost
+    answer = tuple(c.name for c in chosen)
+    if answer and not statement:
+        statement = "The gap is explained by " + " and ".join(map(_form_words, chosen)) + "."
+    before, measured = _held_out(campaign, gear_id, held, calibration.apply)
+    rmse = {("nominal",) + key: value for key, value in before.items()}
+    noise = {channel: noise_level(records) for channel, records in measured.items()}
+    shares, caveats = None, ()
+    if current is not None:
+        after, _ = _held_out(campaign, gear_id, held,
+                             lambda m: current.apply(calibration.knobs, m, chosen))
+        rmse.update({("with " + " and ".join(answer),) + key: value
+                     for key, value in after.items()})
+        pooled_before, pooled_after = pooled(before), pooled(after)
+        shares = {channel: gap_shares(pooled_before[channel], pooled_after[channel],
+                                      noise[channel]) for channel in pooled_before}
+        caveats = tuple(channel for channel in pooled_before
+                        if harmed(pooled_before[channel], pooled_after[channel], noise[channel]))
+        statement += _held_out_words(shares, caveats, len(answer))
+    return Diagnosis(gear_id, tuple(training), tuple(held), answer, statement, steps, rmse,
+                     calibration, current, tuple(chosen), tuple(step_costs),
+                     tuple(refit_notes), tuple(c.form for c in chosen), noise, shares,
+                     caveats, tie)
+
+
+def _tie_statement(chosen, best: Refit, other: Refit, names: dict,
+                   attribution: Attribution) -> str:
+    a, b = best.effects[-1], other.effects[-1]
+    cosine = attribution.confusability.get((a, b), attribution.confusability.get((b, a), 0.0))
+    tie = (f"{names[a].name} and {names[b].name} cannot be told apart with these channels "
+           f"(training costs {best.training_cost:.4g} and {other.training_cost:.4g}, within "
+           f"{percent(TIE_COST - 1, 0)}; signature cosine {cosine:.2f}).")
+    if not chosen:
+        return tie
+    return (f"The gap is explained by {' and '.join(map(_form_words, chosen))}; as a second "
+            f"effect, {tie}")
+
+
+def _held_out_words(shares: dict, caveats: tuple, count: int) -> str:
+    """The floor and the caveats, as the statement's last sentences."""
+    subject, verb = ("the named effects", "") if count > 1 else ("the named effect", "s")
+    words = ""
+    if FLOOR_CHANNEL in shares:
+        share = shares[FLOOR_CHANNEL]
+        words += (f" Of the held-out {FLOOR_CHANNEL} error beyond its noise, {subject} "
+                  f"close{verb} {percent(share[0], 0)} and {percent(share[1], 0)} stays unexplained."
+                  if share is not None else
+                  f" The held-out {FLOOR_CHANNEL} error lay within its noise before any "
+                  f"effect was added.")
+    if caveats:
+        words += (f" Caveat: {subject} make{verb} the held-out " + " and ".join(caveats)
+                  + " error worse beyond its noise.")
+    return words
+
+
+_NO_REFIT = (f"No candidate would remove {RELEVANT:g} σ or more, nor cut the training cost "
+             f"by {percent(GAIN, 0)} in its profile: none was refitted.")
+
+
+def _decisions(attribution: Attribution, relevant: set, leading: list, names: dict) -> tuple:
+    """What became of each scored candidate form at one step: refitted (the best form of
+    one of the :data:`LEADING` relevant effects with the best profiles), relevant but not
+    refitted, or not relevant (and why)."""
+    decisions = []
+    for score in attribution.scores:
+        if score.name in leading:
+            status = "refitted"
+        elif score.name in relevant and any(names[k].name == names[score.name].name
+                                            for k in leading):
+            status = "relevant; another form of this effect profiled better and was refitted"
+        elif score.name in relevant:
+            status = f"relevant, not among the {LEADING} effects with the best profiles"
+        elif score.direction < 0:
+            status = ("its score points the other way and its profile cuts the training "
+                      f"cost by less than {percent(GAIN, 0)}: not relevant")
+        else:
+            status = (f"not a form with {RELEVANT:g} σ or more of the {LEADING} effects with "
+                      f"the best scores, and its profile cuts the training cost by less than "
+                      f"{percent(GAIN, 0)}: not relevant")
+        decisions.append(Decision(score.name, status))
+    return tuple(decisions)
+
+
+def _refit_decisions(fits: list, cost: float, harm: dict, named: Refit | None, tie: tuple,
+                     names: dict) -> tuple:
+    """What became of each refit of one step: named, or not named and why."""
+    decisions = []
+    for refitted in fits:
+        effect = names[refitted.effects[-1]].name
+        if named is not None and refitted is named:
+            status = "named"
+        elif refitted.training_cost > (1 - GAIN) * cost:
+            status = f"cuts the training cost by less than {percent(GAIN, 0)}: not named"
+        elif harm[refitted.effects]:
+            status = ("makes the training " + ", ".join(harm[refitted.effects])
+                      + " error worse beyond its noise: not named")
+        elif effect in tie:
+            status = (f"within {percent(TIE_COST - 1, 0)} of another effect's training cost: "
+                      f"a tie, not named")
+        else:
+            status = (f"cuts the training cost by {percent(GAIN, 0)} or more, less than the "
+                      f"named effect: not named")
+        decisions.append(Decision(" + ".join(refitted.effects), status))
+    return tuple(decisions)
