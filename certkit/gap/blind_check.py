@@ -44,7 +44,8 @@ from threadpoolctl import threadpool_limits
 from certkit.compliance.clauses import ideal_impact_velocity
 from certkit.compliance.measures import touchdown_time
 from certkit.errors import CampaignError, CertkitInputError
-from certkit.gap.selection import diagnose
+from certkit.gap.residuals import harmed
+from certkit.gap.selection import diagnose, pooled
 from certkit.gap.holdout import split_for
 from certkit.physics.calibration import KNOBS, aligned_records
 from certkit.physics.drop_model import DropModel
@@ -274,6 +275,8 @@ def run_case(template: str, gear_id: str, case: Case, settings: Settings = Setti
     after = {(run, ch): v for (label, run, ch), v in diagnosis.held_out_rmse.items()
              if label != "nominal"} or before
     load_before, load_after = (_pooled(rmse, "load") for rmse in (before, after))
+    pooled_before, pooled_after = pooled(before), pooled(after)
+    noise = diagnosis.noise or {}
     return {**truth, "sizes": {n: float(s) for n, s in sizes.items()},
             "named": list(diagnosis.answer), "statement": diagnosis.statement, "error": None,
             "skipped": None, "held_out": list(diagnosis.held_out),
@@ -281,8 +284,11 @@ def run_case(template: str, gear_id: str, case: Case, settings: Settings = Setti
             "shrink": 1.0 - load_after / load_before if load_before > 0 else 0.0,
             "closed": 1.0 - gap[1] / gap[0] if gap[0] > 0 else None,
             "truth_gap": list(gap),
-            "harmed": bool(diagnosis.answer) and load_after > load_before,
-            "harmed_any": bool(diagnosis.answer) and any(after[k] > before[k] for k in before),
+            "harmed": bool(diagnosis.answer) and harmed(load_before, load_after,
+                                                         noise.get("load", 0.0)),
+            "harmed_any": bool(diagnosis.answer) and any(
+                harmed(pooled_before[c], pooled_after[c], noise.get(c, 0.0))
+                for c in pooled_before),
             "channels": {f"{run} {ch}": [float(before[(run, ch)]), float(after[(run, ch)])]
                          for run, ch in sorted(before)}}
 
@@ -359,7 +365,8 @@ def score(outcomes: list[dict], effects=tuple(TRUTHS)) -> dict:
     - median gap closed: the same shrink of the load RMSE against the noise-free truth
       (what a model can remove; the noise cannot be);
     - harm rate: of the cases in which an effect was named, those in which it made the
-      held-out load error worse; and on any held-out channel;
+      held-out load error worse beyond its noise (:func:`certkit.gap.residuals.harmed`);
+      and on any held-out channel;
     - the curve: top-1 and median shrink of the single-effect cases at every ratio;
     - the confusion matrix of truth (single effect or none) against first named effect.
 
@@ -387,7 +394,7 @@ def score(outcomes: list[dict], effects=tuple(TRUTHS)) -> dict:
     right = sum(len(set(o["named"]) & set(o["truth"])) for o in pairs)
     said = sum(len(o["named"]) for o in pairs)
     wanted = sum(len(o["truth"]) for o in pairs)
-    harmed = sum(bool(o.get("harmed")) for o in named)
+    harm_count = sum(bool(o.get("harmed")) for o in named)
     harmed_any = sum(bool(o.get("harmed_any")) for o in named)
     failed = [o["id"] for o in outcomes if o.get("error")]
     shrinks = [o["shrink"] for o in scored]
@@ -402,7 +409,7 @@ def score(outcomes: list[dict], effects=tuple(TRUTHS)) -> dict:
         "median_gap_closed": _metric("median_gap_closed", median(closed), None, len(closed)),
         "median_shrink_pairs": _metric("median_shrink_pairs",
                                        median([o["shrink"] for o in pairs]), None, len(pairs)),
-        "harm_rate": _metric("harm_rate", rate(harmed, named), harmed, len(named)),
+        "harm_rate": _metric("harm_rate", rate(harm_count, named), harm_count, len(named)),
         "harm_any_channel": _metric("harm_any_channel", rate(harmed_any, named), harmed_any,
                                     len(named)),
     }

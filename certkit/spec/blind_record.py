@@ -55,7 +55,8 @@ METRICS = {
 
 #: The modules whose code decides a blind check's outcome (simulation, data, diagnosis);
 #: a folder stands for every module in it.
-DIAGNOSIS_CODE = ("gap/attribution.py", "gap/blind_check.py", "physics/calibration.py",
+DIAGNOSIS_CODE = ("gap/attribution.py", "gap/selection.py", "gap/blind_check.py",
+                  "physics/calibration.py",
                   "physics/drop_model.py", "physics/dynamics.py", "physics/effects/",
                   "physics/fitting.py", "gap/holdout.py", "compliance/measures.py",
                   "gap/phases.py", "gap/residuals.py", "spec/rundata.py",
