@@ -312,6 +312,43 @@ def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: s
                 "svg": _to_svg(figure)}
 
 
+def missing_force_figure(gear_id: str, forces, units, origins: dict) -> dict:
+    """The force the calibrated nominal model misses on each run's first compression and
+    rebound (:mod:`certkit.gap.missing_force`): the strut's against stroke rate, the tyre's
+    against tyre deflection.  A sign(ṡ) step shows as a jump at ṡ = 0, rebound damping as a
+    curve on the extension side only, a tyre loop as two branches in δ."""
+    force_unit, speed_unit, length_unit = units.force, units.velocity, units.length
+    to_force, to_speed, to_length = (convert(1.0, si, unit) for si, unit in
+                                     (("N", force_unit), ("m/s", speed_unit),
+                                      ("m", length_unit)))
+    with _style():
+        figure, (strut, tyre) = plt.subplots(1, 2, figsize=(_WIDTH, _HEIGHT + 0.3))
+        for force in forces:
+            label = f"{force.run} ({record_label(origins.get(force.run, 'measured'))})"
+            strut.plot(to_speed * force.stroke_rate, to_force * force.strut_missing,
+                       linewidth=0.9, label=label)
+            tyre.plot(to_length * force.tyre, to_force * force.tyre_missing, linewidth=0.9,
+                      label=label)
+        for axes in (strut, tyre):
+            axes.axhline(0.0, color="0.3", linewidth=0.6)
+        strut.axvline(0.0, color="0.3", linewidth=0.6)
+        strut.set_xlabel(f"stroke rate ṡ [{speed_unit}] (> 0: compressing)")
+        strut.set_ylabel(f"missing strut force [{force_unit}]")
+        tyre.set_xlabel(f"tyre deflection δ [{length_unit}]")
+        tyre.set_ylabel(f"missing tyre force [{force_unit}]")
+        tyre.legend(loc="best", frameon=False, fontsize=6.0)
+        figure.tight_layout()
+        return {"title": f"{gear_id}: the force the calibrated nominal model misses, from the "
+                         f"records alone",
+                "caption": "First compression and rebound of each run. Left: the strut force "
+                           "the records imply (from the measured load and the axle's "
+                           "acceleration) less the nominal strut law at the measured stroke "
+                           "and stroke rate. Right: the measured load less the nominal tyre "
+                           "law at the measured deflection and rate. No candidate effect "
+                           "enters these curves.",
+                "svg": _to_svg(figure)}
+
+
 def blind_curve(points, target_top1: float | None, target_shrink: float | None,
                 scored_from: float | None = None) -> dict:
     """The blind check's detectability curve: top-1 accuracy and median held-out shrink of

@@ -236,7 +236,7 @@ def gap_view(evidence, campaign, units) -> GapSection:
                 if evidence is None else evidence.note)
         return GapSection(**{"available": False, "note": note, "notes": [], "gears": [],
                              "blind": blind, "time_unit": units.time, **method})
-    from certkit.evidence.figures import gap_heatmap, gap_overlay
+    from certkit.evidence.figures import gap_heatmap, gap_overlay, missing_force_figure
 
     gears = []
     for gear_id, gap in evidence.gap.items():
@@ -262,6 +262,10 @@ def gap_view(evidence, campaign, units) -> GapSection:
                 "The same statistics with the named effect(s) refitted on the training runs; "
                 "the same colour scale as the map before, so the two compare.", top)
         figures = [dict(f, svg=Markup(f["svg"])) for f in figures]
+        missing = None
+        if gap.missing:
+            missing = missing_force_figure(gear_id, gap.missing, units, origins(campaign.spec))
+            missing = dict(missing, svg=Markup(missing["svg"]))
         gears.append({
             "id": gear_id, "training": ", ".join(gap.training),
             "held_out": ", ".join(gap.held_out),
@@ -273,6 +277,7 @@ def gap_view(evidence, campaign, units) -> GapSection:
             "heatmap": figures[0], "overlays": figures[1:],
             "cells": _gap_cells(gap.before, gap.after, units),
             "steps": _gap_steps(gap, units), "statement": diagnosis.statement,
+            "missing": missing, "signatures": _signatures(diagnosis),
             "shrink": _gap_shrink(gap, units),
             "remaining": dict(remaining, svg=Markup(remaining["svg"])) if remaining else None,
             "remaining_largest": _lower_first(f"With {answer} refitted, ",
@@ -284,6 +289,18 @@ def gap_view(evidence, campaign, units) -> GapSection:
     notes = list(evidence.gap_notes) or ([] if gears else ["No gear unit was diagnosed."])
     return GapSection(**{"available": True, "note": evidence.note, "notes": notes,
                          "gears": gears, "blind": blind, "time_unit": units.time, **method})
+
+
+def _signatures(diagnosis) -> list[dict]:
+    """The missing force's shapes at each step, as the diagnosis recorded them."""
+    out = []
+    for index, step in enumerate(diagnosis.evidence):
+        for found in step:
+            out.append({"step": index + 1, "force": found.force, "shape": found.shape,
+                        "marks": found.effect or "— (absorbed by re-tuning)",
+                        "coefficient": f"{found.coefficient:.4g} {found.unit}",
+                        "share": percent(found.share, 1), "seen": "yes" if found.seen else ""})
+    return out
 
 
 def _lower_first(prefix: str, sentence: str) -> str:

@@ -54,10 +54,12 @@ def gap_method(units) -> dict:
     """Section 11: the method in words, every threshold taken from the code that applies it
     (the gap stage is imported here, not at the top: a report without the drop model does
     not load it, about 0.66 s of start-up)."""
+    from certkit.compliance.measures import AXLE_WINDOW
     from certkit.gap.attribution import STARTS
-    from certkit.gap.selection import CANDIDATES, FLOOR_CHANNEL, GAIN, LEADING, RELEVANT, TIE_COST
+    from certkit.gap.missing_force import SEEN, STEP_VELOCITY
     from certkit.gap.phases import BREAKOUT_TRAVEL, BREAKOUT_WINDOW, REBOUND_DROP
     from certkit.gap.residuals import BANDS, MAX_LAG
+    from certkit.gap.selection import CANDIDATES, FLOOR_CHANNEL, GAIN, LEADING, RELEVANT, TIE_COST
 
     bands = ", ".join(f"{name} ({low:g}-{high:g} Hz)" if math.isfinite(high)
                       else f"{name}" for name, low, high in BANDS)
@@ -101,13 +103,30 @@ def gap_method(units) -> dict:
                   f"leaves no training channel worse beyond its noise (its RMSE grown by more "
                   f"than the noise σ in quadrature, σ estimated from the channel's second "
                   f"differences) is named, with its form. When the other effect's refit comes "
-                  f"within a ratio of {TIE_COST:g} of its training cost, the two cannot be told "
-                  f"apart and the diagnosis says so instead of naming one. A second effect is "
+                  f"within a ratio of {TIE_COST:g} of its training cost, the fits cannot tell "
+                  f"the two apart: the model-free missing force (below) decides when it shows "
+                  f"the mark of one and not of the other, and otherwise the diagnosis says they "
+                  f"cannot be told apart instead of naming one. A second effect is "
                   f"then looked for the same way. The held-out errors are computed after the "
                   f"choice and play no part in it: the statement gives the share of the "
                   f"held-out {FLOOR_CHANNEL} error beyond its noise that the named effects "
                   f"close and the share that stays unexplained, and names every held-out "
                   f"channel they make worse beyond its noise."),
+        "missing_force": (
+            f"The missing force, without a model of any effect: on the first compression "
+            f"and rebound of each training run the strut's force balance is inverted "
+            f"(F_s = cos θ·(F_V − m2·(g − δ̈)) from the measured load and tyre deflection) and "
+            f"the calibrated nominal strut law at the measured stroke and stroke rate is "
+            f"subtracted; the tyre's likewise (measured load less the nominal tyre law at the "
+            f"measured deflection and rate). Rates are Savitzky-Golay derivatives over "
+            f"{with_unit(AXLE_WINDOW, 'time', units)}. Each missing force is fitted by least "
+            f"squares with shapes that mark an effect (a step with sign(ṡ) over "
+            f"{with_unit(STEP_VELOCITY, 'velocity', units)}: friction; ṡ|ṡ| on extension only: "
+            f"rebound damping; loops in δ scaling with the static curve or of constant width: "
+            f"tyre hysteresis) beside shapes re-tuning absorbs (gas stiffness, an offset, "
+            f"damping both ways, tyre stiffness and damping). A mark is seen when its "
+            f"coefficient has the effect's sign and removing it alone loses at least "
+            f"{percent(SEEN, 0)} of the missing force's variance (partial R²)."),
         "candidates": [{"name": c.name, "form": c.form or "—", "unit_size": c.unit_size}
                        for c in CANDIDATES],
     }

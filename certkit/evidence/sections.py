@@ -107,6 +107,7 @@ class GapSection:
     split: str
     where: str
     which: str
+    missing_force: str
     candidates: list[dict]
 
 

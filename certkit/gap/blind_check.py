@@ -44,9 +44,9 @@ from threadpoolctl import threadpool_limits
 from certkit.compliance.clauses import ideal_impact_velocity
 from certkit.compliance.measures import touchdown_time
 from certkit.errors import CampaignError, CertkitInputError
+from certkit.gap.holdout import split_for
 from certkit.gap.residuals import harmed
 from certkit.gap.selection import diagnose, pooled
-from certkit.gap.holdout import split_for
 from certkit.physics.calibration import KNOBS, aligned_records
 from certkit.physics.drop_model import DropModel
 from certkit.physics.drops import recorded_drops

@@ -29,11 +29,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from certkit.gap.selection import (CANDIDATES, GAIN, LEADING, RELEVANT, TIE_COST, Diagnosis,
-                                   diagnose)
 from certkit.gap.holdout import split_for
+from certkit.gap.missing_force import campaign_missing_forces
 from certkit.gap.phases import segment
 from certkit.gap.residuals import BANDS, Cell, band_shares, describe, largest, residual_cells
+from certkit.gap.selection import CANDIDATES, GAIN, LEADING, RELEVANT, TIE_COST, Diagnosis, diagnose
 from certkit.physics.calibration import (CHANNEL_UNITS, GearCalibration, aligned_records,
                                          calibrate_gear)
 from certkit.physics.drops import MIDDLE_FROM
@@ -159,6 +159,8 @@ class GapDiagnosis:
     refit_held_out: dict = field(default_factory=dict)
     # (step index, effects) -> {(run, channel): RMSE from touchdown [SI]} of every refit;
     # evaluated only, never used to choose
+    missing: list = field(default_factory=list)
+    # certkit.gap.missing_force.MissingForce of every run under the calibrated nominal model
 
 
 def gap_diagnosis(campaign: Campaign, gear_id: str) -> GapDiagnosis:
@@ -192,8 +194,10 @@ def gap_diagnosis(campaign: Campaign, gear_id: str) -> GapDiagnosis:
                                          - record.simulated[channel][record.after])
                 for run_id, record in records.items()
                 for channel, measured in record.measured.items()}
+    missing = campaign_missing_forces(campaign, gear_id, list(training) + list(held),
+                                      calibration.apply)
     return GapDiagnosis(gear_id, tuple(training), tuple(held), declared, before, diagnosis,
-                        after, errors, checks)
+                        after, errors, checks, missing)
 
 
 # --------------------------------------------------------------------------- results.json
@@ -270,6 +274,10 @@ def gap_document(gap: GapDiagnosis) -> dict:
             channel: None if share is None else {"closed": share[0], "unexplained": share[1]}
             for channel, share in diagnosis.shares.items()},
         "held_out_caveats": list(diagnosis.caveats),
+        "missing_force_signatures": [
+            [{"force": g.force, "shape": g.shape, "marks": g.effect,
+              "coefficient": g.coefficient, "unit": g.unit, "partial_r2": g.share,
+              "seen": g.seen} for g in step] for step in diagnosis.evidence],
         "held_out_errors": [{"run": e.run, "channel": e.channel, "phase": e.phase,
                              "unit": CHANNEL_UNITS[e.channel], "samples": e.samples,
                              "rmse_before": e.before, "rmse_after": e.after,

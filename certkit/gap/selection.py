@@ -8,7 +8,9 @@ are scored and profiled (:mod:`certkit.gap.attribution`); the best form of each 
 parameters; the refit that cuts the training cost most, by :data:`GAIN` at least, and
 leaves no training channel worse beyond its noise (:func:`certkit.gap.residuals.harmed`)
 is named, unless another effect's refit comes within :data:`TIE_COST` of it: then the two
-cannot be told apart and neither is named.  The held-out runs are only evaluated: their
+cannot be told apart by their fits, and the model-free missing force
+(:mod:`certkit.gap.missing_force`, on the training runs) decides when it shows the mark of
+one of them and not of the other; otherwise neither is named (a tie).  The held-out runs are only evaluated: their
 errors before and after, the share of their gap beyond the noise that the named effects
 close and the share that stays unexplained (:func:`certkit.gap.residuals.gap_shares`), and
 a caveat for every held-out channel the named effects make worse beyond its noise.
@@ -24,6 +26,7 @@ from certkit.display import percent
 from certkit.gap.attribution import (Attribution, Decision, Refit, _central_jacobian, _configured,
                                      nominal_jacobian, profiles, refit, score_candidates)
 from certkit.gap.holdout import split_for
+from certkit.gap.missing_force import campaign_missing_forces, pointed_effects, signatures
 from certkit.gap.residuals import gap_shares, harmed, noise_level
 from certkit.physics.calibration import RunResiduals, aligned_records, calibrate_gear
 from certkit.physics.drop_model import DropModel
@@ -63,6 +66,9 @@ class Diagnosis:
     shares: dict | None = None     # channel -> (closed, unexplained) of the held-out gap
     caveats: tuple = ()            # held-out channels the named effects make worse, in words
     tie: tuple = ()                # the effects that could not be told apart (a tie)
+    #: per step, the shapes of the force the model of that step misses on the training runs
+    #: (:mod:`certkit.gap.missing_force`), model-free evidence for "which"
+    evidence: tuple = ()
 
     def configure(self, model: DropModel) -> DropModel:
         """``model`` (nominal, of this gear, any run) as the diagnosis leaves it: the
@@ -142,7 +148,7 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
     chosen: list[Candidate] = []
     current: Refit | None = None
     cost = calibration.fit.cost
-    steps, statement, step_costs, refit_notes, tie = [], "", [], [], ()
+    steps, statement, step_costs, refit_notes, tie, evidence = [], "", [], [], (), []
     names = {c.key: c for c in candidates}
     for _ in range(2):
         step_costs.append(cost)
@@ -177,18 +183,25 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
                 for f, r in zip(fits, fitted)}
         useful = sorted((f for f in fits if f.training_cost <= (1 - GAIN) * cost
                          and not harm[f.effects]), key=lambda f: f.training_cost)
+        evidence.append(tuple(signatures(campaign_missing_forces(
+            campaign, gear_id, training,
+            lambda m: current.apply(calibration.knobs, m, chosen) if current
+            else calibration.apply(m)))))
         best = useful[0] if useful else None
+        broken = ""
         if best is not None and len(useful) > 1 and \
                 useful[1].training_cost <= TIE_COST * best.training_cost:
-            tie = (names[best.effects[-1]].name, names[useful[1].effects[-1]].name)
-            statement = _tie_statement(chosen, best, useful[1], names, attribution)
+            best, broken = _break_tie(best, useful[1], names, evidence[-1])
+            if best is None:
+                tie = (names[useful[0].effects[-1]].name, names[useful[1].effects[-1]].name)
+                statement = _tie_statement(chosen, useful[0], useful[1], names, attribution)
         refit_notes.append(_refit_decisions(fits, cost, harm, best if not tie else None, tie,
-                                            names))
+                                            names, broken))
+        if tie:
+            break
         if best is None:
             if not chosen:
                 statement = "No effect in the library explains the gap."
-            break
-        if tie:
             break
         chosen.append(names[best.effects[-1]])
         current, cost = best, best.training_cost
@@ -213,7 +226,23 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
     return Diagnosis(gear_id, tuple(training), tuple(held), answer, statement, steps, rmse,
                      calibration, current, tuple(chosen), tuple(step_costs),
                      tuple(refit_notes), tuple(c.form for c in chosen), noise, shares,
-                     caveats, tie)
+                     caveats, tie, tuple(evidence))
+
+
+def _break_tie(best: Refit, other: Refit, names: dict, evidence) -> tuple:
+    """(the refit to name, or None for a tie; why the tie was broken): the model-free
+    missing force decides a near-tie when it shows the mark of one of the two effects and
+    not of the other."""
+    pointed = pointed_effects(list(evidence))
+    a, b = names[best.effects[-1]].name, names[other.effects[-1]].name
+    if (a in pointed) == (b in pointed):
+        return None, ""
+    winner, loser = (best, b) if a in pointed else (other, a)
+    effect = names[winner.effects[-1]].name
+    return winner, (f"within {percent(TIE_COST - 1, 0)} of {loser}'s training cost; the "
+                    f"missing force shows the mark of {effect} "
+                    f"({percent(pointed[effect], 0)} of its variance) and not of {loser}: "
+                    f"named")
 
 
 def _tie_statement(chosen, best: Refit, other: Refit, names: dict,
@@ -275,13 +304,13 @@ def _decisions(attribution: Attribution, relevant: set, leading: list, names: di
 
 
 def _refit_decisions(fits: list, cost: float, harm: dict, named: Refit | None, tie: tuple,
-                     names: dict) -> tuple:
+                     names: dict, broken: str = "") -> tuple:
     """What became of each refit of one step: named, or not named and why."""
     decisions = []
     for refitted in fits:
         effect = names[refitted.effects[-1]].name
         if named is not None and refitted is named:
-            status = "named"
+            status = broken or "named"
         elif refitted.training_cost > (1 - GAIN) * cost:
             status = f"cuts the training cost by less than {percent(GAIN, 0)}: not named"
         elif harm[refitted.effects]:

@@ -397,3 +397,27 @@ def integrate_batch(parameters, initial, step, per_sample, samples, drive):
             out[d, sample] = row
         final[d] = y
     return out, final
+
+
+@njit(cache=True, error_model="numpy", fastmath=FAST)
+def strut_and_tyre_forces(p, stroke, rate, deflection, deflection_rate, strut, gas_force,
+                          tyre, tyre_static):
+    """The strut's force law (gas spring at the pre-charge temperature, hydraulic damping
+    as a square law, rebound damping, stops, seal friction) at given strokes and stroke
+    rates, and the tyre's at given deflections and rates, into ``strut`` and ``tyre`` [N],
+    with the gas spring's share and the static tyre curve into ``gas_force`` and
+    ``tyre_static``: the force laws of :func:`rates` evaluated on recorded motion (the oil
+    column, heat transfer and the extra degrees of freedom, which need states, are left
+    out)."""
+    for i in range(stroke.size):
+        s, v = stroke[i], rate[i]
+        gas = p[GAS_AREA] * (_gas_pressure(p, s, 1.0) - P_ATM)
+        k = _hydraulic_coefficient(p, s, v)
+        force = gas + k * v * abs(v)
+        if p[REBOUND_LINEAR] != 0.0 and v < 0.0:
+            force += p[REBOUND_LINEAR] * v
+        force += _stop_force(p, s, v)[0]
+        if p[FRICTION] != 0.0 or p[FRICTION_PRESSURE] != 0.0 or p[FRICTION_BREAKAWAY] != 0.0:
+            force += _friction(p, v, gas)
+        strut[i], gas_force[i] = force, gas
+        tyre[i], tyre_static[i] = _tyre_force(p, deflection[i], deflection_rate[i])
