@@ -246,8 +246,10 @@ def test_the_gap_section_lays_out_the_diagnosis(diagnosed, with_hysteresis):
     assert "13. Provenance" in html
     assert diagnosed.diagnosis.statement in section
     assert "right-main: not diagnosed. Example note." in section
-    # the map before, the held-out overlay, the map that remains
-    assert section.count("<svg") == 3
+    # the map before, the held-out overlay, the missing force, the map that remains
+    assert section.count("<svg") == 4
+    assert "the force the calibrated nominal model misses, from the records alone" in section
+    assert "loop ∝ static curve × sign(δ̇)" in section      # the shapes' table
     assert ("the default (every drop at the highest drop height held out, and at the middle "
             "one from 4 heights up)") in section          # holdout.MIDDLE_FROM = 4
     # thresholds are the code's, not typed into the template

@@ -10,8 +10,9 @@ Every case is a campaign simulated from the template campaign's spec:
   diagnosis's candidate where the library allows (:data:`TRUTHS`: Stribeck friction against
   a Coulomb candidate, a Butterworth filter plus a pure delay against a first-order lag,
   …), sized so that it changes the load channel of the diagnosed gear by a chosen multiple
-  of the load noise (RMS over the runs' records from touchdown; a recorder's delay is
-  aligned away first, as the diagnosis aligns on the touchdown);
+  of the load noise (RMS over the first compression and rebound of every run, where the
+  effect acts, not over late bounces whose phase it shifts; a recorder's delay is aligned
+  away first, as the diagnosis aligns on the touchdown);
 - sensor noise, quantisation, zero offsets and an error in the recorded zero offsets;
 - written to disk in the campaign's own data format under an opaque case id, with a note
   that names no effect.
@@ -45,6 +46,7 @@ from certkit.compliance.clauses import ideal_impact_velocity
 from certkit.compliance.measures import touchdown_time
 from certkit.errors import CampaignError, CertkitInputError
 from certkit.gap.holdout import split_for
+from certkit.gap.phases import segment
 from certkit.gap.residuals import harmed
 from certkit.gap.selection import diagnose, pooled
 from certkit.physics.calibration import KNOBS, aligned_records
@@ -136,14 +138,31 @@ def _scattered(model: DropModel, factors: dict) -> DropModel:
     return model
 
 
+def first_cycle(time: np.ndarray, load: np.ndarray, stroke: np.ndarray,
+                weight: float) -> slice:
+    """The samples of a drop's first compression and rebound: from touchdown to the end
+    of the rebound (:func:`certkit.gap.phases.segment`), or to the end of the record when
+    the strut does not extend again within it."""
+    phases = {p.name: p for p in segment(time, load, stroke, weight)}
+    start = phases["tyre-only contact"].start if "tyre-only contact" in phases else 0
+    end = phases["rebound"].stop if "rebound" in phases else time.size
+    return slice(start, end)
+
+
 def _load_effect(models: list[DropModel], velocities, truth: Truth, sizes: np.ndarray,
                  rate: float, duration: float) -> np.ndarray:
-    """RMS over the runs of the load with the truth at each size minus without it [N]."""
+    """RMS of the load with the truth at each size minus without it [N], over the first
+    compression and rebound of every run (:func:`first_cycle` of the run without the
+    truth): an effect's size measured where it acts, not inflated by late bounces that
+    shift in phase."""
 
     batch = [truth.model(m, s) for s in sizes for m in models] + list(models)
     speeds = np.array(list(velocities) * (len(sizes) + 1))
     drops = simulate_batch(batch, speeds, duration, rate)
     load = drops.load.reshape(len(sizes) + 1, len(models), -1)
+    stroke = drops.stroke.reshape(len(sizes) + 1, len(models), -1)
+    windows = [first_cycle(drops.time, load[-1][k], stroke[-1][k],
+                           m.total_mass * STANDARD_GRAVITY) for k, m in enumerate(models)]
     out = []
     for index, size in enumerate(sizes):
         recorder = truth.recorder(size)
@@ -154,7 +173,9 @@ def _load_effect(models: list[DropModel], velocities, truth: Truth, sizes: np.nd
             changed = np.array([_aligned(drops.time, recorder.apply(drops.time, row), plain,
                                          touchdown_level(model))
                                 for row, plain, model in zip(load[index], load[-1], models)])
-        out.append(float(np.sqrt(np.mean((changed - load[-1]) ** 2))))
+        squares = [np.mean((changed[k][w] - load[-1][k][w]) ** 2)
+                   for k, w in enumerate(windows)]
+        out.append(float(np.sqrt(np.mean(squares))))
     return np.array(out)
 
 
