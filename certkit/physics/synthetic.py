@@ -68,6 +68,22 @@ def _decimals(step: float) -> int:
     return max(0, -int(math.floor(math.log10(step)))) if step else 9
 
 
+@dataclass(frozen=True)
+class Histories:
+    """One gear unit's noise-free channels in one drop, as a simulator gives them (SI):
+    what :func:`write_campaign` records.  ``acceleration`` is the drop mass's, positive
+    upward; ``displacement`` its travel from contact, positive downward; ``weight`` the
+    share of the drop mass the unit carries (to average the drop mass's channels)."""
+
+    time: np.ndarray
+    load: np.ndarray
+    stroke: np.ndarray
+    tyre: np.ndarray
+    acceleration: np.ndarray
+    displacement: np.ndarray
+    weight: float
+
+
 def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
                       sensors: SensorModel = SensorModel(), duration: float = 2.0,
                       lead: float = 0.1, effects: list[str] | None = None,
@@ -84,6 +100,43 @@ def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
     """
     spec = campaign.spec
     rate = spec.instrumentation.sampling_rate.si if spec.instrumentation else 1000.0
+
+    def histories(index: int, run) -> dict[str, Histories]:
+        velocity = ideal_impact_velocity(run.drop_height.si)
+        models = {gear_id: drop_model_for(spec, run, gear_id, str(campaign.spec_path.name),
+                                          campaign.lines, effects)
+                  for gear_id in run.gear_units}
+        if truth is not None:
+            models = {gear_id: truth(gear_id, model) for gear_id, model in models.items()}
+        out = {}
+        for gear_id, model in models.items():
+            drop = simulate_reference(model, velocity, duration, rate, lead, run=run.id)
+            record = (_recorder(campaign, effects, drop.time) if recorder is None
+                      else lambda signal, sensor=recorder, t=drop.time: sensor.apply(t, signal))
+            out[gear_id] = Histories(drop.time, record(drop.load), record(drop.stroke),
+                                     record(drop.tyre), record(drop.acceleration),
+                                     record(drop.displacement), model.upper_mass)
+        return out
+
+    note = note or (f"Synthetic time histories simulated by certkit (drop model of each gear "
+                    f"unit, effects: "
+                    f"{', '.join(effects if effects is not None else spec.model.effects) or 'none'}"
+                    f"; seed {seed}); sensor noise, quantisation and zero offsets added.")
+    return write_campaign(campaign, out_dir, histories, note, seed, sensors, rate)
+
+
+def write_campaign(campaign: Campaign, out_dir: str | Path,
+                   histories: Callable[[int, object], dict[str, Histories]], note: str,
+                   seed: int = 0, sensors: SensorModel = SensorModel(),
+                   rate: float | None = None) -> Path:
+    """Write a campaign whose runs hold the channels ``histories(index, run)`` gives
+    (gear unit -> :class:`Histories`, as recorded but noise-free) with ``sensors``' noise,
+    quantisation and zero offsets added, into ``out_dir``: the spec (``note`` added to its
+    assumptions and at its top) and ``data/<run>.csv``.  Returns the new spec's path.  Any
+    simulator can fill a campaign this way (the blind check's independent truths do)."""
+    spec = campaign.spec
+    if rate is None:
+        rate = spec.instrumentation.sampling_rate.si if spec.instrumentation else 1000.0
     raw = yaml.safe_load(campaign.spec_path.read_text(encoding="utf-8"))
     # the new campaign has no blind-check record of its own (the file is not copied)
     (raw.get("model") or {}).get("gap", {}).pop("blind_check", None)
@@ -93,26 +146,16 @@ def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
         (staging / "data").mkdir()
         for index, run in enumerate(spec.runs):
             rng = np.random.default_rng([seed, index])
-            velocity = ideal_impact_velocity(run.drop_height.si)
-            models = {gear_id: drop_model_for(spec, run, gear_id, str(campaign.spec_path.name),
-                                              campaign.lines, effects)
-                      for gear_id in run.gear_units}
-            if truth is not None:
-                models = {gear_id: truth(gear_id, model) for gear_id, model in models.items()}
-            drops = {gear_id: simulate_reference(model, velocity, duration, rate, lead, run=run.id)
-                     for gear_id, model in models.items()}
-            first = next(iter(drops.values()))
-            time = first.time
-            recorded = (_recorder(campaign, effects, time) if recorder is None
-                        else lambda signal, sensor=recorder: sensor.apply(time, signal))
+            drops = histories(index, run)
+            time = next(iter(drops.values())).time
             columns = {"t_s": (time, 1.0, 6)}
             mapping = {}
             for gear_id, drop in drops.items():
-                load, load_bias = _measured(recorded(drop.load), sensors.load_noise,
+                load, load_bias = _measured(drop.load, sensors.load_noise,
                                             sensors.load_step, sensors.load_offset, rng)
-                stroke, stroke_bias = _measured(recorded(drop.stroke), sensors.travel_noise,
+                stroke, stroke_bias = _measured(drop.stroke, sensors.travel_noise,
                                                 sensors.travel_step, sensors.travel_offset, rng)
-                tyre, tyre_bias = _measured(recorded(drop.tyre), sensors.travel_noise,
+                tyre, tyre_bias = _measured(drop.tyre, sensors.travel_noise,
                                             sensors.travel_step, sensors.travel_offset, rng)
                 if sensors.load_zero_error or sensors.travel_zero_error:
                     load_bias += rng.uniform(-1, 1) * sensors.load_zero_error
@@ -129,13 +172,12 @@ def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
                     "tyre_deflection": {"column": f"{gear_id}_tyre_mm", "unit": "mm",
                                         "offset": round(tyre_bias * 1e3, 9)}}
             # the drop mass: each unit's upper mass moves as the airframe; weighted by upper mass
-            masses = {g: models[g].upper_mass for g in drops}
-            total = sum(masses.values())
-            acceleration = sum(masses[g] * d.acceleration for g, d in drops.items()) / total
-            displacement = sum(masses[g] * d.displacement for g, d in drops.items()) / total
-            acceleration, _ = _measured(recorded(acceleration), sensors.acceleration_noise,
+            total = sum(d.weight for d in drops.values())
+            acceleration = sum(d.weight * d.acceleration for d in drops.values()) / total
+            displacement = sum(d.weight * d.displacement for d in drops.values()) / total
+            acceleration, _ = _measured(acceleration, sensors.acceleration_noise,
                                         sensors.acceleration_step, 0.0, rng)
-            displacement, _ = _measured(recorded(displacement), sensors.displacement_noise,
+            displacement, _ = _measured(displacement, sensors.displacement_noise,
                                         sensors.displacement_step, 0.0, rng)
             columns["acc_ms2"] = (acceleration, 1.0, _decimals(sensors.acceleration_step))
             columns["x_mm"] = (displacement, 1e3, _decimals(sensors.displacement_step * 1e3))
@@ -147,9 +189,6 @@ def simulate_campaign(campaign: Campaign, out_dir: str | Path, seed: int = 0,
                 "drop_mass_acceleration": {"column": "acc_ms2", "unit": "m/s^2",
                                            "reference": "kinematic"},
                 "drop_mass_displacement": {"column": "x_mm", "unit": "mm"}}
-        note = note or (f"Synthetic time histories simulated by certkit (drop model of each gear unit, "
-                f"effects: {', '.join(effects if effects is not None else spec.model.effects) or 'none'}; "
-                f"seed {seed}); sensor noise, quantisation and zero offsets added.")
         raw.setdefault("assumptions", []).append(note)
         text = yaml.safe_dump(raw, sort_keys=False, allow_unicode=True, width=100)
         (staging / "campaign.yaml").write_text("# " + note + "\n" + text, encoding="utf-8")
