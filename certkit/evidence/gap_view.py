@@ -216,6 +216,12 @@ def _blind_view(campaign) -> dict:
                         else " It was made by other diagnosis code than this certkit's "
                              "(other thresholds or simulation), so it describes that code: "
                              "run the command again.")),
+        "truths": ("The withheld truths were simulated by " + record.truths + "."
+                   if record.truths else
+                   "The withheld truths were simulated by certkit's own drop model, each "
+                   "effect in a form other than its candidate's where the library allows: "
+                   "the figures describe the diagnosis on physics it wrote itself, not on "
+                   "a real gear's."),
         "settings": settings, "metrics": metrics, "verdict": verdict,
         "curve_figure": curve_figure,
         "curve": [{"ratio": f"{point.ratio:g}", "cases": str(point.cases),

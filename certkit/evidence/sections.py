@@ -85,6 +85,7 @@ class BlindSection:
     file: str = ""
     sha256: str = ""
     template: str = ""
+    truths: str = ""
     cases: str = ""
     settings: object = None
     metrics: list[dict] = field(default_factory=list)

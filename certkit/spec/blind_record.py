@@ -157,6 +157,9 @@ class Confusion(_Record):
 class BlindCheckRecord(_Record):
     kind: Literal["certkit blind check"]
     certkit: str
+    #: what the withheld truths were simulated by (None: certkit's own battery, its own
+    #: force laws in other forms)
+    truths: str | None = None
     template: Template
     command: str
     settings: dict[str, Any]
