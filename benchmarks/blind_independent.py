@@ -243,6 +243,20 @@ def _held_out_load(campaign, gear_id: str, held, configure) -> float:
                               for r in records.values()]))
 
 
+def _physical_size(clean, bare, gear_id: str, held) -> dict:
+    """What the truths change physically on the held-out drops, noise-free: the peak
+    load (N and share) and the maximum stroke (m)."""
+    out = {}
+    for run_id in held:
+        with_effect, without = (c.series[run_id].gears[gear_id] for c in (clean, bare))
+        peak, plain_peak = float(with_effect.load.max()), float(without.load.max())
+        out[run_id] = {"peak_load_change_N": peak - plain_peak,
+                       "peak_load_change_share": peak / plain_peak - 1.0,
+                       "max_stroke_change_m": float(with_effect.stroke.max()
+                                                    - without.stroke.max())}
+    return out
+
+
 def run_case(template: str, gear_id: str, case: Case, sizes: dict, plan: Plan,
              settings: blind_check.Settings) -> dict:
     import numba
@@ -280,6 +294,7 @@ def run_case(template: str, gear_id: str, case: Case, sizes: dict, plan: Plan,
             floor_calibration = calibrate_gear(bare, gear_id, effects=[],
                                                run_ids=list(diagnosis.training))
             floor = _held_out_load(bare, gear_id, held, floor_calibration.apply)
+            physical = _physical_size(clean, bare, gear_id, held)
         except Exception as error:   # noqa: BLE001 -- recorded and scored as a failure
             return {**truth, "named": [], "statement": f"failed: {type(error).__name__}: "
                     f"{error}", "error": f"{type(error).__name__}: {error}", "skipped": None,
@@ -300,6 +315,7 @@ def run_case(template: str, gear_id: str, case: Case, sizes: dict, plan: Plan,
             "shrink": 1.0 - pa["load"] / pb["load"] if pb["load"] > 0 else 0.0,
             "closed": (1.0 - own_after / own_before) if own_before > 0 else None,
             "truth_gap": [gap_before, gap_after], "floor": floor,
+            "physical": physical,
             "harmed": bool(diagnosis.answer) and harmed(pb["load"], pa["load"],
                                                         noise.get("load", 0.0)),
             "harmed_any": bool(diagnosis.answer) and any(
