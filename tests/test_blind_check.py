@@ -262,9 +262,16 @@ RECORD = "campaigns/seed-amphibian/blind-check/blind-check.json"
 
 @pytest.mark.slow
 def test_the_examples_blind_check_record_is_what_this_code_gives():
-    """The committed record (72 cases, about 5 minutes) is spot-checked: two of its cases
-    are run again here, and its metrics are those score() gives for its cases (a check
-    that the file was not edited by hand, not of score(), which is checked above)."""
+    """The committed record (the independent battery of benchmarks/blind_independent.py,
+    about 100 cases, 10 minutes) is spot-checked: two of its cases are run again here, and
+    its metrics are those its score() gives for its cases (a check that the file was not
+    edited by hand)."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import blind_independent as independent
+
     with open(RECORD, encoding="utf-8") as handle:
         record = json.load(handle)
     from certkit.spec.blind_record import code_fingerprint, template_fingerprint
@@ -273,21 +280,25 @@ def test_the_examples_blind_check_record_is_what_this_code_gives():
     # code the report says in words (code_fingerprint), the two cases below check outcomes
     assert record["template"]["sha256"] == template_fingerprint(load_campaign(EXAMPLE))
     assert len(record["template"]["code"]) == len(code_fingerprint()) == 64
-    cases = {c.id: c for c in battery()}
+    assert "benchmarks/truthgen" in record["truths"]
+    plan = independent.Plan()
+    cases = {c.id: c for c in independent.battery(plan)}
     assert record["settings"]["cases"] == len(cases)
     assert [o["id"] for o in record["cases"]] == list(cases)
     picked = [c for c in cases.values()
-              if (c.truths, c.ratio, c.seed) in ((("heat transfer",), 1.0, 21),
-                                                 (("seal friction", "tyre hysteresis"), 5.0, 21))]
+              if (c.forms, c.ratio, c.seed) in ((("dahl",), 2.0, 31),
+                                                (("blow-off", "lugre"), 5.0, 32))]
     assert len(picked) == 2
+    template = str(Path(EXAMPLE).resolve())
+    sizes = independent.size_table(template, "left-main", plan, Settings().load_noise)
     for case in picked:
         kept = next(o for o in record["cases"] if o["id"] == case.id)
-        again = run_case(EXAMPLE, "left-main", case)
+        again = independent.run_case(template, "left-main", case, sizes, plan, Settings())
         assert again["named"] == kept["named"] and again["truth"] == kept["truth"]
         for key in ("before", "after", "shrink", "closed"):
             assert again[key] == pytest.approx(kept[key], rel=1e-6), key
         assert again["sizes"] == pytest.approx(kept["sizes"], rel=1e-6)
-    rescored = score(record["cases"])
+    rescored = independent.score(record["cases"])
     assert json.dumps(rescored["metrics"], sort_keys=True) == json.dumps(record["metrics"],
                                                                         sort_keys=True)
     assert rescored["confusion"] == record["confusion"]

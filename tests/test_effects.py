@@ -26,6 +26,7 @@ EFFECTS = {
                                           above=True),
     "platform compliance": PlatformCompliance(mass=50.0, stiffness=5e7, damping=5000.0),
     "constant tyre loop": TyreHysteresis(0.0, constant=300.0),
+    "tyre loop with memory": TyreHysteresis(0.05, constant=300.0, memory=True),
     "linear rebound": ReboundOrifice(0.0, linear=2000.0),
 }
 
@@ -271,3 +272,27 @@ def test_a_second_order_sensor_lag_is_two_first_order_lags_in_cascade():
                                    abs=1e-12)
     with pytest.raises(ValueError):
         SensorLag(tau, order=3)
+
+
+def test_a_tyre_loop_with_memory_follows_dahls_law_and_holds_at_rest():
+    """w' = (δ̇/δ_H)·(1 − w·tanh(δ̇/v_ε)); F = f(δ)·(1 + C_T·δ̇) + (h·f(δ) + H)·w, by hand
+    at δ = 20 mm, with w = 0 (the switch runs at δ̇/δ_H), w = 1 loading (saturated), and
+    at rest (δ̇ = 0: w keeps its value and the loop holds its force)."""
+    from certkit.physics import dynamics as dyn
+
+    base = seed_gear(friction=False)
+    model = replace(base, effects=(TyreHysteresis(0.05, constant=300.0, memory=True),))
+    tyre = model.tyre
+    static = tyre.reference_load * (0.02 / tyre.reference_deflection) ** tyre.exponent
+    for w, rate in ((0.0, 0.1), (1.0, 0.1), (0.6, 0.0), (-1.0, -0.2)):
+        y = np.zeros(dyn.STATES)
+        y[dyn.Z1] = y[dyn.Z2] = 0.02
+        y[dyn.V1] = y[dyn.V2] = rate
+        y[dyn.THETA], y[dyn.LOOP] = 1.0, w
+        dy = model.rates(y)
+        expected = rate / 0.002 * (1 - w * math.tanh(rate / 0.01))
+        assert dy[dyn.LOOP] == pytest.approx(expected, abs=1e-9)
+        force = static * (1 + tyre.damping * rate) + (0.05 * static + 300.0) * w
+        # the lower mass: m2·a = m2·g + F_s − F_V, so F_V = m2·(g − a) + F_s
+        strut = (model.upper_mass * (G - dy[dyn.V1]) - model.lift)
+        assert model.lower_mass * (G - dy[dyn.V2]) + strut == pytest.approx(force, rel=1e-9)

@@ -33,7 +33,7 @@ import numpy as np
 from numba import njit
 from scipy import signal
 
-from .forms import FORMS, Truth
+from .forms import FORMS
 
 G = 9.80665
 P_ATM = 101325.0

@@ -70,12 +70,14 @@ HYSTERESIS_CONSTANT = PIN_AREAS + PIN_POINTS          # N, a tyre loop of consta
 HYSTERESIS_ONSET = HYSTERESIS_CONSTANT + 1            # m, deflection over which it builds up
 REBOUND_LINEAR = HYSTERESIS_CONSTANT + 2              # N·s/m, linear rebound damping
 LEG_ABOVE = HYSTERESIS_CONSTANT + 3                   # flag: the flexible leg above the strut
-SLOTS = HYSTERESIS_CONSTANT + 4
+HYSTERESIS_MEMORY = HYSTERESIS_CONSTANT + 4           # flag: the loop switches with deflection
+SLOTS = HYSTERESIS_CONSTANT + 5
 
 # --------------------------------------------------------------------------- state slots
 Z1, V1, Z2, V2, ZW, VW, ZP, VP, THETA, OIL_FORCE = range(10)
 DISSIPATED, STRUT_WORK, TYRE_WORK = 10, 11, 12       # works integrated alongside [J]
-STATES = 13
+LOOP = 13                                            # the tyre loop's switch w ∈ [−1, 1]
+STATES = 14
 
 # --------------------------------------------------------------------------- output channels
 LOAD, STROKE, TYRE, ACCELERATION, DISPLACEMENT, ENERGY = range(6)
@@ -140,18 +142,34 @@ def _tyre_static(p, deflection):
 
 
 @njit(cache=True, error_model="numpy", fastmath=FAST)
-def _tyre_force(p, deflection, rate):
-    """F_V = max(0, f(δ)·(1 + C_T·δ̇) + (h·f(δ) + H·(1 − e^(−δ/δ_H)))·tanh(δ̇/v_h))
-    (seed eq. 5 with a hysteresis loop whose half-width is a share h of the static curve,
-    a constant H built up over the first δ_H of deflection, or both)."""
+def _tyre_force(p, deflection, rate, loop):
+    """F_V = max(0, f(δ)·(1 + C_T·δ̇) + (h·f(δ) + H·b(δ))·σ) (seed eq. 5 with a hysteresis
+    loop whose half-width is a share h of the static curve, a constant H, or both).
+
+    The loop's switch σ is tanh(δ̇/v_h) with b(δ) = 1 − e^(−δ/δ_H) (rate-switched), or,
+    with memory, the state ``loop`` = w of Dahl's rate-independent law with b = 1 (see
+    :func:`_loop_rate`), which keeps its value when the tyre comes to rest."""
     static = _tyre_static(p, deflection)
     force = static * (1.0 + p[TYRE_DAMPING] * rate)
     width = p[HYSTERESIS] * static
+    memory = p[HYSTERESIS_MEMORY] > 0.0
     if p[HYSTERESIS_CONSTANT] != 0.0 and deflection > 0.0:
-        width += p[HYSTERESIS_CONSTANT] * (1.0 - math.exp(-deflection / p[HYSTERESIS_ONSET]))
+        width += p[HYSTERESIS_CONSTANT] * (
+            1.0 if memory else 1.0 - math.exp(-deflection / p[HYSTERESIS_ONSET]))
     if width != 0.0:
-        force += width * math.tanh(rate / p[HYSTERESIS_VELOCITY])
+        force += width * (loop if memory else math.tanh(rate / p[HYSTERESIS_VELOCITY]))
     return max(force, 0.0), static
+
+
+@njit(cache=True, error_model="numpy", fastmath=FAST)
+def _loop_rate(p, deflection, rate, loop):
+    """Dahl's law for the loop's switch (P. R. Dahl, "A solid friction model", Aerospace
+    Corp. TOR-0158(3107-18)-1, 1968, with the force normalised by its limit):
+    w' = (δ̇/δ_H)·(1 − w·tanh(δ̇/v_h)) on the platform, so w runs to ±1 within a few δ_H
+    of deflection in either direction; off it the switch relaxes to 0 within 5 ms."""
+    if deflection <= 0.0:
+        return -loop / 0.005
+    return rate / p[HYSTERESIS_ONSET] * (1.0 - loop * math.tanh(rate / p[HYSTERESIS_VELOCITY]))
 
 
 @njit(cache=True, error_model="numpy", fastmath=FAST)
@@ -226,9 +244,11 @@ def _evaluate(p, y, dy, driven, drive_force):
         ground = drive_force
         dy[TYRE_WORK] = 0.0
     else:
-        ground, static = _tyre_force(p, deflection, deflection_rate)
+        ground, static = _tyre_force(p, deflection, deflection_rate, y[LOOP])
         dissipation += (ground - static) * deflection_rate            # tyre damping, loop
         dy[TYRE_WORK] = ground * deflection_rate
+    dy[LOOP] = (_loop_rate(p, deflection, deflection_rate, y[LOOP])
+                if p[HYSTERESIS_MEMORY] > 0.0 and not driven else 0.0)
 
     vertical = strut / cos_t
     dy[Z1] = y[V1]
@@ -407,8 +427,8 @@ def strut_and_tyre_forces(p, stroke, rate, deflection, deflection_rate, strut, g
     rates, and the tyre's at given deflections and rates, into ``strut`` and ``tyre`` [N],
     with the gas spring's share and the static tyre curve into ``gas_force`` and
     ``tyre_static``: the force laws of :func:`rates` evaluated on recorded motion (the oil
-    column, heat transfer and the extra degrees of freedom, which need states, are left
-    out)."""
+    column, heat transfer, the extra degrees of freedom and the tyre loop's memory, which
+    need states, are left out: a loop with memory is evaluated rate-switched)."""
     for i in range(stroke.size):
         s, v = stroke[i], rate[i]
         gas = p[GAS_AREA] * (_gas_pressure(p, s, 1.0) - P_ATM)
@@ -420,4 +440,6 @@ def strut_and_tyre_forces(p, stroke, rate, deflection, deflection_rate, strut, g
         if p[FRICTION] != 0.0 or p[FRICTION_PRESSURE] != 0.0 or p[FRICTION_BREAKAWAY] != 0.0:
             force += _friction(p, v, gas)
         strut[i], gas_force[i] = force, gas
-        tyre[i], tyre_static[i] = _tyre_force(p, deflection[i], deflection_rate[i])
+        switch = (math.tanh(deflection_rate[i] / p[HYSTERESIS_VELOCITY])
+                  if p[HYSTERESIS_VELOCITY] > 0.0 else 0.0)
+        tyre[i], tyre_static[i] = _tyre_force(p, deflection[i], deflection_rate[i], switch)
