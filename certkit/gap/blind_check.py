@@ -170,7 +170,7 @@ def _load_effect(models: list[DropModel], velocities, truth: Truth, sizes: np.nd
         if recorder is not None:
             # a recorder delays the record, which the diagnosis's alignment on the touchdown
             # absorbs: only what remains with the touchdowns aligned counts
-            changed = np.array([_aligned(drops.time, recorder.apply(drops.time, row), plain,
+            changed = np.array([aligned_on_touchdown(drops.time, recorder.apply(drops.time, row), plain,
                                          touchdown_level(model))
                                 for row, plain, model in zip(load[index], load[-1], models)])
         squares = [np.mean((changed[k][w] - load[-1][k][w]) ** 2)
@@ -185,7 +185,8 @@ def touchdown_level(model: DropModel) -> float:
     return 0.02 * (model.upper_mass + model.lower_mass) * STANDARD_GRAVITY
 
 
-def _aligned(time: np.ndarray, recorded: np.ndarray, plain: np.ndarray, level: float):
+def aligned_on_touchdown(time: np.ndarray, recorded: np.ndarray, plain: np.ndarray,
+                         level: float) -> np.ndarray:
     """``recorded`` shifted so that it crosses ``level`` when ``plain`` does."""
 
     shift = (touchdown_time(time, recorded, None, level=level)[0]
