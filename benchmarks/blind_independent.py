@@ -353,6 +353,13 @@ def score(outcomes: list[dict]) -> dict:
     metrics["abstention_out_of_library"] = _metric(
         "abstention_out_of_library", abstained / len(outside) if outside else None, abstained,
         len(outside))
+    # harm as the targets count it: cases that named an effect, with no effect or one of
+    # effect/noise ≥ SCORED_FROM (single or pairs); below that, listed in the cases only
+    named = [o for o in inside if o["named"] and not o.get("skipped")
+             and (o["ratio"] is None or o["ratio"] >= blind_check.SCORED_FROM)]
+    for name, key in (("harm_rate", "harmed"), ("harm_any_channel", "harmed_any")):
+        count = sum(bool(o.get(key)) for o in named)
+        metrics[name] = _metric(name, count / len(named) if named else None, count, len(named))
     closed = [o["closed"] if o.get("closed") is not None else 0.0 for o in scored
               if o["named"][:1] == o["truth"]]
     metrics["median_own_gap_closed"] = _metric(
@@ -425,6 +432,9 @@ def main() -> int:
                      "size_measure": "RMS load change over the first compression and rebound "
                                      "of every run (touchdowns aligned), in units of the load noise",
                      "scored_from": blind_check.SCORED_FROM, "cases": len(cases),
+                     "targets": "issue 14's, on cases with effect/noise of at least "
+                                f"{blind_check.SCORED_FROM:g} (harm: of those that named an "
+                                "effect, and the no-effect cases)",
                      "forms": {f: f"{v.label}: {v.description}"
                                for f, v in truthgen.FORMS.items()}},
     }
