@@ -1,7 +1,8 @@
 """The gap diagnosis's blind check on truths certkit did not write (issue 14).
 
 Run:  .venv/bin/python benchmarks/blind_independent.py SPEC -g GEAR -o DIR [--workers N]
-      [--quick]
+      [--quick] [--rescore RECORD]   (about 8 minutes on 2 cores; --rescore scores a
+      record's cases again without running them)
 
 Every case is a campaign simulated from the template campaign's spec by the independent
 drop simulator in ``benchmarks/truthgen`` (its own force laws, its own nuisance physics
@@ -35,6 +36,7 @@ import blas_threads  # noqa: F401 -- first: pins the BLAS threads before numpy i
 # isort: split
 import argparse
 import hashlib
+import json
 import math
 import multiprocessing
 import statistics
@@ -339,6 +341,34 @@ def _metric(name: str, value, count, cases) -> dict:
             "interval": blind_check.wilson(count, cases) if count is not None else None}
 
 
+def _by_form(outcomes: list[dict]) -> list[dict]:
+    """Per truth form, its single-effect cases: how many were answered right (the withheld
+    effect named first; outside the library: an abstention), at every size and at
+    effect/noise ≥ SCORED_FROM, and the median change of the held-out drops' peak load the
+    form made at those sizes (noise-free, in N and as a share)."""
+    rows = []
+    for form_id, form in truthgen.FORMS.items():
+        mine = [o for o in outcomes if o["forms"] == [form_id] and not o.get("skipped")]
+        if not mine:
+            continue
+
+        def right(o) -> bool:
+            return (not o["named"] and not o.get("error")) if form.effect is None \
+                else o["named"][:1] == o["truth"]
+
+        scored = [o for o in mine if o["ratio"] >= blind_check.SCORED_FROM]
+        peaks = [run for o in scored for run in (o.get("physical") or {}).values()]
+        rows.append({
+            "form": form_id, "label": form.label, "effect": form.effect,
+            "cases": len(mine), "right": sum(map(right, mine)),
+            "scored": len(scored), "right_scored": sum(map(right, scored)),
+            "median_peak_load_change_N": statistics.median(
+                [abs(r["peak_load_change_N"]) for r in peaks]) if peaks else None,
+            "median_peak_load_change_share": statistics.median(
+                [abs(r["peak_load_change_share"]) for r in peaks]) if peaks else None})
+    return rows
+
+
 def score(outcomes: list[dict]) -> dict:
     inside = [o for o in outcomes if not o.get("outside")]
     effects = sorted({e for o in inside for e in o["truth"]})
@@ -365,49 +395,15 @@ def score(outcomes: list[dict]) -> dict:
     metrics["median_own_gap_closed"] = _metric(
         "median_own_gap_closed", statistics.median(closed) if closed else None, None,
         len(closed))
-    by_form = {}
-    for o in inside:
-        if len(o["forms"]) == 1 and o["ratio"] is not None and not o.get("skipped"):
-            row = by_form.setdefault(o["forms"][0], {"cases": 0, "top1": 0, "scored": 0,
-                                                      "top1_scored": 0})
-            row["cases"] += 1
-            row["top1"] += o["named"][:1] == o["truth"]
-            if o["ratio"] >= blind_check.SCORED_FROM:
-                row["scored"] += 1
-                row["top1_scored"] += o["named"][:1] == o["truth"]
-    document["by_form"] = by_form
+    document["forms"] = _by_form(outcomes)
     document["outside"] = [{"id": o["id"], "form": o["forms"], "ratio": o["ratio"],
                             "named": o["named"], "statement": o["statement"]} for o in outside]
     return document
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("spec")
-    parser.add_argument("-g", "--gear", required=True)
-    parser.add_argument("-o", "--out", type=Path, required=True)
-    parser.add_argument("--workers", type=int, default=None)
-    parser.add_argument("--quick", action="store_true", help="one seed, 4 no-effect cases")
-    args = parser.parse_args()
-    template = str(Path(args.spec).resolve())
-    plan, settings = Plan(), blind_check.Settings()
-    started = clock.perf_counter()
-    sizes = size_table(template, args.gear, plan, settings.load_noise)
-    print(f"sized {len(truthgen.FORMS)} forms in {clock.perf_counter() - started:.0f} s",
-          flush=True)
-    cases = battery(plan, args.quick)
-    outcomes = []
-    pool = ProcessPoolExecutor(max_workers=args.workers,
-                               mp_context=multiprocessing.get_context("spawn"))
-    with pool:
-        futures = [pool.submit(run_case, template, args.gear, c, sizes, plan, settings)
-                   for c in cases]
-        for future in futures:
-            outcome = future.result()
-            outcomes.append(outcome)
-            print(f"{outcome['id']} {'+'.join(outcome['forms']) or 'none'} "
-                  f"{outcome['ratio']}: named {' + '.join(outcome['named']) or '(none)'}",
-                  flush=True)
+def record(template: str, gear_id: str, plan: Plan, settings, cases: list[Case],
+           outcomes: list[dict]) -> dict:
+    """The blind-check record of ``outcomes`` (the cases run, in ``cases``' order)."""
     campaign = load_campaign(template)
     generator = hashlib.sha256()
     for path in sorted((HERE / "truthgen").glob("*.py")):
@@ -422,24 +418,47 @@ def main() -> int:
                    f"effects outside the library "
                    f"({', '.join(truthgen.FORMS[f].label for f in _outside_forms())})"),
         "template": {"spec": Path(template).name, "sha256": template_fingerprint(campaign),
-                     "code": code_fingerprint(), "gear": args.gear},
+                     "code": code_fingerprint(), "gear": gear_id},
         "command": f"python benchmarks/blind_independent.py {Path(template).name} "
-                   f"-g {args.gear} -o DIR",
+                   f"-g {gear_id} -o DIR",
         "settings": {"ratios": list(plan.ratios), "seeds": list(plan.seeds),
                      "null_cases": plan.null_cases, "outside_ratios": list(plan.outside_ratios),
                      "pairs": [list(p) for p in _pairs()], "pair_ratio": plan.pair_ratio,
                      "scatter": plan.scatter, "load_noise": settings.load_noise,
                      "size_measure": "RMS load change over the first compression and rebound "
-                                     "of every run (touchdowns aligned), in units of the load noise",
+                                     "of every run (touchdowns aligned), in units of the load "
+                                     "noise",
                      "scored_from": blind_check.SCORED_FROM, "cases": len(cases),
                      "targets": "issue 14's, on cases with effect/noise of at least "
                                 f"{blind_check.SCORED_FROM:g} (harm: of those that named an "
-                                "effect, and the no-effect cases)",
-                     "forms": {f: f"{v.label}: {v.description}"
-                               for f, v in truthgen.FORMS.items()}},
+                                "effect, and the no-effect cases)"},
     }
     document.update(score(outcomes))
     document["cases"] = outcomes
+    return document
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("spec")
+    parser.add_argument("-g", "--gear", required=True)
+    parser.add_argument("-o", "--out", type=Path, required=True)
+    parser.add_argument("--workers", type=int, default=None)
+    parser.add_argument("--quick", action="store_true", help="one seed, 4 no-effect cases")
+    parser.add_argument("--rescore", type=Path, default=None,
+                        help="score the cases of this record again instead of running them")
+    args = parser.parse_args()
+    template = str(Path(args.spec).resolve())
+    plan, settings = Plan(), blind_check.Settings()
+    started = clock.perf_counter()
+    cases = battery(plan, args.quick)
+    if args.rescore is not None:
+        outcomes = json.loads(args.rescore.read_text(encoding="utf-8"))["cases"]
+        if [o["id"] for o in outcomes] != [c.id for c in cases]:
+            parser.error(f"{args.rescore} holds other cases than this battery")
+    else:
+        outcomes = run_battery(template, args.gear, plan, settings, cases, args.workers)
+    document = record(template, args.gear, plan, settings, cases, outcomes)
     args.out.mkdir(parents=True, exist_ok=True)
     blind_check.write_blind_check(document, args.out)
     for name, metric in document["metrics"].items():
@@ -447,6 +466,27 @@ def main() -> int:
               f"{metric['direction']} {metric['target']} met {metric['met']}")
     print(f"{len(cases)} cases in {clock.perf_counter() - started:.0f} s")
     return 0
+
+
+def run_battery(template: str, gear_id: str, plan: Plan, settings, cases: list[Case],
+                workers: int | None) -> list[dict]:
+    started = clock.perf_counter()
+    sizes = size_table(template, gear_id, plan, settings.load_noise)
+    print(f"sized {len(truthgen.FORMS)} forms in {clock.perf_counter() - started:.0f} s",
+          flush=True)
+    outcomes = []
+    pool = ProcessPoolExecutor(max_workers=workers,
+                               mp_context=multiprocessing.get_context("spawn"))
+    with pool:
+        futures = [pool.submit(run_case, template, gear_id, c, sizes, plan, settings)
+                   for c in cases]
+        for future in futures:
+            outcome = future.result()
+            outcomes.append(outcome)
+            print(f"{outcome['id']} {'+'.join(outcome['forms']) or 'none'} "
+                  f"{outcome['ratio']}: named {' + '.join(outcome['named']) or '(none)'}",
+                  flush=True)
+    return outcomes
 
 
 if __name__ == "__main__":

@@ -13,7 +13,7 @@ import math
 
 from markupsafe import Markup
 
-from certkit.display import magnitude, percent, pretty, to_display
+from certkit.display import magnitude, percent, pretty, to_display, with_unit
 from certkit.evidence.methods import gap_method
 from certkit.evidence.model_view import origins
 from certkit.evidence.sections import BlindSection, GapSection
@@ -141,7 +141,7 @@ def _gap_shrink(gap, units) -> list[dict]:
     return rows
 
 
-def _blind_view(campaign) -> dict:
+def _blind_view(campaign, units) -> dict:
     """The blind check's record (model.gap.blind_check) in words and tables, or how to make
     one."""
 
@@ -230,13 +230,25 @@ def _blind_view(campaign) -> dict:
         "confusion": {"named": list(confusion.named),
                       "rows": [{"truth": truth, "cells": [str(n) for n in row]}
                                for truth, row in zip(confusion.truths, confusion.counts)]},
-        "cases": str(len(record.cases)) if record.cases else "not listed"})
+        "cases": str(len(record.cases)) if record.cases else "not listed",
+        "forms": [_form_row(row, units) for row in record.forms]})
+
+
+def _form_row(row, units) -> dict:
+    """One truth form of an independent battery, in words for the by-form table."""
+    peak = ("—" if row.median_peak_load_change_N is None else
+            f"{with_unit(row.median_peak_load_change_N, 'force', units)} "
+            f"({percent(row.median_peak_load_change_share)})")
+    return {"label": row.label,
+            "effect": row.effect or "outside the library (abstaining is right)",
+            "all": f"{row.right} of {row.cases}",
+            "scored": f"{row.right_scored} of {row.scored}", "peak": peak}
 
 
 def gap_view(evidence, campaign, units) -> GapSection:
     """The sim-to-real gap section: per gear unit where, which and how far; the blind check."""
     method = gap_method(units)
-    blind = _blind_view(campaign)
+    blind = _blind_view(campaign, units)
     if evidence is None or evidence.calibration is None:
         note = ("The gap diagnosis was not run for this report (the drop model was not run)."
                 if evidence is None else evidence.note)

@@ -93,6 +93,7 @@ class BlindSection:
     confusion: dict | None = None
     curve: list[dict] = field(default_factory=list)
     curve_figure: dict | None = None
+    forms: list[dict] = field(default_factory=list)
 
 
 @dataclass(frozen=True)

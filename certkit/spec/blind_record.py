@@ -50,12 +50,22 @@ METRICS = {
     "harm_any_channel": ("harm on any channel",
                          "as the harm rate, counting a case when the held-out error of any "
                          "channel (load, stroke, tyre) grew"),
+    "abstention_out_of_library": ("abstention outside the library",
+                                  "share of the cases whose withheld effect has no candidate "
+                                  "in the library (abstaining is right) that ended in an "
+                                  "abstention"),
+    "median_own_gap_closed": ("median share of its own gap closed",
+                              "median over the single-effect cases named right (effect/noise "
+                              "≥ 2) of the share of the held-out load gap the withheld effect "
+                              "makes (against the noise-free truth, beyond the floor the "
+                              "nuisance physics leaves) that the named effect closes"),
 }
 
 
 #: The modules whose code decides a blind check's outcome (simulation, data, diagnosis);
 #: a folder stands for every module in it.
-DIAGNOSIS_CODE = ("gap/attribution.py", "gap/selection.py", "gap/blind_check.py",
+DIAGNOSIS_CODE = ("gap/attribution.py", "gap/selection.py", "gap/missing_force.py",
+                  "gap/blind_check.py",
                   "physics/calibration.py",
                   "physics/drop_model.py", "physics/dynamics.py", "physics/effects/",
                   "physics/fitting.py", "gap/holdout.py", "compliance/measures.py",
@@ -154,6 +164,18 @@ class Confusion(_Record):
         return self
 
 
+class FormRow(_Record):
+    form: str
+    label: str
+    effect: str | None          # the library effect it belongs to; None: outside the library
+    cases: int = Field(ge=0)
+    right: int = Field(ge=0)
+    scored: int = Field(ge=0)
+    right_scored: int = Field(ge=0)
+    median_peak_load_change_N: float | None = None
+    median_peak_load_change_share: float | None = None
+
+
 class BlindCheckRecord(_Record):
     kind: Literal["certkit blind check"]
     certkit: str
@@ -167,6 +189,9 @@ class BlindCheckRecord(_Record):
     curve: list[CurvePoint]
     confusion: Confusion
     cases: list[dict[str, Any]] = []
+    #: per truth form of an independent battery: its cases and how many were answered
+    #: right (absent from certkit's own battery)
+    forms: list[FormRow] = []
 
     @model_validator(mode="after")
     def _scored_from(self):
