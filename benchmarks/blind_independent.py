@@ -31,7 +31,8 @@ Writes DIR/blind-check.json and DIR/blind-check-cases.csv; name the JSON in the 
 
 from __future__ import annotations
 
-import blas_threads  # noqa: F401 -- first: pins the BLAS threads before numpy is loaded
+if __name__ == "__main__":     # run as the benchmark (a test imports it as a library)
+    import blas_threads  # noqa: F401 -- first: pins the BLAS threads before numpy is loaded
 
 # isort: split
 import argparse
