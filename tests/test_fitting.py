@@ -265,3 +265,15 @@ def test_non_finite_residuals_raise_fit_error_naming_the_values():
 
     with pytest.raises(FitError, match="stiffness = "):
         fit(lambda x: x[0] * t - 5.0 * t, parameters, residuals_many=many)
+
+
+def test_the_solver_says_why_it_stopped_in_words():
+    """scipy's status, not its raw message ("`ftol` termination condition is satisfied"):
+    a converged fit names the tolerance it met, one cut off at the evaluation limit says
+    it did not converge."""
+    converged = fit(decay_residuals, DECAY)
+    assert converged.success and converged.message.startswith("converged: ")
+    assert "1×10⁻⁸" in converged.message and "`" not in converged.message
+    cut = fit(decay_residuals, DECAY, max_evaluations=2)
+    assert not cut.success
+    assert cut.message == "stopped at the limit of 2 model evaluations, not converged."

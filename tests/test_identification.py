@@ -129,3 +129,25 @@ def test_a_gear_not_identified_says_which_runs_were_too_short(timeseries_campaig
     assert result.gears == []
     assert result.skipped == ["left-main: 0 usable drop(s), two needed (run R1 has 0.499 s "
                               "recorded after touchdown, identification needs 1 s)"]
+
+
+def test_the_static_nonlinearity_figure_draws_only_what_is_a_function_of_the_load(result):
+    """A Wiener block whose static gain is not determined is scaled to unit ‖b‖: its z is
+    no force, so it is left off the load axis (drawn there it ran to −4500 kN and squeezed
+    the Hammerstein curve into a vertical line), and the caption says so; a block with a
+    gain is drawn and the caption says it was scaled to unit gain."""
+    from dataclasses import replace
+    from types import SimpleNamespace
+
+    from certkit.evidence.figures import identification_figures
+    from certkit.spec.schema import DisplayUnits
+
+    key = next(k for k in result.linear_blocks if k[1] == "stroke")
+    for determined in (True, False):
+        blocks = {k: SimpleNamespace(gain_determined=True) for k in result.linear_blocks}
+        blocks[key] = SimpleNamespace(gain_determined=determined)
+        figure = identification_figures(replace(result, linear_blocks=blocks),
+                                        DisplayUnits())[0]
+        left_out = f"Not drawn: {key[0]} for the strut stroke"
+        assert (left_out in figure["caption"]) is (not determined), figure["caption"]
+        assert "the block scaled to unit static gain" in figure["caption"]

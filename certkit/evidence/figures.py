@@ -178,21 +178,31 @@ def identification_figures(gear, units, origin: str = "measured") -> list[dict]:
     recorded = record_label(origin)
     force = convert(1e3, "N", units.force)     # one kN in the display force unit
     length = convert(1e-3, "m", units.length)  # one mm in the display length unit
+    # a Wiener block whose static gain is not determined is scaled to unit ‖b‖: its output
+    # z is then no force, and drawn on the load axis it would dwarf the others
+    unscaled = [(model, name) for (model, name), block in gear.linear_blocks.items()
+                if not block.gain_determined]
     with _style():
         figure, all_axes = plt.subplots(1, 2, figsize=(_WIDTH, _HEIGHT))
         for axes, output in zip(all_axes, outputs):
             for (model, name), (grid, curve) in gear.nonlinearities.items():
-                if name == output:
+                if name == output and (model, name) not in unscaled:
                     axes.plot(force * np.asarray(grid), length * np.asarray(curve), label=model)
             axes.set_xlabel(f"vertical load [{units.force}]")
             axes.set_ylabel(f"{CHANNEL_LABELS[output]} [{units.length}]")
-        all_axes[0].legend(loc="upper left", frameon=False, fontsize=6.5)
+            if axes.get_legend_handles_labels()[0]:   # the models drawn differ per output
+                axes.legend(loc="upper left", frameon=False, fontsize=6.5)
         figure.tight_layout()
+        left_out = "".join(
+            f" Not drawn: {model} for the {CHANNEL_LABELS[name]}, whose linear block's static "
+            f"gain is not determined (scaled to unit ‖b‖, so its z is no force)."
+            for model, name in unscaled)
         figures.append({"title": f"{gear.gear_id}: static nonlinearities",
-                        "caption": "Wiener: f(z) against the unit-gain linear block's output z "
-                                   f"({units.force}); Hammerstein: f(u) with the linear block scaled to unit "
+                        "caption": "Wiener: f(z) against the linear block's output z "
+                                   f"({units.force}), the block scaled to unit static gain; "
+                                   "Hammerstein: f(u) with the linear block scaled to unit "
                                    "static gain, up to its offset. Fitted on the training runs "
-                                   f"({', '.join(gear.training)}).",
+                                   f"({', '.join(gear.training)})." + left_out,
                         "svg": _to_svg(figure)})
         t_ms = held.time * 1e3
         for kind in ("response", "error"):

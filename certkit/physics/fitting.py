@@ -33,6 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
+from certkit.display import number
 from certkit.errors import CampaignError
 
 # A direction in log-parameter space whose singular value is below this fraction of the
@@ -203,7 +204,22 @@ def fit(residuals: Residuals, parameters: Sequence[FitParameter], *,
                      correlation=correlation, cost_nominal=_rms(r0), cost=_rms(r),
                      at_bound=at_bound, warnings=tuple(warnings),
                      evaluations=problem.evaluations, success=bool(solution.success),
-                     message=str(solution.message))
+                     message=_stop_reason(solution.status, tolerance, int(max_evaluations)))
+
+
+def _stop_reason(status: int, tolerance: float, max_evaluations: int) -> str:
+    """Why the trust-region solver stopped, in words (scipy.optimize.least_squares's
+    status codes)."""
+    limit = number(tolerance, 1)
+    reasons = {
+        0: f"stopped at the limit of {max_evaluations} model evaluations, not converged.",
+        1: f"converged: the scaled gradient fell below {limit}.",
+        2: f"converged: the last step changed the cost by less than {limit} of it.",
+        3: f"converged: the last step changed the parameters by less than {limit} of their "
+           f"size.",
+        4: f"converged: the last step changed both the cost and the parameters by less than "
+           f"{limit} of their size."}
+    return reasons.get(status, f"stopped with solver status {status}, not converged.")
 
 
 # --------------------------------------------------------------------------- the scaled problem
