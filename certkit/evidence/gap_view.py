@@ -13,7 +13,7 @@ import math
 
 from markupsafe import Markup
 
-from certkit.display import magnitude, percent, pretty, to_display, with_unit
+from certkit.display import magnitude, number, percent, pretty, to_display, with_unit
 from certkit.evidence.methods import gap_method
 from certkit.evidence.model_view import origins
 from certkit.evidence.sections import BlindSection, GapSection
@@ -86,10 +86,10 @@ def _gap_steps(gap, units) -> list[dict]:
         scores = []
         for score, decision in zip(attribution.scores, attribution.decisions):
             profile = profiles.get(score.name)
-            scores.append({"effect": score.name, "statistic": f"{score.statistic:.4g}",
+            scores.append({"effect": score.name, "statistic": number(score.statistic),
                            "explained": f"{score.explained:.3g}", "status": decision.status,
                            "profile": "—" if not profile else
-                           f"{profile[1]:.4g} at strength {profile[0]:g}"})
+                           f"{number(profile[1])} at strength {profile[0]:g}"})
         pair = ""
         if len(attribution.scores) >= 2:
             a, b = attribution.scores[0].name, attribution.scores[1].name
