@@ -119,12 +119,13 @@ def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | N
                 x = convert(1.0, "m", length_unit) * travel[window]
                 y = convert(1.0, "N", force_unit) * series.load[window]
                 end = int(np.argmax(travel[window]))
-                axes.fill_between(x[: end + 1], y[: end + 1], alpha=0.25, linewidth=0,
-                                  label=f"absorbed {with_unit(energy, 'energy', units)} (E1)")
+                axes.fill_between(x[: end + 1], y[: end + 1], alpha=0.25, linewidth=0)
                 axes.plot(x, y)
                 axes.set_xlabel(f"{name} [{length_unit}]")
                 axes.set_ylabel(f"vertical load [{force_unit}]")
-                axes.legend(loc="upper left", frameon=False)
+                # above the axes, not over the loop (a legend inside covered the curve)
+                axes.set_title(f"shaded: absorbed {with_unit(energy, 'energy', units)} (E1)",
+                               fontsize=7, loc="left")
             figure.tight_layout()
             figures.append({"title": f"Run {run_id}, {gear_id}: load against travel",
                             "caption": "Shaded: loading stroke from touchdown to maximum travel, "
