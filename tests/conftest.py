@@ -229,6 +229,8 @@ def full_report(tmp_path_factory) -> Path:
     """The example's full report (drop-model sections 9-11 included), made once by the
     command line in a fresh process; the slow checks share it."""
     out = tmp_path_factory.mktemp("full-report") / "out"
-    subprocess.run([sys.executable, "-m", "certkit.cli", "report", str(SEED), "-o", str(out)],
-                   check=True, capture_output=True, timeout=600)
+    completed = subprocess.run([sys.executable, "-m", "certkit.cli", "report", str(SEED),
+                                "-o", str(out)], check=True, capture_output=True, text=True,
+                               timeout=600)
+    (out.parent / "report.stderr").write_text(completed.stderr, encoding="utf-8")
     return out

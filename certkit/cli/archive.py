@@ -31,7 +31,7 @@ def archive(spec: SpecArgument,
     software environment, with SHA-256 manifests; the same inputs give the same bytes."""
 
     archived = archive_campaign(spec, output, model=model,
-                                progress=lambda m: err.print(m) if err.is_terminal else None)
+                                progress=lambda m: err.print(f"certkit archive: {m}"))
     out.print(f"archived {archived.files} file(s), {archived.octets} bytes, as {output}")
     out.print(f"bag hash (SHA-256 of tagmanifest-sha256.txt): {archived.bag_hash}")
     out.print(f"campaign outcome: {archived.outcome}")

@@ -50,6 +50,8 @@ def report(spec: SpecArgument,
         def progress(message: str) -> None:
             if status:
                 status.update(message)
+            else:              # a log (CI): one plain line per step, so it never sits silent
+                err.print(f"certkit report: {message}")
 
         assessment, _ = report_campaign(load_campaign(spec), output, model=model,
                                         progress=progress)

@@ -35,10 +35,12 @@ class ModelEvidence:
 
 
 def model_evidence(campaign: Campaign, identification: bool = True,
-                   gap: bool = True) -> ModelEvidence:
+                   gap: bool = True, progress=None) -> ModelEvidence:
     """Calibrate every recorded gear unit that the spec gives the model's parameters for,
     identify its block-oriented models (``identification``) and diagnose its sim-to-real
-    gap (``gap``); otherwise say plainly why a section is empty."""
+    gap (``gap``); otherwise say plainly why a section is empty.  ``progress(message)`` is
+    told each step as it starts."""
+    progress = progress or (lambda message: None)
     spec = campaign.spec
     synthetic = tuple(r.id for r in spec.runs if r.data is not None and r.data.origin == "synthetic")
     recorded = [g.id for g in spec.gear_units
@@ -59,20 +61,25 @@ def model_evidence(campaign: Campaign, identification: bool = True,
                                    + "; ".join(missing) + ".", synthetic)
     note = "" if not missing else ("Not modelled (the drop model cannot be built from the "
                                    "spec): " + "; ".join(missing) + ".")
+    units = ", ".join(ready)
     with threadpool_limits(limits=1):   # results independent of the machine's core count
+        progress(f"calibrating the drop model of {units}")
         calibration = calibrate(campaign, gears=ready)
-        diagnoses, notes = _gap(campaign, ready) if gap else ({}, ())
+        diagnoses, notes = _gap(campaign, ready, progress) if gap else ({}, ())
+    if identification:
+        progress(f"identifying Hammerstein, Wiener and NARX models of {units}")
     return ModelEvidence(calibration, note, synthetic,
                          identify(campaign, gears=ready) if identification else None,
                          diagnoses, notes)
 
 
-def _gap(campaign: Campaign, gears: list[str]) -> tuple[dict, tuple[str, ...]]:
+def _gap(campaign: Campaign, gears: list[str], progress) -> tuple[dict, tuple[str, ...]]:
     """The gap diagnosis of each gear unit; a unit whose drops allow none (one drop height,
     no training or held-out run left) gets a note saying why instead."""
 
     diagnoses, notes = {}, []
     for gear_id in gears:
+        progress(f"diagnosing the sim-to-real gap of {gear_id}")
         try:
             diagnoses[gear_id] = gap_diagnosis(campaign, gear_id)
         except CertkitInputError as error:

@@ -31,8 +31,7 @@ def make_evidence(campaign: Campaign, *, model: bool = True,
     # report --no-model do not need.
     from certkit.evidence.model_evidence import model_evidence
 
-    progress("calibrating the drop model")
-    return assessment, model_evidence(campaign)
+    return assessment, model_evidence(campaign, progress=progress)
 
 
 def report_campaign(campaign: Campaign, folder: str | Path, *, model: bool = True,
