@@ -150,8 +150,7 @@ def gear_of(campaign, run, gear_id: str, factors: dict | None = None) -> truthge
         gas_volume=strut.gas_volume.si,
         precharge_abs=precharge * factors.get("precharge", 1.0),
         polytropic_exponent=strut.polytropic_exponent.si * factors.get("exponent", 1.0),
-        compression_coefficient=k, rebound_coefficient=k, stroke_max=unit.design_stroke.si,
-        tyre_reference_load=tyre.load_deflection.reference_load.si
+        compression_coefficient=k, rebound_coefficient=k, tyre_reference_load=tyre.load_deflection.reference_load.si
         * factors.get("tyre", 1.0),
         tyre_reference_deflection=tyre.load_deflection.reference_deflection.si,
         tyre_exponent=tyre.load_deflection.exponent.si,

@@ -16,7 +16,11 @@ from .conftest import PHYSICS_SPEC, write_campaign
 # Hyper-parameters fixed (the seed's orders kept): tuning on a coarse grid picks other values
 # for data that differ by far less than any rate effect (at 1 kHz, only another noise seed
 # moved the NARX held-out stroke RMSE from 1.96 to 7.29 mm), which is not what is tested here.
-IDENTIFICATION = {"hammerstein": {"na": 6, "nb": 4, "gamma": 1e6, "sigma2": 1e3},
+# The Hammerstein γ is 1e4, not 1e6: at 1e6 its fit is so weakly regularised that the
+# sub-0.1 mm differences the low-pass makes moved its held-out stroke RMSE from 2.77 to
+# 2.06 mm on one machine (not on another); a conditioning question for the engines, not
+# the rate handling tested here, which is held to the same 5 % as the other models.
+IDENTIFICATION = {"hammerstein": {"na": 6, "nb": 4, "gamma": 1e4, "sigma2": 1e3},
                   "wiener": {"na": 6, "nb": 4, "gamma": 1e4, "sigma2": 10},
                   "narx": {"na": 2, "nb": 2, "gamma": 1e4, "sigma2": 1e3}}
 
@@ -98,14 +102,6 @@ def test_identification_at_2_khz_runs_on_the_1_khz_grid_and_matches(logged):
         if score.model.startswith("governing equation"):
             # noise-free: both are the model's own error, ~0.01 mm, and the kink's rounding
             assert score.rmse == pytest.approx(reference, abs=5e-3), score.model
-        elif score.model == "Hammerstein":
-            # The Hammerstein fit is ill-conditioned on these noise-free drops: the
-            # sub-0.1 mm differences above move its free-run errors by up to a factor 2.4
-            # on one machine (held-out stroke 2.06 against 2.77 mm, paper-protocol tyre 0.26
-            # against 0.11 mm) and not on another; pinned to the same order of magnitude
-            # only, until the identification engines are made robust to it
-            assert reference / 3 <= score.rmse <= 3 * reference, (
-                score.model, score.protocol, score.output)
         else:
             # 5 %, or 0.2 mm: twice the largest change the low-pass makes to the recorded
             # outputs (0.1 mm above), which the free-run models copy as initial samples

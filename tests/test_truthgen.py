@@ -23,7 +23,7 @@ ORIFICE = 0.6 * math.pi / 4 * 0.0094 ** 2
 K = 860 * AREA ** 3 / (2 * ORIFICE ** 2)
 GEAR = tg.Gear(upper_mass=283.5, lower_mass=9.0, piston_area=AREA, gas_volume=6.5031e-4,
                precharge_abs=0.901325e6, polytropic_exponent=1.2, compression_coefficient=K,
-               rebound_coefficient=K, stroke_max=0.2, tyre_reference_load=12471.77,
+               rebound_coefficient=K, tyre_reference_load=12471.77,
                tyre_reference_deflection=0.040, tyre_exponent=1.26, tyre_damping=0.05)
 V25 = math.sqrt(2 * G * 0.25)
 BARE = tg.Nuisances.none()
@@ -184,7 +184,7 @@ def test_certkits_nominal_model_agrees_with_it_over_the_whole_drop():
     gear = tg.Gear(upper_mass=283.5, lower_mass=9.0, piston_area=PISTON,
                    gas_volume=PISTON * 0.230, precharge_abs=0.8e6 + P_ATM,
                    polytropic_exponent=1.2, compression_coefficient=model.orifice.coefficient,
-                   rebound_coefficient=rebound, stroke_max=0.2,
+                   rebound_coefficient=rebound,
                    tyre_reference_load=7.2e5 * 0.04 ** 1.26, tyre_reference_deflection=0.04,
                    tyre_exponent=1.26, tyre_damping=0.05)
     speed = math.sqrt(2 * G * 0.25)

@@ -35,13 +35,14 @@ class Truth:
 FORMS: dict[str, Form] = {
     "lugre": Form(
         "seal friction", "LuGre seal friction",
-        "bristle model (Canudas de Wit et al., IEEE TAC 40(3), 1995): dz/dt = v − σ0·|v|·z/g(v), "
-        "g(v) = Fc + (Fs − Fc)·exp(−(v/vs)²), F = σ0·z + σ2·v; Fs = 1.4·Fc, vs = 0.02 m/s, "
+        "bristle model (Canudas de Wit et al., IEEE TAC 40(3), 1995): "
+        "dz/dt = v − σ0·|v|·z/g(v), g(v) = Fc + (Fs − Fc)·exp(−(v/vs)²), "
+        "F = σ0·z + σ2·v; Fs = 1.4·Fc, vs = 0.02 m/s, "
         "σ0 = Fc / 0.1 mm, σ2 = 0.15·Fc per m/s; size Fc", "N", (2.0, 2000.0)),
     "dahl": Form(
         "seal friction", "Dahl seal friction",
-        "Dahl's rate law (Dahl, Aerospace Corp. TR-0158(3107-18)-1, 1968): dF/dx = σ·(1 − F·sgn(v)/Fc), "
-        "σ = Fc / 0.3 mm; size Fc", "N", (2.0, 2000.0)),
+        "Dahl's rate law (Dahl, Aerospace Corp. TOR-0158(3107-18)-1, 1968): "
+        "dF/dx = σ·(1 − F·sgn(v)/Fc), σ = Fc / 0.3 mm; size Fc", "N", (2.0, 2000.0)),
     "tyre-bouc-wen": Form(
         "tyre hysteresis", "Bouc–Wen tyre loop of constant amplitude",
         "Bouc–Wen element in parallel with the tyre (Wen, ASCE J. Eng. Mech. 102(2), 1976), "
@@ -64,8 +65,8 @@ FORMS: dict[str, Form] = {
     "bessel-delay": Form(
         "sensor lag", "4th-order Bessel filter and delay",
         "every recorded channel through a 4th-order Bessel low-pass of cutoff "
-        "1/(2π·size) (delay-normalised: group delay size) and a pure delay of size/2; size in s", "s",
-        (1e-5, 0.02)),
+        "1/(2π·size) (delay-normalised: group delay size) and a pure delay of size/2; "
+        "size in s", "s", (1e-5, 0.02)),
     "butterworth-delay": Form(
         "sensor lag", "2nd-order Butterworth filter and delay",
         "every recorded channel through a 2nd-order Butterworth low-pass of cutoff "

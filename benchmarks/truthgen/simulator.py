@@ -27,7 +27,7 @@ in free fall), tyre deflection (0 off the platform), acceleration of the drop ma
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -56,9 +56,10 @@ SLOTS = 28
 @dataclass(frozen=True)
 class Gear:
     """One gear unit in SI units: masses [kg], piston area [m²], gas volume [m³],
-    precharge [Pa absolute], orifice coefficients K [N·s²/m²] (force K·ṡ²), stroke [m],
-    tyre reference load [N] at reference deflection [m], tyre exponent, tyre damping [s/m],
-    lift as a share of the gear's weight acting upward on the upper mass."""
+    precharge [Pa absolute], orifice coefficients K [N·s²/m²] (force K·ṡ²), tyre reference
+    load [N] at reference deflection [m], tyre exponent, tyre damping [s/m], lift as a share
+    of the gear's weight acting upward on the upper mass.  There is no bottoming stop: the
+    drops it is used for stay well inside the stroke (about half of it in the example)."""
 
     upper_mass: float
     lower_mass: float
@@ -68,7 +69,6 @@ class Gear:
     polytropic_exponent: float
     compression_coefficient: float
     rebound_coefficient: float
-    stroke_max: float
     tyre_reference_load: float
     tyre_reference_deflection: float
     tyre_exponent: float
@@ -98,7 +98,6 @@ class Record:
     tyre: np.ndarray
     acceleration: np.ndarray
     displacement: np.ndarray
-    extra: dict = field(default_factory=dict)
 
 
 @njit(cache=True)
@@ -141,7 +140,8 @@ def _derivatives(p, y, dy):
             else:
                 extra = p[REB_SIZE] * p[K_REB] * BLOW_OFF_SPEED * speed
         elif p[REB_FORM] == 2.0:
-            extra = p[REB_SIZE] * p[K_REB] * (0.5 * speed * speed + 0.5 * LINEAR_SPEED * speed)
+            extra = p[REB_SIZE] * p[K_REB] * (0.5 * speed * speed
+                                              + 0.5 * LINEAR_SPEED * speed)
         strut -= p[K_REB] * speed * speed + extra
 
     dy[Z] = 0.0

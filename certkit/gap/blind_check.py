@@ -170,8 +170,8 @@ def _load_effect(models: list[DropModel], velocities, truth: Truth, sizes: np.nd
         if recorder is not None:
             # a recorder delays the record, which the diagnosis's alignment on the touchdown
             # absorbs: only what remains with the touchdowns aligned counts
-            changed = np.array([aligned_on_touchdown(drops.time, recorder.apply(drops.time, row), plain,
-                                         touchdown_level(model))
+            changed = np.array([aligned_on_touchdown(drops.time, recorder.apply(drops.time, row),
+                                                     plain, touchdown_level(model))
                                 for row, plain, model in zip(load[index], load[-1], models)])
         squares = [np.mean((changed[k][w] - load[-1][k][w]) ** 2)
                    for k, w in enumerate(windows)]
