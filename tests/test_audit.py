@@ -25,9 +25,10 @@ def test_junit_parses_and_lists_every_criterion_and_finding(tmp_path):
     root = ElementTree.parse(junit).getroot()
     suites = {s.get("name"): s for s in root.iter("testsuite")}
     criteria = [case.get("name") for case in suites["criteria"].iter("testcase")]
-    # F2245: height 1 + energy 2 gears; 14 CFR 23: 725a 1, 725b 2, 725f 2, 727a 1, 723b 1,
-    # 473g 1, 727b 1 (no reserve drop: one NOT SHOWN row); 726 does not apply
-    assert criteria == [v.id for v in assessment.verdicts] and len(set(criteria)) == 12
+    # F2245: height 1 + energy 2 gears; 14 CFR 23: 725a 1, 725b 2, 725c 1 (never assessed),
+    # 725f 2, 727a 1, 723b 1, 473g 1, 727b 1 (no reserve drop: one NOT SHOWN row); 726 does
+    # not apply
+    assert criteria == [v.id for v in assessment.verdicts] and len(set(criteria)) == 13
     findings = [case.get("name") for case in suites["data quality"].iter("testcase")]
     assert findings == [f.id for f in assessment.findings]
     # a criterion that is not PASS, and an error finding, is a failure with its outcome
@@ -36,7 +37,7 @@ def test_junit_parses_and_lists_every_criterion_and_finding(tmp_path):
               if case.find("failure") is not None}
     assert failed == {**{v.id: v.verdict for v in assessment.verdicts if v.verdict != "PASS"},
                       **{f.id: "error" for f in assessment.findings if f.severity == "error"}}
-    assert int(suites["criteria"].get("failures")) == 8     # 4 of the 12 pass, see below
+    assert int(suites["criteria"].get("failures")) == 9     # 4 of the 13 pass, see below
     # the JSON on standard output has the same rows, values in SI
     rows = json.loads(result.output)
     height = next(r for r in rows if r["id"] == "CFR23.725a-limit-drop-height/D300")
@@ -50,7 +51,7 @@ def test_markdown_summary_counts_and_lists_what_does_not_pass():
     result = runner.invoke(app, ["audit", str(SEED)])
     assert result.exit_code == 1
     # passes: the drop height under F2245 and 23.725(a), and 23.725(b) for both gears
-    assert "**NOT PASSED**: 4 of 12 criteria pass" in result.output
+    assert "**NOT PASSED**: 4 of 13 criteria pass" in result.output
     assert "## Not passing" in result.output and "CFR23.727a-reserve-drop-height" in result.output
 
 
@@ -242,17 +243,18 @@ RESERVE_RUN = """\
 """
 
 
-def _audit_exit(tmp_path, height: str, failure: str):
+def _audit_exit(tmp_path, height: str, failure: str, basis: str = "14CFR23-amdt62"):
     import subprocess
     import sys
 
     from .conftest import TIMESERIES_SPEC, analytic_signals, write_campaign, write_csv
 
-    folder = tmp_path / f"c-{height.replace(' ', '')}-{failure}"
+    folder = tmp_path / f"c-{height.replace(' ', '')}-{failure}-{basis}"
     (folder / "data").mkdir(parents=True)
     write_csv(folder / "data" / "r1.csv", analytic_signals())
-    spec = write_campaign(folder, TIMESERIES_SPEC + RESERVE_RUN.format(height=height,
-                                                                       failure=failure))
+    text = TIMESERIES_SPEC.replace("requirement_set: 14CFR23-amdt62",
+                                   f"requirement_set: {basis}")
+    spec = write_campaign(folder, text + RESERVE_RUN.format(height=height, failure=failure))
     completed = subprocess.run([sys.executable, "-m", "certkit.cli", "audit", str(spec),
                                 "--format", "json"], capture_output=True, text=True,
                                timeout=300)
@@ -266,9 +268,15 @@ def test_exit_0_when_everything_passes_and_1_on_a_fail_through_the_entry_point(t
     w_over_s = (600 / 0.45359237) / (12 / 0.3048 ** 2)
     reserve = 1.44 * 3.6 * w_over_s ** 0.5 * 0.0254
     assert round(reserve * 1000, 1) == 421.4
-    status, rows = _audit_exit(tmp_path, "450 mm", "false")
+    # under ASTM F2245 every criterion passes: exit 0
+    status, rows = _audit_exit(tmp_path, "450 mm", "false", "ASTM-F2245")
     assert status == 0 and {r["outcome"] for r in rows.values() if r["kind"] == "criterion"} \
         == {"PASS"}
+    # under 14 CFR 23 every criterion certkit assesses passes, but 23.725(c) (attitude and
+    # drag loads) is never shown by certkit: exit 1, and it is the only row that fails
+    status, rows = _audit_exit(tmp_path, "450 mm", "false")
+    failing = {i for i, r in rows.items() if r["kind"] == "criterion" and r["outcome"] != "PASS"}
+    assert status == 1 and failing == {"CFR23.725c-attitude-and-drag"}
     status, rows = _audit_exit(tmp_path, "400 mm", "false")      # below the reserve height
     assert status == 1
     row = rows["CFR23.727a-reserve-drop-height/R2"]

@@ -21,7 +21,10 @@ TRUTH = {"discharge_coefficient: 0.6": "discharge_coefficient: 0.65",
          "reference_load: 12471.77 N": "reference_load: 13500 N",
          "constant: 80 N": "constant: 100 N"}
 TRUE_VALUES = {"discharge-coefficient": 0.65, "gas-precharge": 0.85e6 + 101325.0,
-               "tyre-stiffness": 13500.0, "friction": 100.0, "polytropic-exponent": 1.2}
+               "tyre-stiffness": 13500.0, "friction": 100.0, "polytropic-exponent": 1.2,
+               "tyre-exponent": 1.26,
+               # the rigid stop's give under the preload: A·p_gauge / 2e7 N/m
+               "top-out-compression": 2827.433388e-6 * 0.85e6 / 2.0e7}
 NOISE = SensorModel()  # 20 N load noise, 0.05 mm travel noise
 
 
@@ -53,6 +56,12 @@ def test_calibration_recovers_the_truth_within_its_standard_errors(result):
     for parameter, estimate, error in zip(gear.fit.parameters, gear.fit.estimate,
                                           gear.fit.standard_error):
         true = TRUE_VALUES[parameter.name]
+        if parameter.name == "top-out-compression":
+            # the truth's stop is rigid (its penalty give, 0.12 mm, is no compliance):
+            # seen only through the stroke before the strut breaks out, the fitted stop is
+            # as stiff as that to within the travel noise (0.05 mm)
+            assert estimate <= true + NOISE.travel_noise, (estimate, true)
+            continue
         assert abs(estimate - true) <= max(4 * error, 1e-3 * true), parameter.name
         assert estimate == pytest.approx(true, rel=0.02), parameter.name
 

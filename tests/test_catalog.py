@@ -71,7 +71,7 @@ def test_an_archived_campaign_is_indexed_from_its_bag(tmp_path):
     assert (entry.campaign_id, entry.report_number, entry.revision, entry.issue_date,
             entry.first_test_date, entry.last_test_date) == \
         ("SEED-AMPHIBIAN-DT", "CK-SEED-0001", "A", "2024-01-15", "2024-01-10", "2024-01-10")
-    assert (entry.passed, entry.failed, entry.not_shown, entry.dq_errors) == (4, 0, 8, 2)
+    assert (entry.passed, entry.failed, entry.not_shown, entry.dq_errors) == (4, 0, 9, 2)
     assert entry.outcome == "COMPLIANCE NOT SHOWN"
     assert entry.location == str(bag.resolve())
     import hashlib
@@ -79,7 +79,7 @@ def test_an_archived_campaign_is_indexed_from_its_bag(tmp_path):
         .hexdigest()
     with sqlite3.connect(catalog) as connection:
         clauses = connection.execute("SELECT id, verdict FROM verdicts ORDER BY id").fetchall()
-    assert len(clauses) == 12 and ("CFR23.725a-limit-drop-height/D300", "PASS") in clauses
+    assert len(clauses) == 13 and ("CFR23.725a-limit-drop-height/D300", "PASS") in clauses
 
 
 def test_adding_the_same_bag_twice_keeps_one_entry_and_a_copy_is_another(bags, tmp_path):

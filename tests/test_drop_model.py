@@ -229,3 +229,40 @@ def test_a_prescribed_ground_load_holds_the_static_stroke_and_follows_the_gas_st
     expected = 283.5 / 292.5 * 100.0 / k_gas
     amplitude = 0.5 * np.ptp(driven.stroke[time > 2.0])
     assert amplitude == pytest.approx(expected, rel=0.005)
+
+
+def test_a_compliant_top_out_stop_gives_by_hand_and_the_stroke_reads_zero_at_the_hang():
+    """A 2 mm top-out pad (k_top = F_0/2 mm, linear) under half the preload F_0 = A·0.8 MPa:
+    the stop carries F_0/2 less what the gas loses as the strut extends past s = 0
+    (F_gas(s) = A·(p_a0·(V0/(V0 − A·s))^1.2 − p_atm), solved here by hand), and the
+    transducer reads s from where the strut hangs under F_0: s + 2 mm (on the rigid stop,
+    0: its penalty spring's give is no stroke)."""
+    from dataclasses import replace
+
+    from certkit.physics.simulation import simulate_driven
+
+    preload, precharge, volume = PISTON * 0.8e6, 0.8e6 + P_ATM, PISTON * 0.230
+    base = seed_gear(friction=False)
+    for stops, k_top, zero in ((base.stops, 2.0e7, None),
+                               (replace(base.stops, top_out=0.002), preload / 0.002, -0.002)):
+        stroke = 0.0
+        for _ in range(50):     # F_gas(s) + k_top·s = F_0/2, s < 0
+            gas = PISTON * (precharge * (volume / (volume - PISTON * stroke)) ** 1.2 - P_ATM)
+            stroke = (0.5 * preload - gas) / k_top
+        lift = 283.5 * G - 0.5 * preload          # the strut carries half its preload
+        model = replace(base, stops=stops, lift_ratio=lift / (292.5 * G))
+        time = np.arange(0.0, 3.0, 0.001)
+        rest = simulate_driven(model, time, np.full(time.size, 292.5 * G - lift))
+        # a rigid stop reads 0 however far its penalty spring gives
+        expected = 0.0 if zero is None else stroke - zero
+        assert rest.stroke[-1] == pytest.approx(expected, abs=1e-8), stops
+
+
+def test_the_step_follows_a_top_out_stop_stiffer_than_the_bottoming_stop():
+    from dataclasses import replace
+
+    from certkit.physics.simulation import fastest_rate
+
+    base = seed_gear()
+    stiff = replace(base, stops=replace(base.stops, top_out=1e-5))   # F_0/1e-5 m ≈ 2.3e8 N/m
+    assert fastest_rate(stiff, 2.4) >= math.sqrt(PISTON * 0.8e6 / 1e-5 / 9.0)

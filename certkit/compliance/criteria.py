@@ -273,7 +273,24 @@ def check_design_load_factor_minimum(ctx, criterion):
                         reason=f"minimum = max(2.67, 2.0 + L) with L = {lift:g}")]
 
 
+def check_attitude_and_drag(ctx, criterion):
+    """14 CFR 23.725(c): the attitude and the drag loads of the drops must represent the
+    landing conditions.  certkit has no measure of either, so the verdict is NOT SHOWN
+    always; its reason quotes what the spec's ``setup`` states, for the reviewer to judge."""
+    setup = ctx.assessment.campaign.spec.setup
+    stated = [f"{label}: {text}" for label, text in
+              (("attitude", setup and setup.attitude), ("drag loads", setup and setup.drag_loads))
+              if text]
+    reason = ("certkit does not assess whether the gear attitude and the drag (spin-up) loads "
+              "represent the landing conditions; " +
+              ("the spec states " + "; ".join(stated) if stated else
+               "the spec states neither (setup.attitude, setup.drag_loads)") +
+              ". To be shown by the applicant and judged by the reviewer.")
+    return [ctx.verdict(criterion, None, None, NOT_SHOWN, reason=reason)]
+
+
 CHECKS = {
+    "attitude_and_drag": check_attitude_and_drag,
     "limit_drop_height": check_limit_drop_height,
     "reserve_drop_height": check_reserve_drop_height,
     "dynamic_drop_height": check_dynamic_drop_height,

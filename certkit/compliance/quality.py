@@ -242,6 +242,65 @@ def check_synthetic_data(assessment: Assessment) -> None:
                  f"compliance value is computed from them (the physics-model sections use them)")
 
 
+def _test_dates(spec) -> list[tuple[str | None, object]]:
+    """(run id, date) of every drop with measured data (synthetic histories were recorded by
+    no instrument); a run without its own date stands for every test date of the document
+    (run id None)."""
+    dates = []
+    for run in spec.runs:
+        if run.data is None or run.data.origin == "synthetic":
+            continue
+        if run.date is not None:
+            dates.append((run.id, run.date))
+        else:
+            dates.extend((None, day) for day in spec.document.test_dates)
+    return sorted(set(dates), key=lambda item: (item[1], item[0] or ""))
+
+
+def check_instrument_calibration(assessment: Assessment) -> None:
+    """Every transducer channel had a valid calibration at every test date: calibrated on or
+    before it and not due before it.  A channel without a calibration date, or a campaign
+    listing no channels, cannot show that."""
+    spec = assessment.campaign.spec
+    dates = _test_dates(spec)
+    if assessment.planning or not dates:
+        return
+    channels = spec.instrumentation.channels if spec.instrumentation else []
+    if not channels:
+        _add(assessment, "instrument-calibration", "warning", None, None,
+             "instrumentation.channels lists no transducer, so the calibration of the "
+             "channels recorded is not shown")
+        return
+
+    def drop(run_id, day) -> str:
+        return (f"drop {run_id} on {day.isoformat()}" if run_id
+                else f"the test date {day.isoformat()}")
+
+    for channel in channels:
+        name = f"channel '{channel.name}'"
+        if channel.calibration_date is None:
+            _add(assessment, "instrument-calibration", "warning", None, None,
+                 f"{name}: no calibration date stated (instrumentation.channels"
+                 f"[].calibration_date), so its calibration at the test dates is not shown")
+            continue
+        early = [(r, d) for r, d in dates if d < channel.calibration_date]
+        late = [(r, d) for r, d in dates
+                if channel.calibration_due is not None and d > channel.calibration_due]
+        for run_id, day in early:
+            _add(assessment, "instrument-calibration", "error", run_id, None,
+                 f"{name}: calibrated on {channel.calibration_date.isoformat()}, after "
+                 f"{drop(run_id, day)}: no valid calibration at that drop")
+        for run_id, day in late:
+            _add(assessment, "instrument-calibration", "error", run_id, None,
+                 f"{name}: calibration due {channel.calibration_due.isoformat()}, before "
+                 f"{drop(run_id, day)}: its calibration had expired")
+        if channel.calibration_due is None:
+            _add(assessment, "instrument-calibration", "info", None, None,
+                 f"{name}: calibrated on {channel.calibration_date.isoformat()}; no due date "
+                 f"stated (calibration_due), so its validity at the test dates rests on the "
+                 f"calibration date alone")
+
+
 def check_data_waivers(assessment: Assessment) -> None:
     for run in assessment.runs:
         if run.series is None:
@@ -445,7 +504,8 @@ def check_energy_method_lift(assessment: Assessment) -> None:
                 _add(assessment, "energy-method-lift", "warning", run.run.id, gear.gear_id, message)
 
 
-CHECKS = (check_static_weight_basis, check_synthetic_data, check_data_waivers,
+CHECKS = (check_static_weight_basis, check_synthetic_data, check_instrument_calibration,
+          check_data_waivers,
           check_energy_bounds,
           check_available_energy, check_implied_drop_weight, check_stroke_trend, check_bottoming,
           check_asymmetry, check_reported_values, check_acceleration_against_load,

@@ -59,7 +59,8 @@ def gap_method(units) -> dict:
     from certkit.gap.missing_force import SEEN, STEP_VELOCITY
     from certkit.gap.phases import BREAKOUT_TRAVEL, BREAKOUT_WINDOW, REBOUND_DROP
     from certkit.gap.residuals import BANDS, MAX_LAG
-    from certkit.gap.selection import CANDIDATES, FLOOR_CHANNEL, GAIN, LEADING, RELEVANT, TIE_COST
+    from certkit.gap.selection import (CANDIDATES, DETECTABLE, FLOOR_CHANNEL, GAIN, LEADING,
+                                       RELEVANT, TIE_COST)
 
     bands = ", ".join(f"{name} ({low:g}-{high:g} Hz)" if math.isfinite(high)
                       else f"{name}" for name, low, high in BANDS)
@@ -102,7 +103,11 @@ def gap_method(units) -> dict:
                   f"divided by each channel's range) most, by at least {percent(GAIN, 0)}, and "
                   f"leaves no training channel worse beyond its noise (its RMSE grown by more "
                   f"than the noise σ in quadrature, σ estimated from the channel's second "
-                  f"differences) is named, with its form. When the other effect's refit comes "
+                  f"differences) and removes at least {DETECTABLE:g} noise variances from the "
+                  f"training records (Σ over the channels of (RMSE before² − RMSE after²)/σ²; "
+                  f"less is not told apart from the floor the nominal model's own "
+                  f"imperfection leaves) is named, with its form. When the other effect's "
+                  f"refit comes "
                   f"within a ratio of {TIE_COST:g} of its training cost, the fits cannot tell "
                   f"the two apart: the model-free missing force (below) decides when it shows "
                   f"the mark of one and not of the other, and otherwise the diagnosis says they "

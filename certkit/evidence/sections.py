@@ -125,6 +125,10 @@ class ReportView:
     outcome: str
     outcome_css: str
     planning: bool
+    headings: dict                  # section anchor -> numbered heading
+    contents: list                  # (anchor, numbered heading) in order
+    conclusions: dict               # what is shown, not shown, open (lists of sentences)
+    references: list
     outcome_reasons: list[str]
     counts: dict[str, int]
     finding_counts: dict[str, int]
@@ -133,6 +137,7 @@ class ReportView:
     basis: list[dict]
     any_to_confirm: bool
     gear_units: list[dict]
+    setup: list[tuple]              # (label, value as stated or "not stated")
     instrumentation: InstrumentationSection | None
     matrix: list[dict]
     completeness: list[dict]

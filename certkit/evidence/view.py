@@ -71,6 +71,9 @@ def build_view(assessment: Assessment, record: dict, model=None) -> ReportView:
     finding_counts = assessment.finding_counts()
     signatories = [{"role": s.role, "name": s.name, "organisation": s.organisation or "",
                     "date": s.date.isoformat() if s.date else ""} for s in doc.signatories]
+    # the sign-off blocks a reviewer expects are there even when the spec names nobody
+    signatories += [{"role": role, "name": NOT_STATED, "organisation": "", "date": ""}
+                    for role in SIGN_OFF if role not in {s.role for s in doc.signatories}]
     return ReportView(**{
         "lang": "en",
         "title": f"{doc.report_number} rev {doc.revision}: {spec.campaign.title}",
@@ -89,12 +92,16 @@ def build_view(assessment: Assessment, record: dict, model=None) -> ReportView:
         "outcome_css": ("planning" if assessment.planning
                         else assessment.outcome.replace(" ", "-").lower()),
         "planning": assessment.planning,
+        "headings": _headings(assessment.planning),
+        "contents": list(_headings(assessment.planning).items()),
+        "conclusions": _conclusions(assessment, _setup_rows(spec), gear_rows, signatories),
+        "references": _references(assessment),
         "outcome_reasons": assessment.outcome_reasons(),
         "counts": counts, "finding_counts": finding_counts,
         "aircraft": AircraftSection(spec.aircraft.model, (spec.aircraft.notes or "").strip()),
         "design": [_value_row(v, units) for v in assessment.design.values()],
         "basis": basis, "any_to_confirm": any(b["to_confirm"] for b in basis),
-        "gear_units": gear_rows, "instrumentation": instrumentation,
+        "gear_units": gear_rows, "setup": _setup_rows(spec), "instrumentation": instrumentation,
         "matrix": matrix, "completeness": completeness,
         "results_rows": results_rows, "results_units": results_units,
         "load_factors": load_factors, "load_factor_statement": load_factor_statement,
@@ -136,6 +143,73 @@ def _basis_view(assessment: Assessment, units) -> list[dict]:
 
 
 
+NOT_STATED = "not stated"
+#: The report's numbered sections in order: (anchor, title); one home for the headings
+#: and the table of contents.
+SECTIONS = (
+    ("basis", "Certification basis"),
+    ("design", "Design inputs and derived quantities"),
+    ("article", "Test article, configuration and instrumentation"),
+    ("matrix", "Test matrix"),
+    ("results", "Results per run"),
+    ("compliance", "Compliance findings"),
+    ("data-quality", "Data-quality findings"),
+    ("run-details", "Run details and derivations"),
+    ("model", "Governing-equation model"),
+    ("identification", "Identification: Hammerstein, Wiener and NARX models"),
+    ("gap", "Sim-to-real gap: where the model disagrees, which effect explains it, how far "
+            "it shrinks"),
+    ("methods", "Methods: certkit equations"),
+    ("provenance", "Provenance"),
+    ("conclusions", "Conclusions"),
+    ("references", "References"))
+PLANNING_VERDICTS = "Predicted verdicts (planning on synthetic data: not compliance findings)"
+
+
+def _headings(planning: bool) -> dict[str, str]:
+    """Anchor -> numbered heading of every section."""
+    planned = {"compliance": PLANNING_VERDICTS} if planning else {}
+    return {anchor: f"{number}. {planned.get(anchor, title)}"
+            for number, (anchor, title) in enumerate(SECTIONS, start=1)}
+#: Sign-off blocks every report carries (document.signatories[].role).
+SIGN_OFF = ("prepared", "checked", "approved", "witnessed")
+
+
+def _stated(value) -> str:
+    """A spec value as typed, or :data:`NOT_STATED`."""
+    if value is None:
+        return NOT_STATED
+    return getattr(value, "text", value)
+
+
+def _article_rows(article) -> list[tuple[str, str]]:
+    """The test article's identity and servicing (gear_units[].article), each row present
+    whether stated or not: a reviewer sees what is missing."""
+    return [(label, _stated(getattr(article, name) if article else None)) for name, label in (
+        ("part_number", "Test article part number"),
+        ("serial_number", "Test article serial number"),
+        ("drawing", "Drawing and revision"),
+        ("conformity_record", "Conformity record"),
+        ("tyre_part_number", "Tyre part number"), ("tyre_ply_rating", "Tyre ply rating"),
+        ("oil_volume", "Oil volume as serviced"),
+        ("gas_pressure", "Gas pressure as serviced"),
+        ("gas_temperature", "Gas charged at (temperature)"))]
+
+
+def _setup_rows(spec) -> list[tuple[str, str]]:
+    """How the drops were set up and conducted (the spec's ``setup``), each row present
+    whether stated or not."""
+    setup = spec.setup
+    return [(label, _stated(getattr(setup, name) if setup else None)) for name, label in (
+        ("rig", "Drop rig (drawing or photograph)"),
+        ("height_setting", "How the drop height was set and measured"),
+        ("height_tolerance", "Drop-height tolerance"),
+        ("drop_mass_weighing", "Drop-mass weighing record"),
+        ("attitude", "Gear attitude (14 CFR 23.725(c))"),
+        ("drag_loads", "Spin-up and drag loads (14 CFR 23.725(c))"),
+        ("test_plan", "Test plan"), ("witness", "Witness"))]
+
+
 def _gear_unit_rows(assessment: Assessment, units) -> list[dict]:
     spec = assessment.campaign.spec
     gear_rows = []
@@ -150,6 +224,7 @@ def _gear_unit_rows(assessment: Assessment, units) -> list[dict]:
                            f"({gear.tyre.pressure_reference})")]
         if gear.wheel_diameter:
             fields.append(("Wheel diameter", gear.wheel_diameter.text))
+        fields += _article_rows(gear.article)
         if strut is not None:
             for name, label in (("gas_precharge_pressure", "Gas pre-charge pressure"),
                                 ("pressure_reference", "Gas pressure reference"),
@@ -184,9 +259,10 @@ def _instrumentation(assessment: Assessment, units) -> InstrumentationSection | 
             "channels": [{"name": c.name, "measures": c.measures,
                           "transducer": c.transducer or "—", "range": c.range or "—",
                           "filter": c.filter or "—",
-                          "calibration": (f"{c.calibration_date.isoformat()}"
-                                          f"{' (' + c.calibration_reference + ')' if c.calibration_reference else ''}"
-                                          if c.calibration_date else "not stated")}
+                          "calibrated": _stated(c.calibration_date and
+                                                c.calibration_date.isoformat()),
+                          "due": _stated(c.calibration_due and c.calibration_due.isoformat()),
+                          "certificate": _stated(c.calibration_reference)}
                          for c in inst.channels]})
     return instrumentation
 
@@ -203,7 +279,9 @@ def _matrix_rows(assessment: Assessment, units) -> list[dict]:
             "lift": spec_run.lift.method + (f", L = {spec_run.lift.ratio.text}"
                                             if spec_run.lift.ratio else ""),
             "data": spec_run.data.file if spec_run.data else "none (reported values)",
-            "date": spec_run.date.isoformat() if spec_run.date else "—"})
+            "date": " ".join(filter(None, (spec_run.date.isoformat() if spec_run.date else
+                                           NOT_STATED, spec_run.time))),
+            "ambient": _stated(spec_run.ambient_temperature)})
     return matrix
 
 
@@ -267,12 +345,22 @@ def _run_views(assessment: Assessment, units) -> list[dict]:
                  if g.measures is not None},
                 min(touchdowns) if touchdowns else None, units)]
         inspection = run.run.inspection
+        data = run.run.data
+        figures_note = ""
+        if not figures and data is not None and data.origin == "synthetic":
+            figures_note = (f"The time histories of this drop ({data.file}) are synthetic, not "
+                            f"test evidence: they and the load–stroke loops appear in the "
+                            f"governing-equation model section only.")
+        elif not figures and data is None:
+            figures_note = ("No time histories are recorded for this drop: its values are "
+                            "the reported ones.")
         runs.append({
             "id": run.run.id, "type": run.run.test_type,
             "value_rows": [_value_row(v, units) for v in run.values.values()],
-            "gears": gears, "figures": figures,
+            "gears": gears, "figures": figures, "figures_note": figures_note,
             "deviations": list(run.run.deviations),
             "inspection": None if inspection is None else {
+                "before": inspection.before or NOT_STATED,
                 "failure": {True: "yes", False: "no", None: "not recorded"}[inspection.failure],
                 "yielding": {True: "yes", False: "no", None: "not recorded"}[inspection.yielding],
                 "permanent_set": inspection.permanent_set.text if inspection.permanent_set
@@ -364,3 +452,52 @@ def _load_factor_view(assessment: Assessment) -> tuple[list[dict], str]:
                      f"ΣF_peak(main units)/(m_drop·g) (certkit G2): {pairs}; their definition "
                      f"is unknown.")
     return rows, statement
+
+
+def _conclusions(assessment: Assessment, setup: list, gear_rows: list,
+                 signatories: list) -> dict:
+    """What the report shows, what it does not, and what stays open, in words: every
+    sentence built from the verdicts, the findings and the items the spec leaves unstated."""
+    shown, not_shown = {}, []
+    for verdict in assessment.verdicts:
+        scope = " / ".join(p for p in (verdict.run, verdict.gear) if p) or "campaign"
+        if verdict.verdict == PASS:
+            shown.setdefault((verdict.clause, verdict.title), []).append(scope)
+        else:
+            not_shown.append(f"{verdict.clause}, {verdict.title} ({scope}): {verdict.verdict}"
+                             + (f" — {verdict.reason}" if verdict.reason else ""))
+    counts = assessment.finding_counts()
+    errors = [f"{f.id}: {f.message}" for f in assessment.findings if f.severity == "error"]
+    unstated = [label for label, value in setup if value == NOT_STATED]
+    for gear in gear_rows:
+        unstated += [f"{label} ({gear['id']})" for label, value in gear["fields"]
+                     if value == NOT_STATED]
+    unstated += [f"{s['role']} sign-off" for s in signatories if s["name"] == NOT_STATED]
+    planning = assessment.planning
+    return {
+        "outcome": assessment.outcome,
+        "shown_title": "Predicted to pass (planning: nothing is shown)" if planning else "Shown",
+        "not_shown_title": ("Predicted not to pass, or not predictable" if planning
+                            else "Not shown or failed"),
+        "shown": [f"{clause}, {title}: {PASS} ({', '.join(scopes)})"
+                  for (clause, title), scopes in shown.items()],
+        "not_shown": not_shown,
+        "findings": (f"{counts['error']} data-quality error(s), {counts['warning']} "
+                     f"warning(s) and {counts['info']} info finding(s) (section 7)"),
+        "errors": errors,
+        "unstated": unstated}
+
+
+def _references(assessment: Assessment) -> list[str]:
+    """The rules and sources the report rests on: each requirement set with its edition and
+    the edition the applicant states, and the source of any published results shown."""
+    references = []
+    for item in assessment.basis:
+        rules = item.rules
+        references.append(f"{rules.title}, {rules.edition} (certkit set {rules.id}"
+                          f"{'; values to be confirmed' if rules.to_confirm else ''}); edition "
+                          f"stated by the applicant: {item.entry.edition or NOT_STATED}.")
+    published = assessment.campaign.spec.reference_results
+    if published is not None:
+        references.append(f"Published results shown beside certkit's: {published.source}")
+    return references

@@ -5,15 +5,17 @@ issue 14: forms, ties, harm and the floor).
 At each of at most two steps the candidates (every form of every effect not yet named)
 are scored and profiled (:mod:`certkit.gap.attribution`); the best form of each of the
 :data:`LEADING` relevant effects with the best profiles is refitted with the nominal
-parameters; the refit that cuts the training cost most, by :data:`GAIN` at least, and
-leaves no training channel worse beyond its noise (:func:`certkit.gap.residuals.harmed`)
-is named, unless another effect's refit comes within :data:`TIE_COST` of it: then the two
+parameters; the refit that cuts the training cost most, by :data:`GAIN` at least, leaves
+no training channel worse beyond its noise (:func:`certkit.gap.residuals.harmed`) and
+removes at least :data:`DETECTABLE` noise variances from the training records is named,
+unless another effect's refit comes within :data:`TIE_COST` of it: then the two
 cannot be told apart by their fits, and the model-free missing force
 (:mod:`certkit.gap.missing_force`, on the training runs) decides when it shows the mark of
-one of them and not of the other; otherwise neither is named (a tie).  The held-out runs are only evaluated: their
-errors before and after, the share of their gap beyond the noise that the named effects
-close and the share that stays unexplained (:func:`certkit.gap.residuals.gap_shares`), and
-a caveat for every held-out channel the named effects make worse beyond its noise.
+one of them and not of the other; otherwise neither is named (a tie). The held-out runs are
+only evaluated: their errors before and after, the share of their gap beyond the noise that
+the named effects close and the share that stays unexplained
+(:func:`certkit.gap.residuals.gap_shares`), and a caveat for every held-out channel the
+named effects make worse beyond its noise.
 """
 
 from __future__ import annotations
@@ -32,7 +34,8 @@ from certkit.physics.calibration import RunResiduals, aligned_records, calibrate
 from certkit.physics.drop_model import DropModel
 from certkit.physics.effects import CANDIDATES, Candidate
 
-__all__ = ["CANDIDATES", "GAIN", "LEADING", "RELEVANT", "TIE_COST", "Diagnosis", "diagnose"]
+__all__ = ["CANDIDATES", "DETECTABLE", "GAIN", "LEADING", "RELEVANT", "TIE_COST", "Diagnosis",
+           "diagnose"]
 
 #: A candidate is considered only if it would remove at least this RMS (in noise units).
 RELEVANT = 0.3
@@ -40,6 +43,12 @@ RELEVANT = 0.3
 TIE_COST = 1.05
 #: A candidate must cut the training cost by at least this share to be named.
 GAIN = 0.10
+#: A refit must remove from the training records at least this many noise variances, summed
+#: over the channels (Σ_c (RMSE_before,c² − RMSE_after,c²)/σ_c², a channel made worse counting
+#: against it): the half of what an effect of twice the noise, fully removed from one
+#: channel, would remove.  Below it, what the refit removes is no larger than the floor a
+#: nominal model's own imperfection leaves, and it is not named.
+DETECTABLE = 2.0
 #: How many relevant effects are refitted at each step (the best form of each, those with
 #: the best profiles): two, so that the tie rule can compare the best pair.
 LEADING = 2
@@ -130,6 +139,15 @@ def _training_harm(residuals: RunResiduals, base: np.ndarray, fitted: np.ndarray
             if harmed(before[channel], after[channel], noise.get(channel, 0.0))]
 
 
+def _removed(residuals: RunResiduals, base: np.ndarray, fitted: np.ndarray,
+             noise: dict) -> float:
+    """What a refit removes from the training records, in noise variances summed over the
+    channels (the measure :data:`DETECTABLE` bounds); a channel without noise is left out."""
+    before, after = residuals.channel_rmse(base), residuals.channel_rmse(fitted)
+    return float(sum((before[c] ** 2 - after[c] ** 2) / noise[c] ** 2
+                     for c in before if noise.get(c, 0.0) > 0.0))
+
+
 def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
              calibration=None) -> Diagnosis:
     """Which effect(s) of the library explain the gap of ``gear_id``'s nominal model (the
@@ -181,8 +199,11 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
                                      for f in fits]) if fits else []
         harm = {f.effects: _training_harm(residuals, base, r, training_noise)
                 for f, r in zip(fits, fitted)}
+        removed = {f.effects: _removed(residuals, base, r, training_noise)
+                   for f, r in zip(fits, fitted)}
         useful = sorted((f for f in fits if f.training_cost <= (1 - GAIN) * cost
-                         and not harm[f.effects]), key=lambda f: f.training_cost)
+                         and not harm[f.effects] and removed[f.effects] >= DETECTABLE),
+                        key=lambda f: f.training_cost)
         evidence.append(tuple(signatures(campaign_missing_forces(
             campaign, gear_id, training,
             lambda m: current.apply(calibration.knobs, m, chosen) if current
@@ -195,8 +216,8 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
             if best is None:
                 tie = (names[useful[0].effects[-1]].name, names[useful[1].effects[-1]].name)
                 statement = _tie_statement(chosen, useful[0], useful[1], names, attribution)
-        refit_notes.append(_refit_decisions(fits, cost, harm, best if not tie else None, tie,
-                                            names, broken))
+        refit_notes.append(_refit_decisions(fits, cost, harm, removed,
+                                            best if not tie else None, tie, names, broken))
         if tie:
             break
         if best is None:
@@ -303,8 +324,8 @@ def _decisions(attribution: Attribution, relevant: set, leading: list, names: di
     return tuple(decisions)
 
 
-def _refit_decisions(fits: list, cost: float, harm: dict, named: Refit | None, tie: tuple,
-                     names: dict, broken: str = "") -> tuple:
+def _refit_decisions(fits: list, cost: float, harm: dict, removed: dict,
+                     named: Refit | None, tie: tuple, names: dict, broken: str = "") -> tuple:
     """What became of each refit of one step: named, or not named and why."""
     decisions = []
     for refitted in fits:
@@ -316,6 +337,10 @@ def _refit_decisions(fits: list, cost: float, harm: dict, named: Refit | None, t
         elif harm[refitted.effects]:
             status = ("makes the training " + ", ".join(harm[refitted.effects])
                       + " error worse beyond its noise: not named")
+        elif removed[refitted.effects] < DETECTABLE:
+            status = (f"removes {removed[refitted.effects]:.2g} noise variances from the "
+                      f"training records, fewer than {DETECTABLE:g}: not told apart from the "
+                      f"nominal model's own floor, not named")
         elif effect in tie:
             status = (f"within {percent(TIE_COST - 1, 0)} of another effect's training cost: "
                       f"a tie, not named")

@@ -87,12 +87,19 @@ KNOBS: dict[str, Knob] = {knob.name: knob for knob in [
     Knob("tyre-damping", "tyre damping C_T", "s/m",
          lambda m: m.tyre.damping, lambda m, v: _set_term(m, "tyre", damping=v),
          _absolute(0.0, 0.5)),
+    Knob("top-out-compression", "compression of the top-out stop under the preload", "m",
+         lambda m: -m.stops.hang(m.gas.preload),
+         lambda m, v: _set_term(m, "stops", top_out=v), _absolute(1e-5, 5e-3)),
 ] + list(EFFECT_KNOBS)}
 
-#: Calibrated unless the spec chooses: the gas law, the orifice and the tyre's stiffness,
-#: and the friction level when seal friction is on, the load-cell gain when that is on.
+#: Calibrated unless the spec chooses: the gas law, the orifice, the tyre's stiffness and
+#: exponent (a real tyre's curve is a power law only roughly), how far the hanging strut
+#: sits into its top-out stop (a real stop is an elastomer pad, not rigid: the stroke starts
+#: softly at touchdown), and the friction level when seal friction is on, the load-cell
+#: gain when that is on.
 DEFAULT_KNOBS = ("discharge-coefficient", "gas-precharge", "polytropic-exponent",
-                 "tyre-stiffness", "friction", "load-cell-gain")
+                 "tyre-stiffness", "tyre-exponent", "top-out-compression", "friction",
+                 "load-cell-gain")
 
 
 # --------------------------------------------------------------------------- results

@@ -154,15 +154,43 @@ class EndStops(Term):
     """Top-out (s < 0) and bottoming (s > s_max) stops as stiff one-sided springs with damping.
 
     A penalty contact; the force never pulls (its damping cannot hold the strut shut).
+    ``top_out``, when given, is how far the hanging strut sits into a compliant top-out
+    stop (an elastomer pad) under the gas preload F_0: the top-out spring is then
+    F_0/top_out, linear (the stop stiffness applies otherwise).  The strut hangs at
+    s_hang = −F_0/k_top (:meth:`hang`), where a stroke transducer reads zero
+    (:meth:`recorded_zero`).  Without a compliant top-out the stiff stop stands for a rigid
+    one, whose give F_0/stiffness is a numerical device: the recorded stroke is then s, never
+    below zero, and a compliant stop tends to it as ``top_out`` → 0.
     """
 
     travel: float               # s_max [m]
     stiffness: float = 2.0e7    # [N/m]
     damping: float = 2.0e4      # [N·s/m]
+    top_out: float | None = None   # compression of the top-out stop under the preload [m]
     name = "end stops"
     fields = (("travel", "m", "stroke to the bottoming stop"),
               ("stiffness", "N/m", "stop stiffness"),
               ("damping", "N*s/m", "stop damping"))
+
+    def parameters(self) -> list[Parameter]:
+        extra = [] if self.top_out is None else [Parameter(
+            "top_out", self.top_out, "m", "compression of the top-out stop under the preload")]
+        return super().parameters() + extra
+
+    def top_out_stiffness(self, preload: float) -> float:
+        """The top-out spring [N/m] under the gas preload ``preload`` [N]."""
+        if self.top_out is None or preload <= 0.0:
+            return self.stiffness
+        return preload / self.top_out
+
+    def hang(self, preload: float) -> float:
+        """The stroke at which the strut hangs, its top-out stop carrying ``preload`` [m]."""
+        return -preload / self.top_out_stiffness(preload)
+
+    def recorded_zero(self, preload: float) -> float:
+        """The stroke s a stroke transducer reads as zero [m]: where the strut hangs on a
+        compliant top-out stop, 0 on a rigid one."""
+        return 0.0 if self.top_out is None else self.hang(preload)
 
     def pack(self, p):
         p[dyn.STOP_TRAVEL], p[dyn.STOP_STIFFNESS] = self.travel, self.stiffness
@@ -267,12 +295,15 @@ class DropModel:
         p[dyn.LIFT], p[dyn.COS] = self.lift, math.cos(self.inclination)
         for term in self.terms():
             term.pack(p)
+        preload = self.gas.preload
+        p[dyn.TOP_OUT_STIFFNESS] = self.stops.top_out_stiffness(preload)
+        p[dyn.HANG] = self.stops.recorded_zero(preload)
         return p
 
     def initial_state(self, contact_velocity: float) -> np.ndarray:
         """State at first contact: strut topped out with its stop carrying the preload."""
         y = np.zeros(dyn.STATES)
-        stroke0 = -self.gas.preload / self.stops.stiffness  # stop compressed just enough
+        stroke0 = self.stops.hang(self.gas.preload)   # stop compressed just enough
         y[dyn.Z1] = stroke0 * math.cos(self.inclination)
         leg = self.effect("leg flexibility")
         if leg is not None and leg.above:   # the leg's mass tops the strut; its spring is slack

@@ -71,7 +71,9 @@ HYSTERESIS_ONSET = HYSTERESIS_CONSTANT + 1            # m, deflection over which
 REBOUND_LINEAR = HYSTERESIS_CONSTANT + 2              # N·s/m, linear rebound damping
 LEG_ABOVE = HYSTERESIS_CONSTANT + 3                   # flag: the flexible leg above the strut
 HYSTERESIS_MEMORY = HYSTERESIS_CONSTANT + 4           # flag: the loop switches with deflection
-SLOTS = HYSTERESIS_CONSTANT + 5
+TOP_OUT_STIFFNESS = HYSTERESIS_CONSTANT + 5           # N/m, the top-out stop's spring
+HANG = HYSTERESIS_CONSTANT + 6                        # m, recorded zero (< 0: compliant top-out)
+SLOTS = HYSTERESIS_CONSTANT + 7
 
 # --------------------------------------------------------------------------- state slots
 Z1, V1, Z2, V2, ZW, VW, ZP, VP, THETA, OIL_FORCE = range(10)
@@ -112,14 +114,14 @@ def _hydraulic_coefficient(p, stroke, direction):
 
 @njit(cache=True, error_model="numpy", fastmath=FAST)
 def _stop_force(p, stroke, rate):
-    """Top-out (s < 0) and bottoming (s > s_max) stops: stiff one-sided spring with damping."""
+    """Top-out (s < 0) and bottoming (s > s_max) stops: one-sided springs with damping."""
     if stroke < 0.0:
-        penetration = stroke
+        penetration, stiffness = stroke, p[TOP_OUT_STIFFNESS]
     elif stroke > p[STOP_TRAVEL]:
-        penetration = stroke - p[STOP_TRAVEL]
+        penetration, stiffness = stroke - p[STOP_TRAVEL], p[STOP_STIFFNESS]
     else:
         return 0.0, 0.0
-    spring = p[STOP_STIFFNESS] * penetration
+    spring = stiffness * penetration
     force = spring + p[STOP_DAMPING] * rate
     force = min(force, 0.0) if penetration < 0.0 else max(force, 0.0)  # a stop never pulls
     return force, spring
@@ -363,7 +365,9 @@ def channels(p, y, out, driven, drive_force):
         out[LOAD] = (p[PLATFORM_STIFFNESS] * y[ZP] + p[PLATFORM_DAMPING] * y[VP]
                      if p[PLATFORM] > 0.0 else ground)
         out[TYRE] = max(z_axle - y[ZP], 0.0)
-    out[STROKE] = _stroke(p, y)[0]
+    # read from the hang on a compliant top-out, never below 0 on a rigid one
+    # (EndStops.recorded_zero)
+    out[STROKE] = _stroke(p, y)[0] - p[HANG] if p[HANG] < 0.0 else max(_stroke(p, y)[0], 0.0)
     out[ACCELERATION] = -dy[V1]
     out[DISPLACEMENT] = y[Z1]
     out[ENERGY] = stored_energy(p, y)

@@ -165,11 +165,11 @@ def _peak_tyre_force(model: DropModel, contact_velocity: float) -> float:
 def fastest_rate(model: DropModel, contact_velocity: float) -> float:
     """Estimate of the model's fastest persistent rate [1/s] in a drop at ``contact_velocity``.
 
-    Against the unsprung mass: the stops, orifice damping at the contact velocity, the
-    tyre's stiffness, damping and hysteresis near its peak force, and seal friction while
-    the strut sticks (level F_0 + μ·max(preload, static load) over v_ε·m2; near maximum
-    stroke the friction's steep zone is crossed within a step, which RK4 follows
-    accurately); the oil column, the platform and the leg.
+    Against the unsprung mass: the stops (the stiffer of top-out and bottoming), orifice
+    damping at the contact velocity, the tyre's stiffness, damping and hysteresis near its
+    peak force, and seal friction while the strut sticks (level F_0 + μ·max(preload, static
+    load) over v_ε·m2; near maximum stroke the friction's steep zone is crossed within a
+    step, which RK4 follows accurately); the oil column, the platform and the leg.
     """
     m2 = model.lower_mass
     leg = model.effect("leg flexibility")
@@ -177,7 +177,8 @@ def fastest_rate(model: DropModel, contact_velocity: float) -> float:
         m2 = min(m2 - leg.axle_mass, leg.axle_mass)
     tyre = model.tyre
     peak = _peak_tyre_force(model, contact_velocity)
-    rates = [math.sqrt(model.stops.stiffness / m2), model.stops.damping / m2,
+    stop = max(model.stops.stiffness, model.stops.top_out_stiffness(model.gas.preload))
+    rates = [math.sqrt(stop / m2), model.stops.damping / m2,
              2.0 * math.sqrt(tyre.exponent * tyre.reference_load / tyre.reference_deflection / m2),
              tyre.damping * peak / m2]
     hysteresis = model.effect("tyre hysteresis")
@@ -305,7 +306,7 @@ def static_state(model: DropModel) -> np.ndarray:
     load = (model.upper_mass * STANDARD_GRAVITY - model.lift) * cos_theta
     stroke = model.static_stroke()
     if stroke == 0.0:  # topped out: the stop carries preload − load
-        stroke = -(model.gas.preload - load) / model.stops.stiffness
+        stroke = -(model.gas.preload - load) / model.stops.top_out_stiffness(model.gas.preload)
     y[dyn.Z1] = stroke * cos_theta
     y[dyn.THETA] = 1.0
     leg = model.effect("leg flexibility")

@@ -162,6 +162,24 @@ class Strut(SpecBlock):
     notes: str | None = None
 
 
+class TestArticle(SpecBlock):
+    """What was tested, as the conformity record identifies it, and how it was serviced."""
+
+    part_number: str | None = None
+    serial_number: str | None = None
+    drawing: str | None = Field(None, description="drawing number and revision")
+    conformity_record: str | None = Field(
+        None, description="conformity inspection record of the test article (e.g. FAA Form "
+                          "8100-1 number)")
+    tyre_part_number: str | None = None
+    tyre_ply_rating: str | None = None
+    oil_volume: Volume | None = Field(None, description="oil volume as serviced for the test")
+    gas_pressure: Pressure | None = Field(
+        None, description="gas pressure as serviced (state gauge or absolute in the text)")
+    gas_temperature: str | None = Field(
+        None, description="temperature at which the gas was charged, e.g. '18 degC'")
+
+
 class GearUnit(SpecBlock):
     id: Identifier
     position: Literal["main", "nose", "tail"]
@@ -176,6 +194,8 @@ class GearUnit(SpecBlock):
     strut: Strut | None = None
     leg: LegSpec | None = None
     wheel_diameter: PositiveLength | None = None
+    article: TestArticle | None = Field(None, description="the test article's identity and "
+                                                        "servicing")
 
 
 # --------------------------------------------------------------------------- instrumentation and data
@@ -186,7 +206,8 @@ class InstrumentChannel(SpecBlock):
     range: str | None = None
     filter: str | None = None
     calibration_date: Date | None = None
-    calibration_reference: str | None = None
+    calibration_due: Date | None = Field(None, description="date the calibration expires")
+    calibration_reference: str | None = Field(None, description="calibration certificate")
 
 
 class PlatformSpec(SpecBlock):
@@ -195,6 +216,25 @@ class PlatformSpec(SpecBlock):
     mass: Mass
     stiffness: Stiffness = Field(description="load cells and foundation under the platform")
     damping: Damping = Field(parse_quantity("0 N*s/m", "damping"))
+
+
+class TestSetup(SpecBlock):
+    """How the drops were set up and conducted: the applicant's statement, reported as given
+    (certkit cannot check it); what is absent is reported as not stated."""
+
+    rig: str | None = Field(None, description="the drop rig: description, drawing or photo "
+                                              "reference")
+    height_setting: str | None = Field(
+        None, description="how the free drop height was set and measured")
+    height_tolerance: Length | None = Field(None, description="tolerance of the drop height")
+    drop_mass_weighing: str | None = Field(None, description="weighing record of the drop mass")
+    attitude: str | None = Field(None, description="gear attitude in the drops (14 CFR "
+                                                   "23.725(c))")
+    drag_loads: str | None = Field(
+        None, description="how spin-up and drag loads were represented, or that they were "
+                          "not (14 CFR 23.725(c))")
+    test_plan: str | None = Field(None, description="test plan reference and revision")
+    witness: str | None = Field(None, description="who witnessed the drops, and for whom")
 
 
 class Instrumentation(SpecBlock):
@@ -294,6 +334,7 @@ class ReportedRun(SpecBlock):
 
 
 class Inspection(SpecBlock):
+    before: str | None = Field(None, description="inspection before the drop and its finding")
     failure: bool | None = None
     yielding: bool | None = None
     permanent_set: Length | None = None
@@ -305,6 +346,9 @@ class Run(SpecBlock):
     test_type: Literal["build-up", "limit", "reserve", "dynamic", "small-signal"]
     gear_units: list[Identifier] = Field(min_length=1)
     date: Date | None = None
+    time: str | None = Field(None, pattern=r"^([01][0-9]|2[0-3]):[0-5][0-9]$",
+                             description="local time of the drop, HH:MM")
+    ambient_temperature: str | None = Field(None, description="e.g. '21 degC'")
     drop_height: PositiveLength
     drop_mass: Mass
     lift: Lift
@@ -426,11 +470,12 @@ class SensorSpec(SpecBlock):
 CalibrationParameter = Literal[
     "discharge-coefficient", "gas-precharge", "gas-volume", "polytropic-exponent",
     "tyre-stiffness", "tyre-exponent", "tyre-damping", "friction", "friction-pressure-factor",
-    "rebound-damping", "load-cell-gain"]
+    "rebound-damping", "load-cell-gain", "top-out-compression"]
 
 
 class CalibrationSpec(SpecBlock):
-    """What `certkit calibrate` fits (default: C_d, pre-charge, n, tyre stiffness, friction)."""
+    """What `certkit calibrate` fits (default: C_d, pre-charge, n, tyre stiffness and
+    exponent, the top-out stop's compression, friction and load-cell gain when those are on)."""
 
     parameters: list[CalibrationParameter] = Field([], description="parameters to fit")
     runs: list[Identifier] = Field([], description="runs to fit to (default: all with data)")
@@ -507,6 +552,7 @@ class CampaignSpec(SpecBlock):
     aircraft: Aircraft
     gear_units: list[GearUnit] = Field(min_length=1)
     instrumentation: Instrumentation | None = None
+    setup: TestSetup | None = Field(None, description="how the drops were set up and conducted")
     runs: list[Run] = Field(min_length=1)
     reported: CampaignReported | None = None
     reference_results: ReferenceResults | None = Field(
