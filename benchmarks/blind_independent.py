@@ -1,7 +1,7 @@
 """The gap diagnosis's blind check on truths certkit did not write (issue 14).
 
 Run:  .venv/bin/python benchmarks/blind_independent.py SPEC -g GEAR -o DIR [--workers N]
-      [--quick] [--rescore RECORD]   (about 8 minutes on 2 cores; --rescore scores a
+      [--quick] [--rescore RECORD]   (about 10 minutes on 2 cores; --rescore scores a
       record's cases again without running them)
 
 Every case is a campaign simulated from the template campaign's spec by the independent
