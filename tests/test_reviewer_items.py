@@ -148,5 +148,10 @@ def test_contents_conclusions_and_references(timeseries_campaign):
     assert "14 CFR 23.725(c), Gear attitude and drag loads in the drops represent the " \
            "landing conditions (campaign): NOT SHOWN" in conclusions
     assert "Test plan; Witness" in conclusions and "checked sign-off" in conclusions
+    edit(timeseries_campaign, INSTRUMENTATION, CHANNELS)
+    html = _html(timeseries_campaign)
+    conclusions = html[html.index('<section id="conclusions">'):
+                       html.index('<section id="references">')]
+    assert "calibration of channel acc; checked sign-off" in conclusions
     references = html[html.index('<section id="references">'):]
     assert "Amdt 23-62" in references and "edition stated by the applicant" in references

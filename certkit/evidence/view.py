@@ -472,6 +472,9 @@ def _conclusions(assessment: Assessment, setup: list, gear_rows: list,
     for gear in gear_rows:
         unstated += [f"{label} ({gear['id']})" for label, value in gear["fields"]
                      if value == NOT_STATED]
+    instrumentation = assessment.campaign.spec.instrumentation
+    unstated += [f"calibration of channel {c.name}" for c in
+                 (instrumentation.channels if instrumentation else []) if c.calibration_date is None]
     unstated += [f"{s['role']} sign-off" for s in signatories if s["name"] == NOT_STATED]
     planning = assessment.planning
     return {
