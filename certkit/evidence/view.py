@@ -276,8 +276,8 @@ def _matrix_rows(assessment: Assessment, units) -> list[dict]:
             "id": spec_run.id, "type": spec_run.test_type,
             "gears": ", ".join(spec_run.gear_units), "height": spec_run.drop_height.text,
             "mass": spec_run.drop_mass.text,
-            "lift": spec_run.lift.method + (f", L = {spec_run.lift.ratio.text}"
-                                            if spec_run.lift.ratio else ""),
+            "lift": spec_run.lift.method.replace("_", " ")       # reduced_mass: words
+                    + (f", L = {spec_run.lift.ratio.text}" if spec_run.lift.ratio else ""),
             "data": spec_run.data.file if spec_run.data else "none (reported values)",
             "date": " ".join(filter(None, (spec_run.date.isoformat() if spec_run.date else
                                            NOT_STATED, spec_run.time))),
