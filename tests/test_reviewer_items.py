@@ -155,3 +155,23 @@ def test_contents_conclusions_and_references(timeseries_campaign):
     assert "calibration of channel acc; checked sign-off" in conclusions
     references = html[html.index('<section id="references">'):]
     assert "Amdt 23-62" in references and "edition stated by the applicant" in references
+
+
+def test_a_drop_time_is_hh_mm_and_an_unquoted_one_is_refused_with_the_fix(timeseries_campaign):
+    from typer.testing import CliRunner
+
+    from certkit.cli import app
+
+    for typed, expected in (('"25:70"', 'expected a time of day as HH:MM (00:00 to 23:59), '
+                                        'got "25:70"'),
+                            # YAML 1.1 reads 14:05 unquoted as 14·60 + 5 = 845
+                            ("14:05", 'YAML read an unquoted time as the number 845: write it '
+                                      'as "14:05"')):
+        text = timeseries_campaign.read_text(encoding="utf-8")
+        lift = "    lift: {method: reduced_mass"
+        timeseries_campaign.write_text(text.replace(lift, f"    time: {typed}\n{lift}", 1),
+                                       encoding="utf-8")
+        result = CliRunner().invoke(app, ["validate", str(timeseries_campaign)])
+        assert result.exit_code == 2 and expected in result.output, result.output
+        assert "runs[0].time" in result.output and "Traceback" not in result.output
+        timeseries_campaign.write_text(text, encoding="utf-8")

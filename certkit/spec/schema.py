@@ -15,8 +15,8 @@ from typing import Literal
 from pydantic import Field, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
-from certkit.spec.types import (Area, Damping, Date, Density, Duration, Energy, Force, Fraction,
-                                Frequency, Identifier, Inclination, Length, Mass, PositiveLength,
+from certkit.spec.types import (Area, ClockTime, Damping, Date, Density, Duration, Energy,
+                                Force, Fraction, Frequency, Identifier, Inclination, Length, Mass, PositiveLength,
                                 PositiveNumber, Pressure, SpecBlock, Stiffness, Text, Volume,
                                 Weight, WingLoading, quantity, unit_text)
 from certkit.units import parse_quantity
@@ -346,8 +346,7 @@ class Run(SpecBlock):
     test_type: Literal["build-up", "limit", "reserve", "dynamic", "small-signal"]
     gear_units: list[Identifier] = Field(min_length=1)
     date: Date | None = None
-    time: str | None = Field(None, pattern=r"^([01][0-9]|2[0-3]):[0-5][0-9]$",
-                             description="local time of the drop, HH:MM")
+    time: ClockTime | None = Field(None, description="local time of the drop, HH:MM in quotes")
     ambient_temperature: str | None = Field(None, description="e.g. '21 degC'")
     drop_height: PositiveLength
     drop_mass: Mass

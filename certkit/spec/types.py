@@ -125,6 +125,27 @@ def _date(value):
 
 Date = Annotated[dt.date, BeforeValidator(_date)]
 
+
+def _clock_time(value) -> str:
+    """A local time of day written HH:MM (00:00 to 23:59).  YAML 1.1 reads an unquoted
+    14:05 as the base-60 number 845, so a number is refused asking for quotes."""
+    if isinstance(value, str):
+        text = value.strip()
+        hours, _, minutes = text.partition(":")
+        if (len(hours) == 2 and len(minutes) == 2 and (hours + minutes).isascii()
+                and (hours + minutes).isdigit() and int(hours) < 24 and int(minutes) < 60):
+            return text
+        raise PydanticCustomError("time", f'expected a time of day as HH:MM (00:00 to 23:59), '
+                                          f'got "{text}"')
+    if isinstance(value, int) and not isinstance(value, bool):
+        raise PydanticCustomError(
+            "time", f"expected a time of day as HH:MM in quotes; YAML read an unquoted time "
+                    f"as the number {value}: write it as \"{value // 60:02d}:{value % 60:02d}\"")
+    raise PydanticCustomError("time", f'expected a time of day as HH:MM, got "{value}"')
+
+
+ClockTime = Annotated[str, BeforeValidator(_clock_time)]
+
 Identifier = Annotated[str, Field(pattern=r"^[A-Za-z0-9][A-Za-z0-9_.\-]*$", max_length=64)]
 Text = Annotated[str, Field(min_length=1)]
 
