@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import importlib.util
 import math
+import os
 import shutil
 import subprocess
 import sys
@@ -224,13 +225,29 @@ def physics_campaign(tmp_path: Path) -> Path:
     return write_campaign(tmp_path / "physics", PHYSICS_SPEC)
 
 
+@pytest.fixture(scope="session", autouse=True)
+def evidence_cache(tmp_path_factory) -> Path:
+    """The drop-model evidence cache of this test session (the processes the tests start
+    inherit it): never the user's own, and empty at the start."""
+    folder = tmp_path_factory.mktemp("evidence-cache")
+    previous = os.environ.get("CERTKIT_CACHE")
+    os.environ["CERTKIT_CACHE"] = str(folder)
+    yield folder
+    if previous is None:
+        os.environ.pop("CERTKIT_CACHE", None)
+    else:
+        os.environ["CERTKIT_CACHE"] = previous
+
+
 @pytest.fixture(scope="session")
 def full_report(tmp_path_factory) -> Path:
     """The example's full report (drop-model sections 9-11 included), made once by the
     command line in a fresh process; the slow checks share it."""
     out = tmp_path_factory.mktemp("full-report") / "out"
+    # a cache of its own, empty: the evidence is made here, and kept in out/../cache
+    environment = dict(os.environ, CERTKIT_CACHE=str(out.parent / "cache"))
     completed = subprocess.run([sys.executable, "-m", "certkit.cli", "report", str(SEED),
                                 "-o", str(out)], check=True, capture_output=True, text=True,
-                               timeout=600)
+                               timeout=600, env=environment)
     (out.parent / "report.stderr").write_text(completed.stderr, encoding="utf-8")
     return out

@@ -253,9 +253,11 @@ def test_a_compliant_top_out_stop_gives_by_hand_and_the_stroke_reads_zero_at_the
         model = replace(base, stops=stops, lift_ratio=lift / (292.5 * G))
         time = np.arange(0.0, 3.0, 0.001)
         rest = simulate_driven(model, time, np.full(time.size, 292.5 * G - lift))
-        # a rigid stop reads 0 however far its penalty spring gives
+        # a rigid stop reads 0 however far its penalty spring gives; the pad has no damping
+        # of its own and the oil's (square law) fades as the strut slows, so the strut still
+        # rings about its rest: its mean over the last second is the rest
         expected = 0.0 if zero is None else stroke - zero
-        assert rest.stroke[-1] == pytest.approx(expected, abs=1e-8), stops
+        assert np.mean(rest.stroke[time >= 2.0]) == pytest.approx(expected, abs=1e-8), stops
 
 
 def test_the_step_follows_a_top_out_stop_stiffer_than_the_bottoming_stop():

@@ -2,6 +2,7 @@
 
 import hashlib
 import json
+import os
 import re
 import subprocess
 import sys
@@ -124,9 +125,13 @@ def test_failed_render_leaves_nothing_and_keeps_the_previous_report(tmp_path, mo
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
 
 
-def _render_in_fresh_process(spec: Path, out: Path, *options: str) -> None:
-    subprocess.run([sys.executable, "-m", "certkit.cli", "report", str(spec), "-o", str(out),
-                    *options], check=True, capture_output=True, timeout=300)
+def _render_in_fresh_process(spec: Path, out: Path, *options: str, cache: Path | None = None
+                             ) -> str:
+    """The report in a fresh process (``cache``: its evidence cache); returns its stderr."""
+    environment = dict(os.environ, CERTKIT_CACHE=str(cache)) if cache else None
+    return subprocess.run([sys.executable, "-m", "certkit.cli", "report", str(spec), "-o",
+                           str(out), *options], check=True, capture_output=True, timeout=300,
+                          env=environment, text=True).stderr
 
 
 def _digests(folder: Path) -> dict[str, str]:
@@ -149,9 +154,14 @@ def test_same_inputs_give_identical_bytes_across_processes(timeseries_campaign, 
 @pytest.mark.slow
 def test_model_section_is_reproducible_and_says_the_data_are_synthetic(full_report, tmp_path):
     # the example campaign: calibration, identification and gap diagnosis of both gears, in
-    # two processes (full_report is made in one, shared with other slow checks)
-    _render_in_fresh_process(SEED, tmp_path / "b")
+    # two processes (full_report is made in one, shared with other slow checks), the
+    # second making the evidence again; a third takes it from the cache the first filled:
+    # the same bytes all three times
+    _render_in_fresh_process(SEED, tmp_path / "b", "--no-cache")
     assert _digests(full_report) == _digests(tmp_path / "b")
+    stderr = _render_in_fresh_process(SEED, tmp_path / "c", cache=full_report.parent / "cache")
+    assert "taken from the cache" in stderr and "calibrating" not in stderr
+    assert _digests(full_report) == _digests(tmp_path / "c")
     html = (full_report / "report.html").read_text(encoding="utf-8")
     assert "9. Governing-equation model" in html
     assert "are SYNTHETIC" in html and "9.7364" in html and "11.3473" in html

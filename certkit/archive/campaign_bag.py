@@ -331,8 +331,9 @@ def recompute(folder: Path, tolerance: float, progress=None) -> Recomputed:
     except CertkitInputError as error:   # e.g. a spec this certkit no longer accepts
         return Recomputed(False, [f"the archived campaign does not load: {problem}"
                                   for problem in error.problems], [])
+    # a recomputation makes the drop model's evidence again, never from the cache
     assessment, evidence = make_evidence(campaign, model=archived.get("model") is not None,
-                                         progress=progress)
+                                         cache=False, progress=progress)
     recomputed_bytes = results_json(assessment, evidence)
     found, software = compare_results(archived, json.loads(recomputed_bytes), tolerance)
     return Recomputed(recomputed_bytes == archived_bytes, found, software)

@@ -41,7 +41,11 @@ def report(spec: SpecArgument,
                                 "finds an error")] = False,
            model: Annotated[bool, typer.Option(
                "--model/--no-model", help="calibrate the drop model against the runs and add "
-                                          "the governing-equation section")] = True) -> None:
+                                          "the governing-equation section")] = True,
+           cache: Annotated[bool, typer.Option(
+               "--cache/--no-cache", help="take the drop model's evidence from the user's "
+                                          "cache when the inputs and the code that makes it "
+                                          "are unchanged")] = True) -> None:
     """Write report.html, report.pdf (PDF/A-3b), results.json and tables/*.csv."""
     status = Status("loading campaign", console=err) if err.is_terminal else None
     if status:
@@ -54,7 +58,7 @@ def report(spec: SpecArgument,
                 err.print(f"certkit report: {message}")
 
         assessment, _ = report_campaign(load_campaign(spec), output, model=model,
-                                        progress=progress)
+                                        cache=cache, progress=progress)
     finally:
         if status:
             status.stop()

@@ -30,6 +30,31 @@ _STYLE = {
 }
 _WIDTH, _HEIGHT = 6.6, 2.6  # inches: fits A4 portrait with 15 mm margins
 _LEAD = 0.05                 # seconds shown before touchdown
+#: The columns a plotted line is thinned to: a figure's axes are about 5.5 in wide, 500
+#: columns of 0.011 in (about two dots of a 150 dpi print each).
+COLUMNS = 500
+
+
+def kept(*curves: np.ndarray) -> np.ndarray:
+    """The sample indices a line keeps (min–max decimation): every sample when there are
+    at most 2·:data:`COLUMNS`; otherwise the samples are cut into :data:`COLUMNS` runs of
+    consecutive samples (columns of the page, for uniformly sampled time) and each run keeps
+    its first sample and the lowest and highest sample of every curve (both coordinates of
+    a load–travel loop), so no peak, trough or extreme of a loop is lost, whatever the
+    logger's rate."""
+    size = len(curves[0])
+    if size <= 2 * COLUMNS:
+        return np.arange(size)
+    edges = np.linspace(0, size, COLUMNS + 1).astype(int)
+    chosen = [edges[:-1], [size - 1]]
+    for curve in curves:
+        values = np.asarray(curve, dtype=float)
+        for start, stop in zip(edges[:-1], edges[1:]):
+            part = values[start:stop]
+            if np.isnan(part).all():
+                continue
+            chosen.append([start + int(np.nanargmin(part)), start + int(np.nanargmax(part))])
+    return np.unique(np.concatenate([np.asarray(c, dtype=int) for c in chosen]))
 
 
 def record_label(origin: str) -> str:
@@ -82,7 +107,9 @@ def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | N
     with _style():
         figure, axes = plt.subplots(figsize=(_WIDTH, _HEIGHT))
         for gear_id, (series, _) in gears.items():
-            axes.plot(t_ms, convert(1.0, "N", force_unit) * series.load[window], label=gear_id)
+            load = series.load[window]
+            shown = kept(load)
+            axes.plot(t_ms[shown], convert(1.0, "N", force_unit) * load[shown], label=gear_id)
         axes.set_xlabel("time from touchdown [ms]")
         axes.set_ylabel(f"vertical load [{force_unit}]")
         axes.legend(loc="upper right", frameon=False)
@@ -96,9 +123,13 @@ def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | N
             scale = convert(1.0, "m", length_unit)
             for gear_id, series in travels:
                 if series.stroke is not None:
-                    axes.plot(t_ms, scale * series.stroke[window], label=f"{gear_id} strut stroke")
+                    stroke = series.stroke[window]
+                    shown = kept(stroke)
+                    axes.plot(t_ms[shown], scale * stroke[shown], label=f"{gear_id} strut stroke")
                 if series.tyre is not None:
-                    axes.plot(t_ms, scale * series.tyre[window], linestyle="--",
+                    tyre = series.tyre[window]
+                    shown = kept(tyre)
+                    axes.plot(t_ms[shown], scale * tyre[shown], linestyle="--",
                               label=f"{gear_id} tyre deflection")
             axes.set_xlabel("time from touchdown [ms]")
             axes.set_ylabel(f"travel [{length_unit}]")
@@ -119,8 +150,10 @@ def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | N
                 x = convert(1.0, "m", length_unit) * travel[window]
                 y = convert(1.0, "N", force_unit) * series.load[window]
                 end = int(np.argmax(travel[window]))
-                axes.fill_between(x[: end + 1], y[: end + 1], alpha=0.25, linewidth=0)
-                axes.plot(x, y)
+                loading = kept(x[: end + 1], y[: end + 1])
+                axes.fill_between(x[loading], y[loading], alpha=0.25, linewidth=0)
+                shown = kept(x, y)
+                axes.plot(x[shown], y[shown])
                 axes.set_xlabel(f"{name} [{length_unit}]")
                 axes.set_ylabel(f"vertical load [{force_unit}]")
                 # above the axes, not over the loop (a legend inside covered the curve)
@@ -149,9 +182,9 @@ def model_figure(gear_id: str, run_id: str, traces: list, units, window: float =
             kind, si = ("force", "N") if trace.channel == "load" else ("length", "m")
             unit = getattr(units, kind)
             scale = convert(1.0, si, unit)
-            # every other sample (2 ms at 1 kHz): about one point per printed point at
-            # this width, and half the drawing time
-            shown = np.flatnonzero(trace.time <= window)[::2]
+            within = np.flatnonzero(trace.time <= window)
+            shown = within[kept(trace.measured[within], trace.nominal[within],
+                                trace.calibrated[within])]
             t_ms = trace.time[shown] * 1e3
             axes.plot(t_ms, scale * trace.measured[shown], color="0.55", linewidth=1.6,
                       label=recorded)
@@ -211,13 +244,16 @@ def identification_figures(gear, units, origin: str = "measured") -> list[dict]:
             for axes, output in zip(all_axes, outputs):
                 measured = held.outputs[output]
                 if kind == "response":
-                    axes.plot(t_ms, length * measured, color="0.55", linewidth=1.6,
-                              label=recorded)
+                    shown = kept(measured)
+                    axes.plot(t_ms[shown], length * measured[shown], color="0.55",
+                              linewidth=1.6, label=recorded)
                 for score in gear.scores:
                     if (score.protocol == "held-out" and score.output == output
                             and score.run == gear.held_out[0]):
-                        values = score.simulated if kind == "response" else score.simulated - measured
-                        axes.plot(t_ms[:values.size], length * values, linewidth=0.9,
+                        values = score.simulated if kind == "response" else \
+                            score.simulated - measured
+                        shown = kept(values)
+                        axes.plot(t_ms[shown], length * values[shown], linewidth=0.9,
                                   label=score.model)
                 axes.set_ylabel(f"{CHANNEL_LABELS[output]}{' error' if kind == 'error' else ''}"
                                 f"\n[{units.length}]")
@@ -283,9 +319,12 @@ def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: s
     measured run's :class:`certkit.gap.phases.Phase` list."""
     touchdown = float(before.time[before.after][0])
     t = before.time - touchdown
-    shown = np.flatnonzero((t >= -_LEAD) & (t <= window))
-    t_ms = t[shown] * 1e3
+    within = np.flatnonzero((t >= -_LEAD) & (t <= window))
     channels = list(before.measured)
+    shown = within[kept(*(record[channel][within] for channel in channels
+                          for record in ((before.measured, before.simulated)
+                                         + ((after.simulated,) if after is not None else ()))))]
+    t_ms = t[shown] * 1e3
     boundaries = [(p.name, float(t[p.start]) * 1e3) for p in phases[1:]
                   if -_LEAD <= t[p.start] <= window]
     with _style():
@@ -336,10 +375,12 @@ def missing_force_figure(gear_id: str, forces, units, origins: dict) -> dict:
         figure, (strut, tyre) = plt.subplots(1, 2, figsize=(_WIDTH, _HEIGHT + 0.3))
         for force in forces:
             label = f"{force.run} ({record_label(origins.get(force.run, 'measured'))})"
-            strut.plot(to_speed * force.stroke_rate, to_force * force.strut_missing,
+            shown = kept(force.stroke_rate, force.strut_missing)
+            strut.plot(to_speed * force.stroke_rate[shown], to_force * force.strut_missing[shown],
                        linewidth=0.9, label=label)
-            tyre.plot(to_length * force.tyre, to_force * force.tyre_missing, linewidth=0.9,
-                      label=label)
+            shown = kept(force.tyre, force.tyre_missing)
+            tyre.plot(to_length * force.tyre[shown], to_force * force.tyre_missing[shown],
+                      linewidth=0.9, label=label)
         for axes in (strut, tyre):
             axes.axhline(0.0, color="0.3", linewidth=0.6)
         strut.axvline(0.0, color="0.3", linewidth=0.6)

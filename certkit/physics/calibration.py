@@ -19,6 +19,8 @@ lower bounds on the real uncertainty.
 
 from __future__ import annotations
 
+import copyreg
+import pickle
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -91,6 +93,18 @@ KNOBS: dict[str, Knob] = {knob.name: knob for knob in [
          lambda m: -m.stops.hang(m.gas.preload),
          lambda m, v: _set_term(m, "stops", top_out=v), _absolute(1e-5, 5e-3)),
 ] + list(EFFECT_KNOBS)}
+
+
+def registered_knob(name: str, label: str) -> Knob:
+    """The knob ``name`` of :data:`KNOBS`: how a pickled knob (whose read and write
+    functions are lambdas) comes back; an error when this certkit has no such knob."""
+    knob = KNOBS.get(name)
+    if knob is None or knob.label != label:
+        raise pickle.UnpicklingError(f"no calibration knob {name!r} ({label}) in this certkit")
+    return knob
+
+
+copyreg.pickle(Knob, lambda knob: (registered_knob, (knob.name, knob.label)))
 
 #: Calibrated unless the spec chooses: the gas law, the orifice, the tyre's stiffness and
 #: exponent (a real tyre's curve is a power law only roughly), how far the hanging strut

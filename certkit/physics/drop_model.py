@@ -156,7 +156,10 @@ class EndStops(Term):
     A penalty contact; the force never pulls (its damping cannot hold the strut shut).
     ``top_out``, when given, is how far the hanging strut sits into a compliant top-out
     stop (an elastomer pad) under the gas preload F_0: the top-out spring is then
-    F_0/top_out, linear (the stop stiffness applies otherwise).  The strut hangs at
+    F_0/top_out, linear and without damping of its own (an elastic pad: the stop damping is
+    the rigid stop's numerical device, about critical for the pad, which would cancel the
+    pad's force as soon as the strut moves; the oil damps the strut in parallel), the
+    stop stiffness and damping applying otherwise.  The strut hangs at
     s_hang = −F_0/k_top (:meth:`hang`), where a stroke transducer reads zero
     (:meth:`recorded_zero`).  Without a compliant top-out the stiff stop stands for a rigid
     one, whose give F_0/stiffness is a numerical device: the recorded stroke is then s, never

@@ -114,15 +114,19 @@ def _hydraulic_coefficient(p, stroke, direction):
 
 @njit(cache=True, error_model="numpy", fastmath=FAST)
 def _stop_force(p, stroke, rate):
-    """Top-out (s < 0) and bottoming (s > s_max) stops: one-sided springs with damping."""
+    """Top-out (s < 0) and bottoming (s > s_max) stops: one-sided springs, with damping
+    unless the top-out stop is compliant (an elastic pad: p[HANG] < 0)."""
+    damping = p[STOP_DAMPING]
     if stroke < 0.0:
         penetration, stiffness = stroke, p[TOP_OUT_STIFFNESS]
+        if p[HANG] < 0.0:
+            damping = 0.0
     elif stroke > p[STOP_TRAVEL]:
         penetration, stiffness = stroke - p[STOP_TRAVEL], p[STOP_STIFFNESS]
     else:
         return 0.0, 0.0
     spring = stiffness * penetration
-    force = spring + p[STOP_DAMPING] * rate
+    force = spring + damping * rate
     force = min(force, 0.0) if penetration < 0.0 else max(force, 0.0)  # a stop never pulls
     return force, spring
 

@@ -18,6 +18,9 @@ The order of :data:`EFFECTS` is the order in which the gear model adds terms, th
 diagnosis scores candidates and the blind check plans its cases.
 """
 
+import copyreg
+import pickle
+
 from certkit.physics.effects import (heat_transfer, leg_flexibility, load_cell_gain, metering_pin,
                                      oil_compressibility, platform_compliance, rebound_orifice,
                                      seal_friction, sensor_dynamics, sensor_lag, tyre_hysteresis)
@@ -57,6 +60,19 @@ KNOBS: tuple[Knob, ...] = tuple(knob for effect in EFFECTS for knob in effect.kn
 
 #: The gap diagnosis's candidate families (every form of every effect), in registry order.
 CANDIDATES: tuple[Candidate, ...] = tuple(c for e in EFFECTS for c in e.candidates)
+
+
+def registered_candidate(key: str, unit_size: str) -> Candidate:
+    """The candidate ``key`` of :data:`CANDIDATES`: how a pickled candidate (whose ``add``
+    is a lambda) comes back; an error when this certkit has no such candidate."""
+    for candidate in CANDIDATES:
+        if candidate.key == key and candidate.unit_size == unit_size:
+            return candidate
+    raise pickle.UnpicklingError(f"no candidate effect {key!r} in this certkit")
+
+
+copyreg.pickle(Candidate, lambda c: (registered_candidate, (c.key, c.unit_size)))
+
 #: The blind check's truth forms, by the label of the candidate a right diagnosis names.
 TRUTHS: dict[str, Truth] = {e.truth.candidate: e.truth for e in EFFECTS if e.truth}
 
