@@ -213,15 +213,22 @@ def _litter(final: Path) -> list[Path]:
 
 def _clear_litter(final: Path) -> None:
     """Called holding the lock, so no live run owns them: put back an earlier report that a
-    killed run had moved aside (the target missing), then remove the rest."""
+    killed run had moved aside (the target missing), then remove the rest.  Best effort:
+    what cannot be removed (another user's, say) stays, and the run goes on."""
     litter = _litter(final)
     old = [p for p in litter if p.name.startswith(f".{final.name}.old-")]
     if old and not os.path.lexists(final):
         newest = max(old, key=lambda p: p.stat().st_mtime_ns)
-        os.rename(newest, final)
-        litter.remove(newest)
+        with contextlib.suppress(OSError):
+            os.rename(newest, final)
+            litter.remove(newest)
     for path in litter:
-        _remove_tree(path)
+        with contextlib.suppress(OSError):
+            _remove_tree(path)
+
+
+# flock refused by the file system (some network shares): write without the lock
+_NO_LOCKING = (errno.ENOLCK, errno.EINVAL, errno.ENOTSUP, errno.EOPNOTSUPP)
 
 
 @contextlib.contextmanager
@@ -232,8 +239,9 @@ def _locked(final: Path, target: Path):
         return
     path = _lock_path(final)
     deadline = time.monotonic() + LOCK_WAIT
+    flags = os.O_RDONLY | os.O_CREAT | os.O_CLOEXEC | getattr(os, "O_NOFOLLOW", 0)
     while True:
-        descriptor = os.open(path, os.O_RDONLY | os.O_CREAT | os.O_CLOEXEC, 0o666)
+        descriptor = os.open(path, flags, 0o666)
         try:
             fcntl.flock(descriptor, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -244,6 +252,12 @@ def _locked(final: Path, target: Path):
                                                  f"to another folder") from None
             time.sleep(0.1)
             continue
+        except OSError as error:
+            os.close(descriptor)
+            if error.errno not in _NO_LOCKING:
+                raise
+            descriptor = None
+            break
         except BaseException:
             os.close(descriptor)
             raise
@@ -257,7 +271,8 @@ def _locked(final: Path, target: Path):
     finally:
         with contextlib.suppress(OSError):
             os.unlink(path)
-        os.close(descriptor)
+        if descriptor is not None:
+            os.close(descriptor)
 
 
 # a path that cannot be written where it points: bad input, not the machine's fault

@@ -99,6 +99,18 @@ def test_a_full_disk_while_archiving_exits_4_and_leaves_nothing(seed_copy, tmp_p
     assert sorted(p.name for p in tmp_path.iterdir()) == ["seed"]
 
 
+def test_a_full_disk_while_writing_the_audit_exits_4_and_keeps_the_earlier_table(
+        seed_copy, tmp_path, monkeypatch):
+    import certkit.cli.campaign as campaign_commands
+
+    table = tmp_path / "audit.md"
+    table.write_text("the earlier audit\n", encoding="utf-8")
+    monkeypatch.setattr(campaign_commands, "write_text_atomically", _no_space)
+    result = runner.invoke(app, ["audit", str(seed_copy), "-o", str(table)])
+    assert_environment_failure(result, table, "no space left")
+    assert table.read_text(encoding="utf-8") == "the earlier audit\n"
+
+
 def _own_mount_namespace():
     """``unshare`` into a mount namespace of one's own (as root, or as a user where user
     namespaces are allowed), so a small tmpfs can be mounted without touching the machine."""
