@@ -362,7 +362,11 @@ def _replace(staging: Path, final: Path) -> None:
     elif not rename2(staging, final, RENAME_EXCHANGE):
         old = staging.with_name(staging.name.replace(".tmp-", ".old-", 1))
         os.rename(final, old)        # a kill here leaves old aside: the next run puts it back
-        os.rename(staging, final)
+        try:
+            os.rename(staging, final)
+        except BaseException:
+            os.rename(old, final)
+            raise
         os.rename(old, staging)
     _sync_folder(final.parent)
 
@@ -389,8 +393,10 @@ def staged_folder(target: str | Path, inputs: list[Path], own_paths: set[str]):
     final = target.resolve()
     with beside(target) as staging:
         check_target(target, inputs, own_paths)    # again, now that no other run can change it
-        staging.chmod(_folder_mode(final))  # mkdtemp makes it 0700
+        if final.exists() and not os.access(final, os.W_OK):   # made read-only: keep it
+            raise PermissionError(errno.EACCES, "the folder is read-only", str(final))
         yield staging
+        staging.chmod(_folder_mode(final))  # mkdtemp makes it 0700
         _sync_tree(staging)
         _replace(staging, final)
 

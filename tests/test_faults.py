@@ -171,6 +171,36 @@ def test_a_folder_without_write_permission_exits_4(seed_copy, tmp_path):
     assert list(parent.iterdir()) == []
 
 
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes into any folder, whatever its mode")
+def test_a_read_only_report_folder_is_kept_and_the_run_exits_4(seed_copy, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "results.json").write_text("kept", encoding="utf-8")
+    out.chmod(0o555)
+    try:
+        result = report(seed_copy, out)
+    finally:
+        out.chmod(0o755)
+    assert_environment_failure(result, out, "permission denied")
+    assert (out / "results.json").read_text(encoding="utf-8") == "kept"
+    assert litter(tmp_path) == []
+
+
+def test_a_report_folder_the_user_may_not_write_is_kept(seed_copy, tmp_path, monkeypatch):
+    """The test above as root (who may write anywhere) sees it: the folder answers 'not
+    writable' to access(2), as a folder made read-only does to its owner."""
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "results.json").write_text("kept", encoding="utf-8")
+    real = os.access
+    monkeypatch.setattr(os, "access", lambda path, mode, *a, **k: False
+                        if Path(path) == out and mode & os.W_OK else real(path, mode, *a, **k))
+    result = report(seed_copy, out)
+    assert_environment_failure(result, out, "permission denied")
+    assert (out / "results.json").read_text(encoding="utf-8") == "kept"
+    assert litter(tmp_path) == []
+
+
 def test_a_folder_refusing_new_entries_exits_4(seed_copy, tmp_path, monkeypatch):
     """What a folder without write permission does (the test above, which root cannot
     run): creating anything in it fails with EACCES."""
