@@ -1,6 +1,5 @@
 """kill -9 a real `certkit report --no-model` at random moments and count what it leaves
-(issue 16: on 1d59cd1's main, 14 of 20 trials left a `.out.tmp-*` folder that no later run
-removed).
+(issue 16: 14 of 20 trials left a `.out.tmp-*` folder that no later run removed).
 
 Run:  .venv/bin/python benchmarks/kill_trials.py [--trials N] [--seed S] [--spec SPEC]
 
@@ -12,6 +11,12 @@ temporary folders beside the target right after the kill, how many left the targ
 missing or different from the complete report, and the litter a final uninterrupted run
 leaves.  Do not edit certkit's source while it runs: the report records whether the tree
 has uncommitted changes.
+
+Measured on this shared 2-core machine (seed 16, 20 trials, a report taking 14 s under
+load): before issue 16's fix, 19 killed, 20 trials left temporary folders and a final run
+left 17 of them; after, 18 killed, 18 left temporary folders right after the kill (a
+SIGKILL cannot clean up) and a final run left nothing; in both, the target was never
+missing or partial after a kill (the first run had written it).
 """
 
 from __future__ import annotations

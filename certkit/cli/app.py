@@ -83,7 +83,7 @@ def _report_user_error(problem: Exception, subject: object, context: str) -> NoR
 def _report_environment(problem: Exception) -> NoReturn:
     """What the machine refused (space, permission, ...), as one line naming the path; exit 4."""
     if not isinstance(problem, EnvironmentFailure):
-        problem = EnvironmentFailure.from_os_error(problem, doing="failed")
+        problem = EnvironmentFailure.from_os_error(problem, doing="the system refused")
     error(str(problem))
     raise typer.Exit(4)
 
