@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import errno
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -36,6 +38,60 @@ class CampaignError(Exception):
     """What a valid campaign can still cause and its user can act on, though no key is wrong:
     a drop model that cannot be simulated, residuals that cannot be evaluated, a blind check
     with nowhere to run.  The CLI exits with code 2 and names the campaign (or bag)."""
+
+
+class EnvironmentFailure(Exception):
+    """The machine refused what certkit needed: no space left, no permission, a read-only
+    file system, another run writing the same folder.  Nothing is wrong with the campaign
+    or with certkit; the CLI prints the message (it names the path) and exits with code 4.
+    """
+
+    def __init__(self, path: str | Path, message: str):
+        self.path = str(path)
+        super().__init__(f"{path}: {message}")
+
+    @classmethod
+    def from_os_error(cls, error: OSError, path: str | Path | None = None,
+                      doing: str = "cannot write the outputs"):
+        """The failure ``error`` as one line: ``path`` (the folder or file the user named;
+        the error's own file name when not given), what failed, why and what to do."""
+        path = path if path is not None else os.fsdecode(error.filename or "certkit")
+        why, remedy = _ENVIRONMENT.get(error.errno, (None, "check the folder and try again"))
+        why = why or error.strerror or str(error)
+        return cls(path, f"{doing}: {why}{named_file(error, path)}; {remedy}")
+
+
+def named_file(error: OSError, path: str | Path) -> str:
+    """' (the file the error names)' when it is not ``path`` itself, else ''."""
+    if error.filename is None or os.fsdecode(error.filename) == str(path):
+        return ""
+    return f" ({os.fsdecode(error.filename)})"
+
+
+# errno -> (what happened, what to do): the failures that come from the machine, not from
+# the campaign or from certkit.  Any OSError met while writing outputs is reported as an
+# EnvironmentFailure; elsewhere only these are (see certkit.cli.app).
+_ANOTHER_DISK = "free some space, or choose a folder on another disk"
+_PERMISSION = "check the permissions, or choose a folder you may write to"
+_ENVIRONMENT = {
+    errno.ENOSPC: ("no space left on the device", _ANOTHER_DISK),
+    getattr(errno, "EDQUOT", errno.ENOSPC): ("the disk quota is exceeded", _ANOTHER_DISK),
+    errno.EFBIG: ("a file is too large for this file system", "choose a folder on another "
+                                                              "disk"),
+    errno.EACCES: ("permission denied", _PERMISSION),
+    errno.EPERM: ("operation not permitted", _PERMISSION),
+    errno.EROFS: ("the file system is read-only", "choose a folder on a writable disk"),
+    errno.EIO: ("input/output error (a failing disk or a lost network share)",
+                "check the disk or share and try again"),
+    errno.EMFILE: ("too many open files", "close other programs or raise the limit "
+                                          "(ulimit -n) and try again"),
+    errno.ENFILE: ("too many open files on the system", "try again later"),
+}
+
+
+def is_environmental(error: BaseException) -> bool:
+    """An OSError that comes from the machine (full, forbidden, read-only, failing)."""
+    return isinstance(error, OSError) and error.errno in _ENVIRONMENT
 
 
 def key_path(location: tuple) -> str:

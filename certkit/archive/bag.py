@@ -25,6 +25,8 @@ import zlib
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
+from certkit.errors import EnvironmentFailure, is_environmental
+
 ALGORITHM = "sha256"
 MANIFEST = "manifest-sha256.txt"
 TAGMANIFEST = "tagmanifest-sha256.txt"
@@ -266,20 +268,43 @@ def _unsafe(name: str) -> str | None:
     return None
 
 
+#: A member larger than this that expands more than MAX_RATIO-fold is refused: DEFLATE
+#: cannot pass about 1032:1, measured data with a time column and noise stays well under
+#: 20:1, so such a member is a "zip bomb" (a few megabytes declaring gigabytes).
+MAX_RATIO = 100
+RATIO_FROM = 16 << 20
+#: More members than a bag of a campaign could hold (each costs a file and a manifest line).
+MAX_MEMBERS = 100_000
+
+
+def _oversized(member: zipfile.ZipInfo) -> str | None:
+    """Why a member's declared size may not be extracted, or None.  The sizes are the
+    zip's own (central directory); extraction stops at the declared size, so they bound
+    what is written."""
+    if member.file_size > RATIO_FROM and member.file_size > MAX_RATIO * member.compress_size:
+        return (f"it declares {member.file_size} bytes from {member.compress_size} compressed "
+                f"(more than {MAX_RATIO}:1): a zip bomb, not a bag's file")
+    return None
+
+
 def extract_zip(archive: Path, into: Path) -> Path:
     """Extract a zipped bag into the (empty) folder ``into``; return the bag's folder.
 
     Refuses, before writing anything, a member with an absolute path, a '..', '.' or
     empty part, a backslash, a symbolic link, a name repeated (also up to case and
-    Unicode normalisation), or more bytes than the disk holds; then a zip without exactly
-    one bag.  Any damage to the zip itself is a BagError.
+    Unicode normalisation), a declared size more than MAX_RATIO times its compressed size
+    (past RATIO_FROM bytes), more than MAX_MEMBERS members, or more bytes than the disk
+    holds; then a zip without exactly one bag.  Any damage to the zip itself is a BagError.
     """
     try:
         with zipfile.ZipFile(archive) as handle:
             members = handle.infolist()
+            if len(members) > MAX_MEMBERS:
+                raise BagError(f"{archive}: refused: it holds {len(members)} members, more "
+                               f"than a campaign's bag ({MAX_MEMBERS} at most)")
             seen = set()
             for member in members:
-                why = _unsafe(member.filename)
+                why = _unsafe(member.filename) or _oversized(member)
                 if why is None and stat.S_ISLNK(member.external_attr >> 16):
                     why = "a symbolic link"
                 key = unicodedata.normalize("NFC", member.filename.rstrip("/")).casefold()
@@ -299,7 +324,12 @@ def extract_zip(archive: Path, into: Path) -> Path:
         raise
     except (zipfile.BadZipFile, zipfile.LargeZipFile, zlib.error, NotImplementedError,
             RuntimeError, EOFError, ValueError, OSError) as error:
+        if is_environmental(error):   # the disk, not the zip: full, forbidden, failing
+            raise EnvironmentFailure.from_os_error(
+                error, into, f"cannot extract {archive} here (set TMPDIR to extract it "
+                             f"elsewhere)") from None
         raise BagError(f"{archive}: not a readable zip of a bag: {error}") from None
+
     def is_bag(folder: Path) -> bool:
         return any(os.path.lexists(folder / n) for n in ("bagit.txt", MANIFEST, TAGMANIFEST))
 

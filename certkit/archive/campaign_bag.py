@@ -17,8 +17,6 @@ existing target is never replaced.
 from __future__ import annotations
 
 import contextlib
-import ctypes
-import errno
 import json
 import os
 import shutil
@@ -33,6 +31,7 @@ from certkit.evidence.comparison import differences
 from certkit.evidence.provenance import environment
 from certkit.evidence.pipeline import make_evidence, report_campaign
 from certkit.evidence.results_document import results_json
+from certkit.outputs import beside, rename_no_replace
 from certkit.results import RESULTS_FORMAT
 from certkit.spec.campaign import load_campaign
 from certkit.version import VERSION
@@ -164,49 +163,6 @@ def _check_new(target: Path) -> None:
         raise _refuse(target, "give the zip a name")
 
 
-_RENAME_NOREPLACE = 1
-_AT_FDCWD = -100
-
-
-def _rename_no_replace(source: Path, target: Path) -> None:
-    """Move ``source`` to ``target`` only if nothing is there, atomically where the kernel
-    offers renameat2(RENAME_NOREPLACE); raises FileExistsError otherwise."""
-    libc = ctypes.CDLL(None, use_errno=True)
-    renameat2 = getattr(libc, "renameat2", None)
-    if renameat2 is not None:
-        done = renameat2(_AT_FDCWD, os.fsencode(source), _AT_FDCWD, os.fsencode(target),
-                         _RENAME_NOREPLACE)
-        if done == 0:
-            return
-        number = ctypes.get_errno()
-        if number == errno.EEXIST:
-            raise FileExistsError(number, os.strerror(number), str(target))
-        if number not in (errno.ENOSYS, errno.EINVAL, errno.ENOTSUP):
-            raise OSError(number, os.strerror(number), str(target))
-    # no renameat2 here: check, then rename (a folder) or link (a file), which fails
-    # rather than replace a file; only an empty folder made in between could be replaced
-    if os.path.lexists(target):
-        raise FileExistsError(errno.EEXIST, "exists", str(target))
-    if source.is_dir():
-        os.rename(source, target)
-        return
-    try:
-        os.link(source, target)
-    except FileExistsError:
-        raise
-    except OSError:   # a file system without hard links: copy into a file made exclusively
-        with open(source, "rb") as reader, open(target, "xb") as writer:
-            shutil.copyfileobj(reader, writer, 1 << 20)
-
-
-def _create_parents(parent: Path, created: list[Path]) -> None:
-    """Make the missing folders above a target, noting each in ``created`` (innermost
-    first) as soon as it exists, so a failure can take them back."""
-    for folder in reversed([p for p in [parent, *parent.parents] if not p.exists()]):
-        folder.mkdir()
-        created.insert(0, folder)
-
-
 def archive_campaign(spec: str | Path, target: str | Path, *, model: bool = True,
                      progress=None) -> Archived:
     """Archive the campaign at ``spec`` as a bag at ``target``: a folder, or a zip when
@@ -214,8 +170,9 @@ def archive_campaign(spec: str | Path, target: str | Path, *, model: bool = True
     (with the drop model unless ``model`` is False) and the report are then made from
     those copies, so what the bag concludes is what its own inputs give.
 
-    Raises CertkitInputError for bad input or a target that exists; nothing is left
-    behind on any failure.
+    Raises CertkitInputError for bad input or a target that exists, EnvironmentFailure
+    when the machine refuses (no space, no permission, another run writing it); nothing
+    is left behind on any failure (see :func:`certkit.outputs.beside`).
     """
     progress = progress or (lambda message: None)
     target = Path(target)
@@ -225,15 +182,8 @@ def archive_campaign(spec: str | Path, target: str | Path, *, model: bool = True
     if zipped and campaign.spec.document.date.year < 1980:
         raise _refuse(target, f"a zip cannot carry a date before 1980 (document.date "
                               f"{campaign.spec.document.date}); archive to a folder")
-    final = target.absolute()
-    created: list[Path] = []
-    staging = None
-    try:
-        try:
-            _create_parents(final.parent, created)
-            staging = Path(tempfile.mkdtemp(prefix=f".{final.name}.tmp-", dir=final.parent))
-        except OSError as error:
-            raise _refuse(target, f"cannot write here: {error.strerror or error}") from None
+    final = target.resolve()
+    with beside(target) as staging:
         bag = staging / "bag"
         (bag / "data").mkdir(parents=True)
         progress("copying the campaign's files")
@@ -254,19 +204,10 @@ def archive_campaign(spec: str | Path, target: str | Path, *, model: bool = True
             source = staging / "bag.zip"
             write_zip(bag, source, final.stem, campaign.spec.document.date)
         try:
-            _rename_no_replace(source, final)
+            rename_no_replace(source, final)
         except FileExistsError:
             raise _refuse(target, "appeared while the archive was being written; it was "
                                   "left as it is") from None
-        except OSError as error:
-            raise _refuse(target, f"cannot be placed: {error.strerror or error}") from None
-        created = []
-    finally:
-        if staging is not None:
-            shutil.rmtree(staging, ignore_errors=True)
-        for folder in created:
-            with contextlib.suppress(OSError):
-                folder.rmdir()
     return Archived(target, digest, files, octets, assessment.outcome)
 
 

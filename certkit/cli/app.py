@@ -4,7 +4,9 @@ Every command is registered with :func:`command`, which turns what a user can ca
 message and exit code 2: a bad spec, data file or argument
 (:class:`~certkit.errors.CertkitInputError`, its problems one per line), a campaign the model
 cannot follow (:class:`~certkit.errors.CampaignError`, named with the campaign or bag) and a
-path that is not a bag (:class:`~certkit.archive.bag.BagError`).  :func:`run`, the console
+path that is not a bag (:class:`~certkit.archive.bag.BagError`); and what the machine
+refuses into a message and exit code 4 (:class:`~certkit.errors.EnvironmentFailure`, or an
+OSError such as no space left, permission denied, read-only).  :func:`run`, the console
 entry point, reports anything else as a certkit bug (exit 3, no traceback unless
 CERTKIT_DEBUG is set).
 """
@@ -24,11 +26,16 @@ from rich.console import Console
 from rich.text import Text
 
 from certkit.archive.bag import BagError
-from certkit.errors import CampaignError, CertkitInputError
+from certkit.errors import (CampaignError, CertkitInputError, EnvironmentFailure,
+                            is_environmental)
 from certkit.version import VERSION
 
+EXIT_CODES = ("Exit codes: 0 success; 1 a check does not pass; 2 bad input; 3 an internal "
+              "error (a certkit bug); 4 the machine refused (no space, no permission, a "
+              "read-only disk, another run writing the same output).")
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
-                  help="Turn a landing-gear drop-test campaign into airworthiness evidence.")
+                  help="Turn a landing-gear drop-test campaign into airworthiness evidence.",
+                  epilog=EXIT_CODES)
 catalog_app = typer.Typer(no_args_is_help=True, help="An SQLite index of archived campaigns: "
                                                      "add bags, list and search them.")
 app.add_typer(catalog_app, name="catalog")
@@ -73,6 +80,14 @@ def _report_user_error(problem: Exception, subject: object, context: str) -> NoR
     raise typer.Exit(2)
 
 
+def _report_environment(problem: Exception) -> NoReturn:
+    """What the machine refused (space, permission, ...), as one line naming the path; exit 4."""
+    if not isinstance(problem, EnvironmentFailure):
+        problem = EnvironmentFailure.from_os_error(problem, doing="the system refused")
+    error(str(problem))
+    raise typer.Exit(4)
+
+
 def command(group: typer.Typer = app, name: str | None = None, context: str = ""):
     """Register a command whose user-caused errors exit 2 with a message.
 
@@ -90,6 +105,12 @@ def command(group: typer.Typer = app, name: str | None = None, context: str = ""
                 arguments = signature.bind_partial(*args, **kwargs).arguments
                 subject = next(iter(arguments.values()), "certkit")
                 _report_user_error(problem, subject, context)
+            except EnvironmentFailure as problem:
+                _report_environment(problem)
+            except OSError as problem:
+                if not is_environmental(problem):
+                    raise
+                _report_environment(problem)
 
         return group.command(name)(handled)
 
@@ -130,6 +151,9 @@ def run() -> None:
             _report_user_error(problem, "certkit", "")
         except typer.Exit as exit_:
             sys.exit(exit_.exit_code)
+    except EnvironmentFailure as problem:   # outside any command
+        error(str(problem))
+        sys.exit(4)
     except Exception as problem:  # noqa: BLE001 - last resort: no traceback for users
         if os.environ.get("CERTKIT_DEBUG"):
             raise

@@ -10,14 +10,14 @@ from typing import Annotated
 import typer
 from rich.status import Status
 
-from certkit.cli.app import SpecArgument, bad_option, command, err, fail, out
+from certkit.cli.app import SpecArgument, bad_option, command, err, out
 from certkit.compliance.engine import assess
 from certkit.evidence.audit import (audit_rows, baseline_rows, passed, to_csv, to_json, to_junit,
                                     to_markdown)
 from certkit.evidence.comparison import compare, read_baseline
 from certkit.evidence.pipeline import report_campaign
 from certkit.evidence.results_document import results_document
-from certkit.outputs import write_text_atomically
+from certkit.outputs import write_text_atomically, writing_failure
 from certkit.spec import requirement_sets
 from certkit.spec.campaign import load_campaign
 from certkit.spec.schema import json_schema
@@ -71,7 +71,7 @@ def report(spec: SpecArgument,
         raise typer.Exit(1)
 
 
-def _write_both(spec: Path, files: list[tuple[Path, str]]) -> None:
+def _write_both(files: list[tuple[Path, str]]) -> None:
     """Both files or neither: a failed second write puts back what the first replaced (or
     removes it, if there was nothing)."""
     written: list[tuple[Path, bytes | None]] = []
@@ -81,12 +81,12 @@ def _write_both(spec: Path, files: list[tuple[Path, str]]) -> None:
             write_text_atomically(path, content)
             written.append((path, before))
     except OSError as problem:
-        for path, before in written:
+        for done, before in written:
             if before is None:
-                path.unlink(missing_ok=True)
+                done.unlink(missing_ok=True)
             else:
-                path.write_bytes(before)
-        fail(spec, f"cannot write the audit: {problem}")
+                done.write_bytes(before)
+        raise writing_failure(problem, path, "cannot write the audit", key="") from None
 
 
 @command()
@@ -124,7 +124,7 @@ def audit(spec: SpecArgument,
     files = [(output, text)] if output is not None else []
     if junit is not None:
         files.append((junit, to_junit(rows, title, units)))
-    _write_both(spec, files)
+    _write_both(files)
     if output is None:
         sys.stdout.write(text)
     raise typer.Exit(0 if passed(rows) else 1)

@@ -21,7 +21,7 @@ from certkit.display import display
 from certkit.display import parameter as parameter_text
 from certkit.display import with_unit
 from certkit.evidence.gap_view import largest_disagreement
-from certkit.outputs import check_target, staged_folder
+from certkit.outputs import check_target, staged_folder, write_text_atomically, writing_failure
 from certkit.spec.campaign import load_campaign
 from certkit.spec.rundata import CHANNEL_LABELS
 
@@ -70,7 +70,11 @@ def _blind_check(spec: Path, gear: str | None, output: Path, workers, scheduler,
 
 
 def _write_json(path: Path, document: dict) -> None:
-    path.write_text(json.dumps(document, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
+    try:
+        write_text_atomically(path, json.dumps(document, indent=2, ensure_ascii=False) + "\n")
+    except OSError as problem:
+        raise writing_failure(problem, path, "cannot write the JSON file", key="--json") \
+            from None
     out.print(f"wrote {path}")
 
 
