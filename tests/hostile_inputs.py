@@ -104,7 +104,7 @@ def spec_values() -> st.SearchStrategy[str]:
 # --------------------------------------------------------------------------- campaigns
 #: The analytic campaign (measured time histories) and the drop-model campaign (no data).
 BASES = {"timeseries": TIMESERIES_SPEC, "physics": PHYSICS_SPEC}
-WAIVERS = ("          waivers: [{check: gaps, reason: x}, {check: sample_rate, reason: x}, "
+WAIVERS = ("      waivers: [{check: gaps, reason: x}, {check: sample_rate, reason: x}, "
            "{check: clipping, reason: x}, {check: implausible_range, reason: x}]\n")
 _WAIVER_AFTER = "drop_mass_displacement: {column: x_mm, unit: mm}\n"
 #: Where a value stands in a spec: after "key: " in block or flow style, up to a separator.

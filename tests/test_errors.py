@@ -240,7 +240,9 @@ EXPRESSION_CASES = [
      "drop_mass_displacement: {column: x_mm, unit: mm, scale: .nan}", "finite number"),
     ("drop_mass_displacement: {column: x_mm, unit: mm}",
      "drop_mass_displacement: {column: x_mm, unit: mm, scale: 0}", "scale must not be zero"),
-    ("wing_area: 12 m^2", "wing_area: 1e-300 m^2", "not a plausible number"),
+    ("wing_area: 12 m^2", "wing_area: 1e-300 m^2",
+     "outside the magnitudes certkit computes with (zero, or 1e-12 to 1e12 m**2)"),
+    ("wing_area: 12 m^2", "wing_area: 1e-11 m^2", "not a plausible number"),
     ("diameter: 380 mm", "diameter: -380 mm", "must be positive"),
 ]
 

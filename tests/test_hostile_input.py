@@ -53,7 +53,7 @@ def with_waivers(spec: Path, *checks: str) -> None:
     waivers = ", ".join(f"{{check: {check}, reason: accepted}}" for check in checks)
     edit_spec(spec, "drop_mass_displacement: {column: x_mm, unit: mm}\n",
               f"drop_mass_displacement: {{column: x_mm, unit: mm}}\n"
-              f"          waivers: [{waivers}]\n")
+              f"      waivers: [{waivers}]\n")
 
 
 def rewrite_data(spec: Path, change) -> None:
@@ -73,7 +73,7 @@ def test_a_control_character_in_the_spec_is_an_input_error(timeseries_campaign):
                                     "!!timestamp 2024-13-15", "!!map A", "!!str text"])
 def test_explicit_yaml_tags_are_refused(timeseries_campaign, tagged):
     edit_spec(timeseries_campaign, "model: Test aircraft", f"model: {tagged}")
-    refused("validate", timeseries_campaign, "campaign.yaml:13", "YAML tags",
+    refused("validate", timeseries_campaign, "campaign.yaml:14", "YAML tags",
             tagged.split()[0])
 
 
@@ -132,7 +132,7 @@ def test_a_logarithmic_unit_in_an_angle_says_what_is_wrong():
 # --------------------------------------------------------------------------- 4. file names
 def test_a_data_file_name_too_long_for_the_system_is_an_input_error(timeseries_campaign):
     edit_spec(timeseries_campaign, "file: data/r1.csv", "file: data/" + "x" * 300 + ".csv")
-    refused("validate", timeseries_campaign, "runs[0].data.file", "(308 characters)")
+    refused("validate", timeseries_campaign, "runs[0].data.file", "(309 characters)", "File name too long")
 
 
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs on this system")
