@@ -90,10 +90,20 @@ def unit_texts() -> st.SearchStrategy[str]:
         st.text(max_size=12))
 
 
+#: Units of each kind a spec holds, so that a share of the generated values are accepted
+#: and reach the arithmetic behind the loader.
+PLAUSIBLE_UNITS = ["mm", "m", "in", "kg", "lb", "N", "kN", "kgf", "lbf", "Hz", "s", "ms", "m/s",
+                   "m/s^2", "g0", "m^2", "ft^2", "cm^3", "L", "kPa", "MPa", "psi", "J", "deg",
+                   "rad", "%", "lbf/ft^2", "N/mm", "N*s/m", "s/m", "kg/m^3", ""]
+
+
 def quantity_texts() -> st.SearchStrategy[str]:
     """Text a user might type where a quantity goes, and text no one should."""
     joined = st.tuples(number_texts(), st.sampled_from(["", " ", "  ", "\t"]), unit_texts())
-    return st.one_of(joined.map("".join), st.sampled_from(SPEC_TOKENS), st.text(max_size=40))
+    plausible = st.tuples(st.floats(allow_nan=False, allow_infinity=False).map("{:g}".format),
+                          st.sampled_from(PLAUSIBLE_UNITS)).map(" ".join)
+    return st.one_of(plausible, joined.map("".join), st.sampled_from(SPEC_TOKENS),
+                     st.text(max_size=40))
 
 
 def spec_values() -> st.SearchStrategy[str]:

@@ -121,7 +121,7 @@ def _misspelt_keys(items: list[tuple[tuple, dict]], lines: LineMap) -> dict[tupl
         if item["type"] != "extra_forbidden" or not isinstance(location[-1], str):
             continue
         parent = location[:-1]
-        written = {path[-1] for path in lines if path[:-1] == parent}
+        written = {path[-1] for path in lines if path and path[:-1] == parent}
         match = difflib.get_close_matches(location[-1],
                                           sorted(_keys_allowed(parent) - written), n=1)
         if match:

@@ -37,7 +37,7 @@ import numpy as np
 from certkit.errors import ECHO_LIMIT, CertkitInputError, Problem, key_path, shown
 from certkit.spec.schema import Column, GearUnit, Run, TimeColumn
 from certkit.spec.yamlsource import line_of
-from certkit.units import STANDARD_GRAVITY, convert, scale_to_si
+from certkit.units import SI_RANGE, STANDARD_GRAVITY, convert, scale_to_si
 
 # Plausibility limits (not regulatory): values outside are almost surely a unit,
 # scale or sign error in the channel mapping.
@@ -348,6 +348,8 @@ def _time_base(check: _Checker, frame, first_line: int, column: TimeColumn,
         check.raise_if_errors()
     raw_time = _numbers(frame[column.column])
     time = raw_time * scale_to_si(column.unit, "time")
+    _within_range(check, first_line, ("time",), time, column.column)
+    check.raise_if_errors()
     bad = np.flatnonzero(~np.isfinite(time))
     if bad.size and isinstance(frame[column.column].iloc[int(bad[0])], str):
         sample = frame[column.column].iloc[int(bad[0])]
@@ -421,7 +423,24 @@ def _channel(check: _Checker, frame, first_line: int, location: tuple, column: C
                            f"column {column.column!r} is flat at its maximum {top:g} "
                            f"{column.unit} for {run_length} samples (clipped or saturated?)")
     with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported by the caller
-        return column.sign * column.scale * (raw - column.offset) * scale_to_si(column.unit, kind)
+        values = column.sign * column.scale * (raw - column.offset) * scale_to_si(column.unit,
+                                                                                  kind)
+    _within_range(check, first_line, location, values, column.column)
+    return values
+
+
+def _within_range(check: _Checker, first_line: int, location: tuple, values: np.ndarray,
+                  name: str) -> None:
+    """An input error (not waivable) for values beyond the magnitudes certkit computes with
+    (:data:`~certkit.units.SI_RANGE`): no waiver makes 1e308 N a load."""
+    with np.errstate(invalid="ignore"):
+        beyond = np.flatnonzero(np.abs(values) > SI_RANGE[1])
+    if beyond.size:
+        i = int(beyond[0])
+        check.data_error(_row(first_line, i), check.key(*location, "column"),
+                         f"column {name!r} holds {values[i]:.3g} (in SI, after scale, sign and "
+                         f"offset; {beyond.size} samples), beyond the magnitudes certkit "
+                         f"computes with (up to {SI_RANGE[1]:.0e} in SI)")
 
 
 def _gear_series(check: _Checker, frame, first_line: int, gear_id: str, channels,

@@ -37,10 +37,10 @@ def quantity(kind: str, description: str | None = None, minimum: float | None = 
         low_bad = minimum is not None and (quantity.si <= minimum if exclusive
                                            else quantity.si < minimum)
         if low_bad:
-            shown = f"{math.degrees(minimum):g} deg" if kind == "angle" else f"{minimum:g}"
+            bound = f"{math.degrees(minimum):g} deg" if kind == "angle" else f"{minimum:g}"
             word = "positive" if exclusive and minimum == 0 else (
-                "zero or more" if minimum == 0 else f"above {shown}" if exclusive
-                else f"at least {shown}")
+                "zero or more" if minimum == 0 else f"above {bound}" if exclusive
+                else f"at least {bound}")
             raise PydanticCustomError("quantity", f"must be {word}, got {shown(quantity.text)}")
         if maximum is not None and quantity.si > maximum:
             limit = (f"{math.degrees(maximum):g} deg" if kind == "angle"
