@@ -335,7 +335,8 @@ def test_symlink_leaving_the_campaign_folder_is_refused(timeseries_campaign, tmp
 
 YAML_CASES = [
     ("aircraft:\n", "aircraft:\n  x: &a [*a]\n", "anchors and aliases"),
-    ("gear_units: [left-main]", "gear_units: !!set {left-main}", "!!set is not supported"),
+    ("gear_units: [left-main]", "gear_units: !!set {left-main}",
+     'explicit YAML tags ("!!set") are not supported'),
     ("aircraft:\n", "aircraft:\n  3: 2\n", "keys must be text"),
     ("vertical_load: {column: Fz_kN, unit: kN}", "vertical_load: {column: Fz_kN, unit: 1/0 kN}",
      "expected a unit of weight"),

@@ -24,9 +24,9 @@ _YAML_TAG = "tag:yaml.org,2002:"
 
 class _UniqueKeyLoader(yaml.SafeLoader):
     """SafeLoader that refuses duplicate keys (a silently overwritten key is a typo), keys
-    that are not text, sets (unordered), aliases (&a/*a can expand without bound), explicit
-    tags (``!!int A``: a campaign has no use for them, and PyYAML's constructors fail on
-    many tagged values with errors of their own) and numbers longer than MAX_NUMBER."""
+    that are not text, aliases (&a/*a can expand without bound), explicit tags (``!!int A``,
+    ``!!set``: a campaign has no use for them, and PyYAML's constructors fail on many
+    tagged values with errors of their own) and numbers longer than MAX_NUMBER."""
 
     def compose_node(self, parent, index):
         event = self.peek_event()
@@ -62,12 +62,6 @@ def _construct_number(loader, node):
             node.start_mark) from None
 
 
-def _refuse_set(loader, node):
-    raise yaml.constructor.ConstructorError(
-        None, None, "!!set is not supported (its order is undefined); write a list",
-        node.start_mark)
-
-
 def _construct_mapping(loader, node, deep=False):
     seen: dict = {}
     for key_node, _ in node.value:
@@ -86,7 +80,6 @@ def _construct_mapping(loader, node, deep=False):
 
 _UniqueKeyLoader.add_constructor(
     yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
-_UniqueKeyLoader.add_constructor("tag:yaml.org,2002:set", _refuse_set)
 _UniqueKeyLoader.add_constructor(_YAML_TAG + "int", _construct_number)
 _UniqueKeyLoader.add_constructor(_YAML_TAG + "float", _construct_number)
 # Dates stay text: the spec model parses them, so a malformed date gets our message.
