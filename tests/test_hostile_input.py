@@ -291,3 +291,38 @@ def test_a_data_value_beyond_the_magnitudes_certkit_computes_with_is_not_waivabl
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     refused("audit", timeseries_campaign, "data/r1.csv:2 runs[0].data.drop_mass_acceleration",
             "beyond the magnitudes certkit computes with")
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs on this system")
+def test_a_fifo_named_as_the_spec_is_refused_not_waited_on(tmp_path):
+    os.mkfifo(tmp_path / "campaign.yaml")
+    refused("validate", tmp_path / "campaign.yaml", "not a regular file")
+
+
+@pytest.mark.parametrize("content, words", [
+    ("[" * 100_000 + "]" * 100_000, "nested too deeply"),
+    ('{"format": ' + "9" * 5000 + "}", "an integer of 5000 digits"),
+    (b"\xff\xfe{}", "not UTF-8"),
+], ids=["deep", "long integer", "not UTF-8"])
+def test_a_hostile_baseline_file_is_an_input_error(timeseries_campaign, tmp_path, content,
+                                                    words):
+    baseline = tmp_path / "baseline.json"
+    if isinstance(content, bytes):
+        baseline.write_bytes(content)
+    else:
+        baseline.write_text(content, encoding="utf-8")
+    result = runner.invoke(app, ["audit", str(timeseries_campaign), "--baseline",
+                                 str(baseline)])
+    assert result.exit_code == 2, (result.output, result.exception)
+    assert words in result.output and "baseline.json" in result.output
+
+
+@pytest.mark.parametrize("content, words", [
+    ("[" * 100_000 + "]" * 100_000, "nested too deeply"),
+    ('{"kind": ' + "9" * 5000 + "}", "an integer of 5000 digits"),
+], ids=["deep", "long integer"])
+def test_a_hostile_blind_check_record_is_an_input_error(timeseries_campaign, content, words):
+    (timeseries_campaign.parent / "blind.json").write_text(content, encoding="utf-8")
+    edit_spec(timeseries_campaign, "certkit: 1\n",
+              "certkit: 1\nmodel: {gap: {blind_check: blind.json}}\n")
+    refused("validate", timeseries_campaign, "model.gap.blind_check", words)

@@ -16,6 +16,9 @@ from certkit.errors import CertkitInputError, shown
 LineMap = dict[tuple, int]
 
 
+#: The largest spec file read [bytes]: the examples are 10-20 kB; PyYAML reads about a
+#: megabyte a second, so a larger file is a wrong file named, not a campaign.
+MAX_SPEC_BYTES = 2_000_000
 #: The longest number a spec may hold, in characters: a float's 17 significant digits with
 #: sign, point and exponent fit many times over; a longer one is a paste or a runaway key.
 MAX_NUMBER = 40
@@ -111,6 +114,13 @@ class _ComplexKey(Exception):
 def load_yaml(path: Path, display_name: str) -> tuple[object, LineMap]:
     """Load ``path`` as YAML, returning the data and its key-path -> line map."""
     try:
+        if path.exists() and not path.is_dir() and not path.is_file():
+            raise CertkitInputError.single(display_name, None, "", "not a regular file (a pipe, "
+                                                                   "socket or device)")
+        if path.is_file() and path.stat().st_size > MAX_SPEC_BYTES:
+            raise CertkitInputError.single(
+                display_name, None, "", f"{path.stat().st_size} bytes is not a campaign spec "
+                                        f"(at most {MAX_SPEC_BYTES}); check the file named")
         content = path.read_bytes()
     except FileNotFoundError:
         raise CertkitInputError.single(display_name, None, "", "file not found") from None
