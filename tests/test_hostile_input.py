@@ -326,3 +326,28 @@ def test_a_hostile_blind_check_record_is_an_input_error(timeseries_campaign, con
     edit_spec(timeseries_campaign, "certkit: 1\n",
               "certkit: 1\nmodel: {gap: {blind_check: blind.json}}\n")
     refused("validate", timeseries_campaign, "model.gap.blind_check", words)
+
+
+def _parquet_cell(kind: str, count: int):
+    import decimal
+
+    import pandas as pd
+
+    return {"list": [[1.0]] * count, "struct": [{"a": 1}] * count,
+            "bytes": [b"ab"] * count, "decimal": [decimal.Decimal("1.5")] * count,
+            "timedelta": pd.to_timedelta(np.ones(count), unit="s"),
+            "nullable": pd.array([1] * (count - 1) + [None], dtype="Int64")}[kind]
+
+
+@pytest.mark.parametrize("kind", ["list", "struct", "bytes", "decimal", "timedelta",
+                                  "nullable"])
+def test_a_parquet_load_column_of_any_type_is_read_or_refused(timeseries_campaign, kind):
+    import pandas as pd
+
+    frame = pd.DataFrame(analytic_signals())
+    frame["Fz_kN"] = _parquet_cell(kind, len(frame))
+    frame.to_parquet(timeseries_campaign.parent / "data" / "r1.parquet")
+    edit_spec(timeseries_campaign, "file: data/r1.csv", "file: data/r1.parquet")
+    result = runner.invoke(app, ["audit", str(timeseries_campaign)])
+    assert result.exit_code in (0, 1, 2) and result.exception is None or \
+        isinstance(result.exception, SystemExit), (result.output, result.exception)

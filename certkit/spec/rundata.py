@@ -34,7 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-from certkit.errors import ECHO_LIMIT, CertkitInputError, Problem, key_path, shown
+from certkit.errors import (ECHO_LIMIT, CertkitInputError, Problem, escaped, key_path,
+                            shown)
 from certkit.spec.schema import Column, GearUnit, Run, TimeColumn
 from certkit.spec.yamlsource import line_of
 from certkit.units import SI_RANGE, STANDARD_GRAVITY, convert, scale_to_si
@@ -239,8 +240,8 @@ def _read_table(path: Path, display: str):
 
 def _names(names) -> str:
     """Column names for a message: each cut to the echo limit, at most SHOWN_COLUMNS."""
-    listed = [shown(str(name))[1:-1] if len(str(name)) <= ECHO_LIMIT else shown(str(name))
-              for name in list(names)[:SHOWN_COLUMNS]]
+    listed = [escaped(name) if len(name) <= ECHO_LIMIT else shown(name)
+              for name in map(str, list(names)[:SHOWN_COLUMNS])]
     more = len(names) - SHOWN_COLUMNS
     return ", ".join(listed) + (f", … and {more} more" if more > 0 else "")
 
@@ -431,16 +432,17 @@ def _channel(check: _Checker, frame, first_line: int, location: tuple, column: C
 
 def _within_range(check: _Checker, first_line: int, location: tuple, values: np.ndarray,
                   name: str) -> None:
-    """An input error (not waivable) for values beyond the magnitudes certkit computes with
-    (:data:`~certkit.units.SI_RANGE`): no waiver makes 1e308 N a load."""
+    """An input error (not waivable) for finite values beyond the magnitudes certkit
+    computes with (:data:`~certkit.units.SI_RANGE`): no waiver makes 1e308 N a load.
+    (Values that are not finite are the missing values of the 'gaps' check.)"""
     with np.errstate(invalid="ignore"):
-        beyond = np.flatnonzero(np.abs(values) > SI_RANGE[1])
+        beyond = np.flatnonzero(np.isfinite(values) & (np.abs(values) > SI_RANGE[1]))
     if beyond.size:
         i = int(beyond[0])
         check.data_error(_row(first_line, i), check.key(*location, "column"),
-                         f"column {name!r} holds {values[i]:.3g} (in SI, after scale, sign and "
-                         f"offset; {beyond.size} samples), beyond the magnitudes certkit "
-                         f"computes with (up to {SI_RANGE[1]:.0e} in SI)")
+                         f"column {name!r} holds {values[i]:.3g} in SI ({beyond.size} "
+                         f"samples), beyond the magnitudes certkit computes with (up to "
+                         f"{SI_RANGE[1]:g} in SI)")
 
 
 def _gear_series(check: _Checker, frame, first_line: int, gear_id: str, channels,
