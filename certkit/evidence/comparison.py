@@ -16,14 +16,14 @@ the campaign's outcome that change, are changes whatever the tolerance.
 
 from __future__ import annotations
 
-import json
 import math
 import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from certkit.errors import CertkitInputError
+from certkit.errors import CertkitInputError, shown
 from certkit.results import RESULTS_FORMAT
+from certkit.spec.jsonsource import JsonSourceError, load_json
 
 FORMAT = RESULTS_FORMAT
 
@@ -157,18 +157,15 @@ def read_baseline(path: str | Path) -> dict:
     """A results document from ``path``; bad input names the file and what is wrong."""
     path = Path(path)
     try:
-        document = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as error:
-        raise CertkitInputError.single(str(path), None, "--baseline",
-                                       f"cannot read the baseline: {error.strerror}") from error
-    except json.JSONDecodeError as error:
-        raise CertkitInputError.single(str(path), error.lineno, "--baseline",
-                                       f"not JSON: {error.msg}") from error
+        document = load_json(path)
+    except JsonSourceError as error:
+        raise CertkitInputError.single(str(path), error.line, "--baseline",
+                                       f"the baseline: {error.message}") from None
     if not isinstance(document, dict) or document.get("format") != FORMAT:
         found = document.get("format") if isinstance(document, dict) else type(document).__name__
         raise CertkitInputError.single(str(path), None, "format",
                                        f"expected a certkit results file ({FORMAT}), found "
-                                       f"{found!r}")
+                                       f"{shown(found)}")
     for key in ("design", "requirement_sets", "runs", "verdicts", "findings"):
         if not isinstance(document.get(key, []), list):
             raise CertkitInputError.single(str(path), None, key,

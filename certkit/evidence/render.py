@@ -82,9 +82,16 @@ def _font_css() -> str:
     return "\n".join(faces)
 
 
+#: The modification stamp of the embedded font subsets (1970-01-01, POSIX time 0): the fonts'
+#: own, fixed, so the same report gives the same bytes.  It is not the document date: a
+#: font's stamp counts from 1904 and cannot go before it, a document date can (1903-12-31).
+FONT_EPOCH = 0
+
+
 @contextlib.contextmanager
 def _source_date_epoch(epoch: int):
-    """fontTools stamps subset fonts with the current time unless SOURCE_DATE_EPOCH is set."""
+    """fontTools stamps subset fonts with the current time unless SOURCE_DATE_EPOCH is set
+    (WeasyPrint subsets with it where HarfBuzz cannot)."""
     previous = os.environ.get("SOURCE_DATE_EPOCH")
     os.environ["SOURCE_DATE_EPOCH"] = str(epoch)
     try:
@@ -108,7 +115,7 @@ def render_pdf(html: str, attachments: list[tuple[str, bytes, str]], date: dt.da
                         relationship=relationship, url_fetcher=fetcher)
              for name, content, relationship in attachments]
     document = HTML(string=html, base_url=str(templates_dir()) + "/", url_fetcher=fetcher)
-    with _source_date_epoch(int(stamp.timestamp())):
+    with _source_date_epoch(FONT_EPOCH):
         return document.write_pdf(
             stylesheets=[CSS(string=_font_css(), font_config=fonts, url_fetcher=fetcher)],
             font_config=fonts, pdf_variant="pdf/a-3b", attachments=files,

@@ -18,6 +18,9 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
+from certkit.errors import shown
+from certkit.spec.jsonsource import JsonSourceError, load_json
+
 KIND = "certkit blind check"
 
 #: Metric key -> (label, definition in words), in the order the report shows them.
@@ -219,18 +222,13 @@ def read_blind_check(path: Path) -> BlindCheckRecord:
         Naming each key that is missing or wrong.
     """
     try:
-        raw = json.loads(Path(path).read_text(encoding="utf-8"))
-    except UnicodeDecodeError as error:
-        raise BlindRecordError([("", f"not UTF-8 text ({error.reason})")]) from None
-    except OSError as error:
-        raise BlindRecordError([("", f"cannot be read: {error.strerror or error}")]) from None
-    except json.JSONDecodeError as error:
-        raise BlindRecordError([("", f"not JSON: {error.msg} at line {error.lineno}, "
-                                     f"column {error.colno}")]) from None
+        raw = load_json(path)
+    except JsonSourceError as error:
+        raise BlindRecordError([("", error.message)]) from None
     if not isinstance(raw, dict) or raw.get("kind") != KIND:
         found = raw.get("kind") if isinstance(raw, dict) else type(raw).__name__
         raise BlindRecordError([("kind", f"expected {KIND!r} (a file written by "
-                                         f"`certkit gap --blind-check`), got {found!r}")])
+                                         f"`certkit gap --blind-check`), got {shown(found)}")])
     try:
         return BlindCheckRecord.model_validate(raw)
     except ValidationError as error:

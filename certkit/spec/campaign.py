@@ -13,7 +13,7 @@ from pathlib import Path
 
 from pydantic import BaseModel, ValidationError
 
-from certkit.errors import CertkitInputError, Problem, key_path
+from certkit.errors import CertkitInputError, Problem, key_path, shown
 from certkit.spec import requirement_sets
 from certkit.spec.blind_record import BlindCheckRecord, BlindRecordError, read_blind_check
 from certkit.spec.rundata import RunSeries, read_run
@@ -73,15 +73,16 @@ def _message(error: dict) -> str:
     if kind in ("quantity", "unit", "date", "scale"):
         return message
     if kind == "string_type" and isinstance(found, (int, float)) and not isinstance(found, bool):
-        return f'expected text, got the number {found}; write it in quotes, e.g. "{found}"'
+        return f'expected text, got the number {shown(found)}; write it in quotes, e.g. "{found}"'
     if kind == "too_short":
         return "at least one entry is required"
     if kind in ("model_type", "dict_type", "model_attributes_type"):
-        return f"expected a mapping of keys and values (such as {{method: none}}), got {found!r}"
+        return f"expected a mapping of keys and values (such as {{method: none}}), got " \
+               f"{shown(found)}"
     if kind == "finite_number":
-        return f"expected a finite number, got {found!r}"
+        return f"expected a finite number, got {shown(found)}"
     if isinstance(found, (str, int, float, bool)) or found is None:
-        return f"{message[0].lower()}{message[1:]}; got {found!r}"
+        return f"{message[0].lower()}{message[1:]}; got {shown(found)}"
     return message[0].lower() + message[1:]
 
 
@@ -120,7 +121,7 @@ def _misspelt_keys(items: list[tuple[tuple, dict]], lines: LineMap) -> dict[tupl
         if item["type"] != "extra_forbidden" or not isinstance(location[-1], str):
             continue
         parent = location[:-1]
-        written = {path[-1] for path in lines if path[:-1] == parent}
+        written = {path[-1] for path in lines if path and path[:-1] == parent}
         match = difflib.get_close_matches(location[-1],
                                           sorted(_keys_allowed(parent) - written), n=1)
         if match:
@@ -215,19 +216,24 @@ def _resolve_data_path(root: Path, relative: str, display: str, location: tuple,
         return CertkitInputError.single(display, line_of(lines, location), key_path(location),
                                         message)
 
+    name = shown(relative)
     given = root / relative
     try:
         candidate = given.resolve(strict=False)
-    except (OSError, RuntimeError, ValueError) as error:
-        raise fail(f"{what} {relative!r} cannot be resolved: {error}") from None
-    if given.is_symlink() and not given.exists():
-        raise fail(f"{what} {relative!r} is a broken link")
-    if not candidate.is_relative_to(root):
-        raise fail(f"{what} {relative!r} is outside the campaign folder {root}")
-    if candidate.is_dir():
-        raise fail(f"{what} {relative!r} is a folder, not a file")
-    if not candidate.is_file():
-        raise fail(f"{what} {relative!r} not found (looked for {candidate})")
+        if given.is_symlink() and not given.exists():
+            raise fail(f"{what} {name} is a broken link")
+        if not candidate.is_relative_to(root):
+            raise fail(f"{what} {name} is outside the campaign folder {root}")
+        if candidate.is_dir():
+            raise fail(f"{what} {name} is a folder, not a file")
+        if candidate.exists() and not candidate.is_file():
+            raise fail(f"{what} {name} is not a regular file (a pipe, socket or device); "
+                       f"certkit reads files it can hash and archive")
+        if not candidate.is_file():
+            raise fail(f"{what} {name} not found (looked for {shown(str(candidate))})")
+    except (OSError, RuntimeError, ValueError) as error:  # a name too long, a link loop, NUL
+        reason = error.strerror if isinstance(error, OSError) and error.strerror else error
+        raise fail(f"{what} {name} cannot be resolved: {reason}") from None
     return candidate
 
 

@@ -34,10 +34,11 @@ from pathlib import Path
 
 import numpy as np
 
-from certkit.errors import CertkitInputError, Problem, key_path
+from certkit.errors import (ECHO_LIMIT, CertkitInputError, Problem, escaped, key_path,
+                            shown)
 from certkit.spec.schema import Column, GearUnit, Run, TimeColumn
 from certkit.spec.yamlsource import line_of
-from certkit.units import STANDARD_GRAVITY, convert, scale_to_si
+from certkit.units import SI_RANGE, STANDARD_GRAVITY, convert, scale_to_si
 
 # Plausibility limits (not regulatory): values outside are almost surely a unit,
 # scale or sign error in the channel mapping.
@@ -48,6 +49,11 @@ PLAUSIBLE_STROKE_OVER_DESIGN = 1.2    # stroke above 1.2 x design stroke
 PLAUSIBLE_ACCELERATION = 50.0 * STANDARD_GRAVITY
 CLIP_RUN = 5                          # this many equal samples at a channel's maximum
 GAP_FACTOR = 1.5                      # a time step 1.5 x the nominal one is a gap
+#: Sample rates a drop-test logger records at [Hz]: outside, the time column is not a time
+#: base (steps of 1e-200 s), whatever rate was declared or waived.
+PLAUSIBLE_RATE = (1.0, 1.0e8)
+MIN_ROWS = 3                          # the fewest complete rows a run can be assessed from
+SHOWN_COLUMNS = 12                    # column names listed in a message, at most
 
 #: Field separators recognised in a CSV header line, with their names in messages.
 SEPARATORS = {",": "comma", ";": "semicolon", "\t": "tab"}
@@ -213,18 +219,49 @@ def _read_table(path: Path, display: str):
         raise fail("the data file is empty") from None
     except Exception as exc:  # pandas and pyarrow raise many types for malformed files
         raise fail(f"cannot read data file: {exc}") from None
+    if frame.columns.nlevels > 1:
+        raise fail(f"column names must be one level of text; this file has "
+                   f"{frame.columns.nlevels}-level column names such as "
+                   f"{shown(frame.columns[0]) if len(frame.columns) else '()'}")
+    frame.columns = [str(name) for name in frame.columns]
     if suffix == ".csv":
 
         with path.open(newline="", encoding="utf-8-sig", errors="replace") as handle:
             header = next(csv.reader(handle, delimiter=separator), [])
         repeated = sorted({name for name in header if header.count(name) > 1})
         if repeated:
-            raise fail(f"column name(s) repeated in the header: {', '.join(repeated)}", 1)
+            raise fail(f"column name(s) repeated in the header: {_names(repeated)}", 1)
     layout = None
     if separator != ",":
         layout = f"{SEPARATORS[separator]}-separated with decimal " + (
             "commas" if decimal == "," else "points")
     return frame, first_line, layout
+
+
+def _names(names) -> str:
+    """Column names for a message: each cut to the echo limit, at most SHOWN_COLUMNS."""
+    listed = [escaped(name) if len(name) <= ECHO_LIMIT else shown(name)
+              for name in map(str, list(names)[:SHOWN_COLUMNS])]
+    more = len(names) - SHOWN_COLUMNS
+    return ", ".join(listed) + (f", … and {more} more" if more > 0 else "")
+
+
+def _numbers(values) -> np.ndarray:
+    """A column as floats, NaN where a cell is not a number.  A whole number too large for
+    a float (a 400-digit cell, read by pandas as a Python integer) is not a number."""
+    import pandas as pd  # lazy, as in _read_table
+
+    try:
+        return pd.to_numeric(values, errors="coerce").to_numpy(dtype=float)
+    except (OverflowError, TypeError, ValueError):
+        return np.array([_number(value) for value in values], dtype=float)
+
+
+def _number(value) -> float:
+    try:
+        return float(value)
+    except (OverflowError, TypeError, ValueError):
+        return float("nan")
 
 
 def _row(first_line: int, index: int) -> int | None:
@@ -291,11 +328,11 @@ def _check_columns(check: _Checker, frame, data, display: str) -> None:
         if column.column not in frame.columns:
             check.spec_error(check.key(*location, "column"),
                              f"column {column.column!r} not found in {display} "
-                             f"(columns: {', '.join(map(str, frame.columns))})")
+                             f"(columns: {_names(frame.columns)})")
     check.raise_if_errors()
-    if len(frame) < 3:
+    if len(frame) < MIN_ROWS:
         check.spec_error(check.key("file"), f"{display} has {len(frame)} data row(s); at "
-                                            f"least 3 are needed")
+                                            f"least {MIN_ROWS} are needed")
         check.raise_if_errors()
 
 
@@ -310,8 +347,10 @@ def _time_base(check: _Checker, frame, first_line: int, column: TimeColumn,
                          f"column {column.column!r} holds timestamps; certkit needs the time "
                          f"as a number in {column.unit}")
         check.raise_if_errors()
-    raw_time = pd.to_numeric(frame[column.column], errors="coerce").to_numpy(dtype=float)
+    raw_time = _numbers(frame[column.column])
     time = raw_time * scale_to_si(column.unit, "time")
+    _within_range(check, first_line, ("time",), time, column.column)
+    check.raise_if_errors()
     bad = np.flatnonzero(~np.isfinite(time))
     if bad.size and isinstance(frame[column.column].iloc[int(bad[0])], str):
         sample = frame[column.column].iloc[int(bad[0])]
@@ -334,8 +373,15 @@ def _time_base(check: _Checker, frame, first_line: int, column: TimeColumn,
         check.raise_if_errors()
     nominal = float(np.median(steps))
     measured_rate = 1.0 / nominal
-    if declared and abs(measured_rate - declared) > tolerance * declared:
+    slip = bool(declared) and abs(measured_rate - declared) > tolerance * declared and \
         _rate_mismatch(check, column, measured_rate, declared, tolerance)
+    if not slip and not PLAUSIBLE_RATE[0] <= measured_rate <= PLAUSIBLE_RATE[1]:
+        check.data_error(None, check.key("time", "column"),
+                         f"the time steps of column {column.column!r} ({nominal:.3g} s) give a "
+                         f"sample rate of {measured_rate:.3g} Hz, outside what a drop-test "
+                         f"logger records ({PLAUSIBLE_RATE[0]:g} to {PLAUSIBLE_RATE[1]:g} Hz): "
+                         f"check the column and its unit")
+        check.raise_if_errors()
     gaps = np.flatnonzero(steps > GAP_FACTOR * nominal)
     if gaps.size:
         i = int(gaps[0]) + 1
@@ -349,10 +395,14 @@ def _channel(check: _Checker, frame, first_line: int, location: tuple, column: C
              kind: str) -> np.ndarray:
     """One channel in SI after sign, scale, offset and unit; missing values and clipping
     are waivable problems."""
-    import pandas as pd  # lazy, as in _read_table
-
-    raw = pd.to_numeric(frame[column.column], errors="coerce").to_numpy(dtype=float)
+    raw = _numbers(frame[column.column])
     missing = np.flatnonzero(~np.isfinite(raw))
+    if missing.size == raw.size:  # no waiver makes a channel of no numbers a record
+        check.data_error(None, check.key(*location, "column"),
+                         f"column {column.column!r} holds no number in its {raw.size} rows; if "
+                         f"the sensor failed, the run has no {location[-1].replace('_', ' ')} "
+                         f"record: take the channel (or the run's data) out of the spec")
+        return raw
     if missing.size:
         check.waivable("gaps", _row(first_line, int(missing[0])), check.key(*location, "column"),
                        f"{missing.size} missing or non-numeric value(s) in column "
@@ -374,7 +424,25 @@ def _channel(check: _Checker, frame, first_line: int, location: tuple, column: C
                            f"column {column.column!r} is flat at its maximum {top:g} "
                            f"{column.unit} for {run_length} samples (clipped or saturated?)")
     with np.errstate(over="ignore", invalid="ignore"):  # overflow is reported by the caller
-        return column.sign * column.scale * (raw - column.offset) * scale_to_si(column.unit, kind)
+        values = column.sign * column.scale * (raw - column.offset) * scale_to_si(column.unit,
+                                                                                  kind)
+    _within_range(check, first_line, location, values, column.column)
+    return values
+
+
+def _within_range(check: _Checker, first_line: int, location: tuple, values: np.ndarray,
+                  name: str) -> None:
+    """An input error (not waivable) for finite values beyond the magnitudes certkit
+    computes with (:data:`~certkit.units.SI_RANGE`): no waiver makes 1e308 N a load.
+    (Values that are not finite are the missing values of the 'gaps' check.)"""
+    with np.errstate(invalid="ignore"):
+        beyond = np.flatnonzero(np.isfinite(values) & (np.abs(values) > SI_RANGE[1]))
+    if beyond.size:
+        i = int(beyond[0])
+        check.data_error(_row(first_line, i), check.key(*location, "column"),
+                         f"column {name!r} holds {values[i]:.3g} in SI ({beyond.size} "
+                         f"samples), beyond the magnitudes certkit computes with (up to "
+                         f"{SI_RANGE[1]:g} in SI)")
 
 
 def _gear_series(check: _Checker, frame, first_line: int, gear_id: str, channels,
@@ -416,6 +484,11 @@ def _without_incomplete_rows(check: _Checker, display: str, time, gears, acceler
     if keep.all():
         return time, acceleration, displacement
     dropped = int((~keep).sum())
+    if keep.sum() < MIN_ROWS:
+        check.data_error(None, check.key("file"), f"only {int(keep.sum())} row(s) have a value "
+                                                  f"in every channel; at least {MIN_ROWS} are "
+                                                  f"needed")
+        check.raise_if_errors()
     if "gaps" not in check.waivers:  # non-finite values not from the file (overflow)
         check.data_error(None, check.key("file"), f"{dropped} row(s) are not finite after "
                                                   f"applying unit, scale and offset")
@@ -432,7 +505,7 @@ def _without_incomplete_rows(check: _Checker, display: str, time, gears, acceler
 
 
 def _rate_mismatch(check: _Checker, time: TimeColumn, measured: float, declared: float,
-                   tolerance: float) -> None:
+                   tolerance: float) -> bool:
     """A sample rate off the declared one.  When the time steps read in another unit give
     the declared rate within ``tolerance`` (a column in ms declared as s reads 1 Hz for
     1 kHz), the spec's time unit is wrong: an input error naming the unit that fits.
@@ -447,10 +520,11 @@ def _rate_mismatch(check: _Checker, time: TimeColumn, measured: float, declared:
                              f"declared {declared:.6g} Hz: the time unit looks wrong; read in "
                              f"{unit} they give {rate:.6g} Hz (write unit: {unit}, or correct "
                              f"the declared sampling rate)")
-            return
+            return True
     check.waivable("sample_rate", None, check.key("time", "column"),
                    f"sample rate {measured:.6g} Hz differs from the declared {declared:.6g} Hz "
                    f"by more than {tolerance:.0%}")
+    return False
 
 
 def _longest_run(mask: np.ndarray) -> int:

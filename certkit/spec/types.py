@@ -18,6 +18,7 @@ from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, PlainSerial
                       PlainValidator, WithJsonSchema)
 from pydantic_core import PydanticCustomError
 
+from certkit.errors import shown
 from certkit.units import (QuantityError, SpecQuantity, _example_unit, kind_phrase, parse_quantity,
                            parse_unit)
 
@@ -36,15 +37,16 @@ def quantity(kind: str, description: str | None = None, minimum: float | None = 
         low_bad = minimum is not None and (quantity.si <= minimum if exclusive
                                            else quantity.si < minimum)
         if low_bad:
-            shown = f"{math.degrees(minimum):g} deg" if kind == "angle" else f"{minimum:g}"
+            bound = f"{math.degrees(minimum):g} deg" if kind == "angle" else f"{minimum:g}"
             word = "positive" if exclusive and minimum == 0 else (
-                "zero or more" if minimum == 0 else f"above {shown}" if exclusive
-                else f"at least {shown}")
-            raise PydanticCustomError("quantity", f'must be {word}, got "{quantity.text}"')
+                "zero or more" if minimum == 0 else f"above {bound}" if exclusive
+                else f"at least {bound}")
+            raise PydanticCustomError("quantity", f"must be {word}, got {shown(quantity.text)}")
         if maximum is not None and quantity.si > maximum:
             limit = (f"{math.degrees(maximum):g} deg" if kind == "angle"
                      else f"{maximum:g}{' (100 %)' if maximum == 1 else ''}")
-            raise PydanticCustomError("quantity", f'must be at most {limit}, got "{quantity.text}"')
+            raise PydanticCustomError("quantity", f"must be at most {limit}, got "
+                                                  f"{shown(quantity.text)}")
         return quantity
 
     if kind == "dimensionless":
@@ -62,7 +64,8 @@ def quantity(kind: str, description: str | None = None, minimum: float | None = 
 def unit_text(kind: str):
     def validate(value):
         if not isinstance(value, str):
-            raise PydanticCustomError("unit", f"expected a unit of {kind} as text, got {value!r}")
+            raise PydanticCustomError("unit", f"expected a unit of {kind} as text, got "
+                                              f"{shown(value)}")
         try:
             return parse_unit(re.sub(r"\s*([*/·^])\s*", r"\1", value.strip()), kind)
         except QuantityError as exc:
@@ -95,32 +98,41 @@ Fraction = quantity("dimensionless", "a fraction between 0 and 1, e.g. 0.667 or 
                      maximum=1.0)
 
 
+#: Years a date in a campaign may carry: a test from the first powered flights to well past
+#: any report certkit will write; a year outside is a typing slip (0224, 20224).
+YEARS = (1900, 2200)
+
+
 def _date(value):
-    """A date written YYYY-MM-DD (ISO 8601 calendar date); one written in that form whose
-    month or day does not exist is refused saying so (February 2025 has 28 days)."""
+    """A date written YYYY-MM-DD (the ISO 8601 calendar date, extended form, and no other
+    ISO form: not 20240115, not 2024-W03-1), in a year of :data:`YEARS`; one written in
+    that form whose month or day does not exist is refused saying so (February 2025 has 28
+    days)."""
 
     if isinstance(value, dt.date) and not isinstance(value, dt.datetime):
-        return value
-    if isinstance(value, str):
+        date = value
+    elif isinstance(value, str) and re.fullmatch(r"\d{4}-\d{2}-\d{2}", value.strip(),
+                                                 re.ASCII):
         text = value.strip()
+        year, month, day = (int(part) for part in text.split("-"))
         try:
-            return dt.date.fromisoformat(text)
+            date = dt.date(year, month, day)
         except ValueError:
-            pass
-        parts = text.split("-")
-        if [len(part) for part in parts] == [4, 2, 2] and all(
-                part.isascii() and part.isdigit() for part in parts):
-            year, month = int(parts[0]), int(parts[1])
             if year == 0:
                 why = "there is no year 0000 (the first is 0001)"
             elif not 1 <= month <= 12:
-                why = f"there is no month {parts[1]} (months are 01 to 12)"
+                why = f"there is no month {month:02d} (months are 01 to 12)"
             else:  # month names written out: calendar.month_name follows the locale
                 name = ("January", "February", "March", "April", "May", "June", "July",
                         "August", "September", "October", "November", "December")[month - 1]
                 why = f"{name} {year} has {calendar.monthrange(year, month)[1]} days"
-            raise PydanticCustomError("date", f'"{text}" is not a date: {why}')
-    raise PydanticCustomError("date", f'expected a date as YYYY-MM-DD, got "{value}"')
+            raise PydanticCustomError("date", f'"{text}" is not a date: {why}') from None
+    else:
+        raise PydanticCustomError("date", f"expected a date as YYYY-MM-DD, got {shown(value)}")
+    if not YEARS[0] <= date.year <= YEARS[1]:
+        raise PydanticCustomError("date", f'expected a date in a year from {YEARS[0]} to '
+                                          f'{YEARS[1]}, got "{date.isoformat()}"')
+    return date
 
 
 Date = Annotated[dt.date, BeforeValidator(_date)]
@@ -135,13 +147,13 @@ def _clock_time(value) -> str:
         if (len(hours) == 2 and len(minutes) == 2 and (hours + minutes).isascii()
                 and (hours + minutes).isdigit() and int(hours) < 24 and int(minutes) < 60):
             return text
-        raise PydanticCustomError("time", f'expected a time of day as HH:MM (00:00 to 23:59), '
-                                          f'got "{text}"')
+        raise PydanticCustomError("time", f"expected a time of day as HH:MM (00:00 to "
+                                          f"23:59), got {shown(text)}")
     if isinstance(value, int) and not isinstance(value, bool):
         raise PydanticCustomError(
             "time", f"expected a time of day as HH:MM in quotes; YAML read an unquoted time "
                     f"as the number {value}: write it as \"{value // 60:02d}:{value % 60:02d}\"")
-    raise PydanticCustomError("time", f'expected a time of day as HH:MM, got "{value}"')
+    raise PydanticCustomError("time", f"expected a time of day as HH:MM, got {shown(value)}")
 
 
 ClockTime = Annotated[str, BeforeValidator(_clock_time)]

@@ -11,28 +11,58 @@ from pathlib import Path
 
 import yaml
 
-from certkit.errors import CertkitInputError
+from certkit.errors import CertkitInputError, shown
 
 LineMap = dict[tuple, int]
 
 
+#: The largest spec file read [bytes]: the examples are 10-20 kB; PyYAML reads about a
+#: megabyte a second, so a larger file is a wrong file named, not a campaign.
+MAX_SPEC_BYTES = 2_000_000
+#: The longest number a spec may hold, in characters: a float's 17 significant digits with
+#: sign, point and exponent fit many times over; a longer one is a paste or a runaway key.
+MAX_NUMBER = 40
+_YAML_TAG = "tag:yaml.org,2002:"
+
+
 class _UniqueKeyLoader(yaml.SafeLoader):
     """SafeLoader that refuses duplicate keys (a silently overwritten key is a typo), keys
-    that are not text, sets (unordered) and aliases (&a/*a can expand without bound)."""
+    that are not text, aliases (&a/*a can expand without bound), explicit tags (``!!int A``,
+    ``!!set``: a campaign has no use for them, and PyYAML's constructors fail on many
+    tagged values with errors of their own) and numbers longer than MAX_NUMBER."""
 
     def compose_node(self, parent, index):
-        if self.check_event(yaml.events.AliasEvent):
-            event = self.peek_event()
+        event = self.peek_event()
+        if isinstance(event, yaml.events.AliasEvent):
             raise yaml.composer.ComposerError(
                 None, None, "YAML anchors and aliases (&name, *name) are not supported in a "
                             "campaign; write the values out", event.start_mark)
+        tag = getattr(event, "tag", None)
+        if tag is not None:
+            written = "!!" + tag[len(_YAML_TAG):] if tag.startswith(_YAML_TAG) else tag
+            raise yaml.composer.ComposerError(
+                None, None, f"explicit YAML tags ({shown(written)}) are not supported in a "
+                            f"campaign; write the value plainly (in quotes if it is text)",
+                event.start_mark)
         return super().compose_node(parent, index)
 
 
-def _refuse_set(loader, node):
-    raise yaml.constructor.ConstructorError(
-        None, None, "!!set is not supported (its order is undefined); write a list",
-        node.start_mark)
+def _construct_number(loader, node):
+    """An int or a float as YAML 1.1 resolves it, bounded in length; text that matched the
+    number pattern but is none (``0x_``) is an error at its line, not a crash."""
+    if len(node.value) > MAX_NUMBER:
+        raise yaml.constructor.ConstructorError(
+            None, None, f"a number of {len(node.value)} characters is not a value a campaign "
+                        f"holds (at most {MAX_NUMBER}); quote it if it is text",
+            node.start_mark)
+    constructor = (yaml.SafeLoader.construct_yaml_int if node.tag == _YAML_TAG + "int"
+                   else yaml.SafeLoader.construct_yaml_float)
+    try:
+        return constructor(loader, node)
+    except ValueError:
+        raise yaml.constructor.ConstructorError(
+            None, None, f"{shown(node.value)} is not a number; quote it if it is text",
+            node.start_mark) from None
 
 
 def _construct_mapping(loader, node, deep=False):
@@ -53,7 +83,8 @@ def _construct_mapping(loader, node, deep=False):
 
 _UniqueKeyLoader.add_constructor(
     yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
-_UniqueKeyLoader.add_constructor("tag:yaml.org,2002:set", _refuse_set)
+_UniqueKeyLoader.add_constructor(_YAML_TAG + "int", _construct_number)
+_UniqueKeyLoader.add_constructor(_YAML_TAG + "float", _construct_number)
 # Dates stay text: the spec model parses them, so a malformed date gets our message.
 _UniqueKeyLoader.yaml_implicit_resolvers = {
     first: [(tag, regexp) for tag, regexp in resolvers if tag != "tag:yaml.org,2002:timestamp"]
@@ -83,6 +114,13 @@ class _ComplexKey(Exception):
 def load_yaml(path: Path, display_name: str) -> tuple[object, LineMap]:
     """Load ``path`` as YAML, returning the data and its key-path -> line map."""
     try:
+        if path.exists() and not path.is_dir() and not path.is_file():
+            raise CertkitInputError.single(display_name, None, "", "not a regular file (a pipe, "
+                                                                   "socket or device)")
+        if path.is_file() and path.stat().st_size > MAX_SPEC_BYTES:
+            raise CertkitInputError.single(
+                display_name, None, "", f"{path.stat().st_size} bytes is not a campaign spec "
+                                        f"(at most {MAX_SPEC_BYTES}); check the file named")
         content = path.read_bytes()
     except FileNotFoundError:
         raise CertkitInputError.single(display_name, None, "", "file not found") from None
@@ -104,11 +142,18 @@ def load_yaml(path: Path, display_name: str) -> tuple[object, LineMap]:
         if node is not None:
             _walk(node, (), lines)
         data = yaml.load(text, Loader=_UniqueKeyLoader)  # noqa: S506 - SafeLoader subclass
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark or exc.context_mark
-        line = mark.line + 1 if mark else None
+    except yaml.reader.ReaderError as exc:  # a character YAML does not allow, e.g. a control one
+        line = text[: exc.position].count("\n") + 1
+        code = exc.character if isinstance(exc.character, int) else ord(exc.character)
         raise CertkitInputError.single(
-            display_name, line, "", f"not valid YAML: {exc.problem or exc}") from None
+            display_name, line, "", f"not valid YAML: a control character (U+{code:04X}) "
+                                    f"stands in the text; delete it") from None
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None) or getattr(exc, "context_mark", None)
+        line = mark.line + 1 if mark else None
+        problem = getattr(exc, "problem", None) or str(exc)
+        raise CertkitInputError.single(display_name, line, "",
+                                       f"not valid YAML: {problem}") from None
     except RecursionError:
         raise CertkitInputError.single(display_name, None, "",
                                        "the YAML is nested too deeply") from None
