@@ -351,3 +351,12 @@ def test_a_parquet_load_column_of_any_type_is_read_or_refused(timeseries_campaig
     result = runner.invoke(app, ["audit", str(timeseries_campaign)])
     assert result.exit_code in (0, 1, 2) and result.exception is None or \
         isinstance(result.exception, SystemExit), (result.output, result.exception)
+
+
+def test_a_date_shaped_text_value_survives_the_simulation(physics_campaign, tmp_path):
+    # found by the validate -> simulate chain: a report number written 2023-02-29 is text to
+    # certkit, but the simulation re-read the spec with PyYAML's own date resolver
+    edit_spec(physics_campaign, "report_number: PHYS-0001", "report_number: 2023-02-29")
+    result = runner.invoke(app, ["simulate", str(physics_campaign), "-o", str(tmp_path / "s"),
+                                 "--no-noise"])
+    assert result.exit_code == 0, (result.output, result.exception)

@@ -26,6 +26,7 @@ from certkit.physics.effects import SensorDynamics
 from certkit.physics.gear_model import drop_model_for
 from certkit.physics.simulation import simulate_reference
 from certkit.spec.campaign import Campaign
+from certkit.spec.yamlsource import load_yaml
 
 
 @dataclass(frozen=True)
@@ -137,7 +138,7 @@ def write_campaign(campaign: Campaign, out_dir: str | Path,
     spec = campaign.spec
     if rate is None:
         rate = spec.instrumentation.sampling_rate.si if spec.instrumentation else 1000.0
-    raw = yaml.safe_load(campaign.spec_path.read_text(encoding="utf-8"))
+    raw, _ = load_yaml(campaign.spec_path, str(campaign.spec_path))  # read as it was loaded
     # the new campaign has no blind-check record of its own (the file is not copied)
     (raw.get("model") or {}).get("gap", {}).pop("blind_check", None)
     files = {"campaign.yaml"} | {f"data/{run.id}.csv" for run in spec.runs}
@@ -237,7 +238,7 @@ def truth_spec(spec: Path, folder: Path, changes: dict[str, dict], effects: list
     every run's ``data`` block is dropped and ``model.effects`` set to ``effects``.  Written
     as ``folder/truth.yaml``; returns its path.
     """
-    raw = yaml.safe_load(Path(spec).read_text(encoding="utf-8"))
+    raw, _ = load_yaml(Path(spec), str(spec))
     for unit in raw["gear_units"]:
         _merge(unit, changes.get(unit["id"], {}))
     for run in raw["runs"]:
