@@ -115,6 +115,10 @@ _AT_FDCWD = -100
 RENAME_NOREPLACE = 1
 RENAME_EXCHANGE = 2
 # renameat2's system call number where the C library lacks the wrapper (glibc < 2.28)
+#: renameat2's system-call number per machine, from the Linux kernel's syscall tables
+#: (arch/x86/entry/syscalls/syscall_64.tbl and syscall_32.tbl, include/uapi/asm-generic/
+#: unistd.h for arm64, riscv and loongarch, arch/arm/tools/syscall.tbl,
+#: arch/powerpc/kernel/syscalls/syscall.tbl, arch/s390/kernel/syscalls/syscall.tbl).
 _SYSCALL_RENAMEAT2 = {"x86_64": 316, "amd64": 316, "i386": 353, "i686": 353, "aarch64": 276,
                       "arm64": 276, "riscv64": 276, "loongarch64": 276, "armv7l": 382,
                       "armv6l": 382, "ppc64le": 357, "ppc64": 357, "s390x": 347}
@@ -404,15 +408,22 @@ def staged_folder(target: str | Path, inputs: list[Path], own_paths: set[str]):
 def write_text_atomically(path: str | Path, text: str) -> None:
     """Write ``text`` (UTF-8) to ``path`` through a temporary file beside it, so a reader
     sees the old file or the new one, never a part."""
+    write_bytes_atomically(path, text.encode("utf-8"))
+
+
+def write_bytes_atomically(path: str | Path, data: bytes, private: bool = False) -> None:
+    """Write ``data`` to ``path`` through a temporary file beside it (the old file or the
+    new one, never a part); ``private``: readable by its owner only (0600), else what the
+    umask allows."""
     path = Path(path)
     handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.tmp-", dir=path.parent)
     try:
-        with os.fdopen(handle, "w", encoding="utf-8", newline="\n") as stream:
-            stream.write(text)
-        # mkstemp makes the file private (0600); a written file gets what the umask allows
-        mask = os.umask(0)
-        os.umask(mask)
-        os.chmod(temporary, 0o666 & ~mask)
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(data)
+        if not private:   # mkstemp makes the file private (0600)
+            mask = os.umask(0)
+            os.umask(mask)
+            os.chmod(temporary, 0o666 & ~mask)
         os.replace(temporary, path)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):

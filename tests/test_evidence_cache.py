@@ -62,7 +62,7 @@ def test_the_key_changes_with_the_code_that_makes_evidence_not_with_its_layout(
 def test_knobs_and_candidates_are_kept_by_name_and_come_back_as_the_registry_s(tmp_path):
     knob, candidate = KNOBS["gas-precharge"], CANDIDATES[3]
     kept = {"knobs": [knob], "chosen": (candidate,), "value": 1.5}
-    assert cache.store("k" * 64, kept, tmp_path)
+    assert cache.store("k" * 64, kept, tmp_path) is None
     back = cache.load("k" * 64, tmp_path)
     assert back["knobs"][0] is knob and back["chosen"][0] is candidate
     assert back["value"] == 1.5
@@ -72,7 +72,7 @@ def test_an_entry_that_cannot_be_read_or_trusted_counts_as_absent(tmp_path):
     assert cache.load("a" * 64, tmp_path) is None              # absent
     (tmp_path / f"{'b' * 64}.pickle").write_bytes(b"not a pickle")
     assert cache.load("b" * 64, tmp_path) is None              # damaged
-    assert cache.store("c" * 64, {"x": 1}, tmp_path)
+    assert cache.store("c" * 64, {"x": 1}, tmp_path) is None
     assert cache.load("c" * 64, tmp_path) == {"x": 1}
     if hasattr(os, "getuid"):
         tmp_path.chmod(0o777)                                  # others may write: not trusted
@@ -81,15 +81,23 @@ def test_an_entry_that_cannot_be_read_or_trusted_counts_as_absent(tmp_path):
         assert cache.load("c" * 64, tmp_path) == {"x": 1}
 
 
-def test_what_pickle_cannot_keep_is_not_stored_and_the_report_goes_on(tmp_path):
-    assert not cache.store("d" * 64, {"f": lambda: 1}, tmp_path)
+def test_what_cannot_be_kept_is_not_stored_and_says_why(tmp_path):
+    assert "cannot be pickled" in cache.store("d" * 64, {"f": lambda: 1}, tmp_path)
     assert not list(tmp_path.iterdir())                        # no temporary file left
+    blocked = tmp_path / "a-file"
+    blocked.write_text("not a folder", encoding="utf-8")       # the cache folder is a file
+    assert str(blocked) in cache.store("e" * 64, {"x": 1}, blocked)
+
+
+def test_an_entry_is_readable_by_its_owner_only(tmp_path):
+    assert cache.store("f" * 64, {"x": 1}, tmp_path / "cache") is None
+    assert (tmp_path / "cache" / f"{'f' * 64}.pickle").stat().st_mode & 0o777 == 0o600
 
 
 def test_only_the_newest_entries_are_kept(tmp_path, monkeypatch):
     monkeypatch.setattr(cache, "KEEP", 3)
     for index in range(5):
-        assert cache.store(f"{index:064d}", index, tmp_path)
+        assert cache.store(f"{index:064d}", index, tmp_path) is None
         os.utime(tmp_path / f"{index:064d}.pickle", (1000 + index, 1000 + index))
     cache._prune(tmp_path)
     assert sorted(p.name[-8:] for p in tmp_path.glob("*.pickle")) == \

@@ -114,6 +114,9 @@ def test_a_full_disk_while_writing_the_audit_exits_4_and_keeps_the_earlier_table
 def _own_mount_namespace():
     """``unshare`` into a mount namespace of one's own (as root, or as a user where user
     namespaces are allowed), so a small tmpfs can be mounted without touching the machine."""
+    # intended: a real full (or read-only) file system needs a mount namespace, which a
+    # container may forbid whoever runs it; the same paths are checked unconditionally with
+    # an injected ENOSPC/EROFS (test_a_full_disk_while_*, test_a_folder_refusing_*)
     if shutil.which("unshare") is None:
         pytest.skip("no unshare(1) here to mount a small file system")
     probe = subprocess.run(["unshare", "--user", "--map-root-user", "--mount", "sh", "-c",
@@ -450,6 +453,9 @@ def test_renameat2_by_system_call_number_exchanges_two_folders(tmp_path):
         syscall = libc.syscall
 
     function = outputs.load_renameat2(WithoutWrapper(), platform.machine())
+    # intended: the system-call number is known for the machines _SYSCALL_RENAMEAT2 lists;
+    # elsewhere, and on a file system that cannot exchange, certkit takes the two-rename
+    # path, which test_without_renameat2_* checks on every machine
     if function is None:
         pytest.skip(f"renameat2's number on {platform.machine()} is not known")
     (tmp_path / "a").mkdir()

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 from certkit.evidence import figures
@@ -41,7 +43,11 @@ def test_a_loop_keeps_the_extremes_of_both_coordinates():
 
 def test_a_long_logger_record_draws_a_figure_of_bounded_size():
     """30 s at 20 kHz (600,000 samples a channel): the figures' SVG stays at the size of a
-    record of about 1,500 samples, not of the record."""
+    record of about 1,500 samples, not of the record.  An SVG path vertex takes about 25
+    bytes ("L 123.456 78.901" and a line break), so a thinned line (at most 3·COLUMNS + 1
+    = 1,501 vertices) is under 40 kB, the load-travel figure (its loop drawn and filled)
+    under 80 kB, plus some 20 kB of axes and text: 250 kB holds with room, while one
+    unthinned line alone would take about 600,000 × 25 bytes = 15 MB."""
 
     class Series:
         rate = 20_000.0
@@ -64,3 +70,39 @@ def test_a_long_logger_record_draws_a_figure_of_bounded_size():
     assert len(svgs) == 3
     for svg in svgs:
         assert len(svg.encode()) < 250_000, len(svg.encode())
+
+
+def test_phase_boundaries_a_few_ms_apart_are_numbered_on_rows_of_their_own():
+    """The example's held-out drop starts four phases within 40 ms of a 1.1 s window: their
+    names printed at the boundaries ran into each other.  Numbers stand above the plot, one
+    too close to the one before it goes up a row, and the caption names each with its time."""
+    from types import SimpleNamespace
+
+    time = np.arange(-0.1, 1.0, 0.001)
+    after = time >= 0.0
+    load = np.where(after, 1e4 * np.exp(-((time - 0.04) / 0.03) ** 2), 0.0)
+    record = SimpleNamespace(time=time, after=after, measured={"load": load},
+                             simulated={"load": 0.98 * load})
+    starts = {"free fall": 0, "tyre-only contact": 100, "strut breakout": 108,
+              "compression": 115, "rebound": 140, "settling": 650}
+    phases = [SimpleNamespace(name=name, start=start) for name, start in starts.items()]
+
+    class Units:
+        force, length = "N", "mm"
+
+    figure = figures.gap_overlay("main", "D3", record, record, phases, "friction", Units,
+                                 window=1.0)
+    # sample k after touchdown at 1 kHz is k ms, printed to 4 significant digits
+    assert ("1 tyre-only contact at 0 ms; 2 strut breakout at 8.000 ms; 3 compression at "
+            "15.00 ms; 4 rebound at 40.00 ms; 5 settling at 550.0 ms.") in figure["caption"]
+    svg = figure["svg"]
+    for name in starts:
+        assert name not in svg        # no name printed in the plot
+    # 0, 8 and 15 ms lie within 2.5 % of the 1.05 s span of each other: three rows
+    heights = {n: y for y, n in re.findall(r'<text style="font-size: 6px[^"]*"[^>]* '
+                                           r'y="([\d.]+)"[^>]*>([1-5])</text>', svg)}
+    assert sorted(heights) == ["1", "2", "3", "4", "5"]
+    rows = {heights[n] for n in "123"}
+    assert len(rows) == 3, rows
+    # 4 (40 ms) is 25 ms after 3, clear of 1 (at 0 ms) by more than 2.5 %: back on the first row
+    assert heights["4"] == heights["1"] == heights["5"]

@@ -14,7 +14,8 @@ An entry is found by a key that hashes everything the evidence is made from:
 Any change to one of these gives another key, so stale evidence is never reused; a
 change to the presentation alone (a template, a figure, the wording of a section) keeps
 the key.  Entries live in the user's cache folder (:func:`cache_folder`; the environment
-variable ``CERTKIT_CACHE`` names another), one pickle file each, written atomically; the
+variable ``CERTKIT_CACHE`` names another), one private pickle file each, written
+atomically; the
 oldest are removed beyond :data:`KEEP` entries.  An entry that cannot be read (another
 Python, a damaged file) counts as absent and is made again.  The cache holds only what
 this user's certkit wrote there: pickle files run code when loaded, so the folder must
@@ -30,20 +31,22 @@ import pickle
 import platform
 import stat
 import sys
-import tempfile
-from importlib import metadata
 from pathlib import Path
 
+from certkit.evidence.provenance import versions
+from certkit.outputs import write_bytes_atomically
 from certkit.version import VERSION
 
 PACKAGE = Path(__file__).resolve().parent.parent
 #: certkit's modules (relative to the package) that only lay the evidence out: changing
-#: them keeps the cache key.  Everything else certkit holds is part of the key.
+#: them keeps the cache key.  Everything else certkit holds is part of the key, so a module
+#: added later and not listed here costs a cache miss when it changes, never a stale entry.
 PRESENTATION = ("cli/", "archive/", "evidence/audit.py", "evidence/comparison.py",
                 "evidence/figures.py", "evidence/gap_view.py", "evidence/methods.py",
                 "evidence/model_view.py", "evidence/render.py", "evidence/report.py",
                 "evidence/results_document.py", "evidence/sections.py", "evidence/view.py",
-                "evidence/cache.py", "evidence/pipeline.py", "outputs.py")
+                "evidence/cache.py", "evidence/pipeline.py", "evidence/provenance.py",
+                "outputs.py")
 #: The libraries whose versions are part of the key (the numbers depend on them).
 LIBRARIES = ("numpy", "scipy", "numba", "llvmlite", "threadpoolctl", "pandas", "pyarrow",
              "pint", "pydantic", "PyYAML")
@@ -75,13 +78,7 @@ def _code_digest() -> str:
 
 
 def _libraries() -> dict:
-    versions = {"python": platform.python_version()}
-    for name in LIBRARIES:
-        try:
-            versions[name] = metadata.version(name)
-        except metadata.PackageNotFoundError:
-            versions[name] = None
-    return versions
+    return {"python": platform.python_version(), **versions(LIBRARIES)}
 
 
 def key(campaign, what: str) -> str:
@@ -114,26 +111,22 @@ def load(entry_key: str, folder: Path | None = None):
         return None
 
 
-def store(entry_key: str, evidence, folder: Path | None = None) -> bool:
-    """Keep ``evidence`` under ``entry_key``; False when it cannot be (the folder cannot be
-    written, the disk is full, or the evidence holds something pickle cannot keep): the
-    report does not depend on the cache."""
+def store(entry_key: str, evidence, folder: Path | None = None) -> str | None:
+    """Keep ``evidence`` under ``entry_key``.  Returns None, or why it could not be kept
+    (the folder cannot be written, the disk is full, the evidence holds something pickle
+    cannot keep): the report does not depend on the cache, so that is no error."""
     folder = folder or cache_folder()
     try:
-        folder.mkdir(parents=True, exist_ok=True, mode=0o700)
         data = pickle.dumps(evidence, protocol=pickle.HIGHEST_PROTOCOL)
-        handle, temporary = tempfile.mkstemp(dir=folder, prefix=".entry-", suffix=".tmp")
-        try:
-            with os.fdopen(handle, "wb") as stream:
-                stream.write(data)
-            os.replace(temporary, folder / f"{entry_key}.pickle")
-        except BaseException:
-            Path(temporary).unlink(missing_ok=True)
-            raise
+    except (pickle.PicklingError, TypeError, AttributeError, RecursionError) as problem:
+        return f"the evidence cannot be pickled ({type(problem).__name__}: {problem})"
+    try:
+        folder.mkdir(parents=True, exist_ok=True, mode=0o700)
+        write_bytes_atomically(folder / f"{entry_key}.pickle", data, private=True)
         _prune(folder)
-        return True
-    except (OSError, pickle.PicklingError, TypeError, AttributeError):
-        return False
+    except OSError as problem:
+        return f"{folder}: {problem.strerror or problem}"
+    return None
 
 
 def _prune(folder: Path) -> None:

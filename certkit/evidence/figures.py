@@ -12,7 +12,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from certkit.display import with_unit  # noqa: E402
+from certkit.display import number, with_unit  # noqa: E402
 from certkit.gap.phases import PHASES
 from certkit.spec.rundata import CHANNEL_LABELS  # noqa: E402
 from certkit.units import convert  # noqa: E402
@@ -345,20 +345,33 @@ def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: s
             for _, at in boundaries:
                 axes.axvline(at, color="0.3", linestyle=":", linewidth=0.7)
             axes.set_ylabel(f"{CHANNEL_LABELS[channel]}\n[{unit}]")
-        for name, at in boundaries:
-            all_axes[0].text(at, 1.03, name, transform=all_axes[0].get_xaxis_transform(),
-                             rotation=90, ha="center", va="bottom", fontsize=6.0)
+        # numbered above the plot (the names are in the caption): boundaries a few ms apart
+        # would print their names over each other; a number too close to the one before
+        # it on a row goes up a row
+        span = (t_ms[-1] - t_ms[0]) or 1.0
+        last_on_row: list[float] = []
+        for number_, (_, at) in enumerate(boundaries, start=1):
+            row = next((r for r, x in enumerate(last_on_row) if at - x >= 0.025 * span),
+                       len(last_on_row))
+            last_on_row[row:row + 1] = [at]
+            all_axes[0].text(at, 1.02 + 0.13 * row, str(number_), ha="center", va="bottom",
+                             transform=all_axes[0].get_xaxis_transform(), fontsize=6.0)
         all_axes[0].legend(loc="upper right", frameon=False, fontsize=6.5)
         all_axes[-1].set_xlabel("time from touchdown [ms]")
         figure.tight_layout()
+        phases_words = ("Dotted lines: the recorded run's phase boundaries (certkit.gap.phases), "
+                        "numbered above the plot with the phase each starts: "
+                        + "; ".join(f"{n} {name} at {number(at)} ms"
+                                    for n, (name, at) in enumerate(boundaries, start=1)) + "."
+                        if boundaries else "No phase boundary of the recorded run falls within "
+                                           "the plotted window.")
         return {"title": f"{gear_id}, held-out run {run_id}: {record_label(origin)} and model, "
                          f"with the "
                          f"drop's phases",
                 "caption": "Grey: the run's channels; dashed: the nominal model calibrated on "
                            "the training runs; solid: refitted with the named effect(s), when "
-                           "one was named. Dotted lines: the recorded run's phase boundaries "
-                           "(certkit.gap.phases), each labelled with the phase it starts. Neither "
-                           "model was fitted or tuned on this run.",
+                           "one was named. " + phases_words + " Neither model was fitted or tuned "
+                           "on this run.",
                 "svg": _to_svg(figure)}
 
 

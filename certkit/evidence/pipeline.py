@@ -45,7 +45,9 @@ def make_evidence(campaign: Campaign, *, model: bool = True, cache: bool = True,
 
     evidence = model_evidence(campaign, progress=progress)
     if entry is not None:
-        evidence_cache.store(entry, evidence)
+        problem = evidence_cache.store(entry, evidence)
+        if problem:
+            progress(f"the drop-model evidence was not kept in the cache: {problem}")
     return assessment, evidence
 
 

@@ -36,19 +36,24 @@ def _git_commit() -> str | None:
     return commit + ("-dirty" if dirty else "")
 
 
+def versions(names) -> dict:
+    """Package name -> its installed version ("not installed" when absent)."""
+    found = {}
+    for name in names:
+        try:
+            found[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            found[name] = "not installed"
+    return found
+
+
 def provenance(inputs) -> dict:
     """Provenance record for results.json and the report."""
-    versions = {}
-    for name in DEPENDENCIES:
-        try:
-            versions[name] = metadata.version(name)
-        except metadata.PackageNotFoundError:
-            versions[name] = "not installed"
     return {
         "certkit_version": VERSION,
         "certkit_commit": _git_commit(),
         "python": platform.python_version(),
-        "dependencies": versions,
+        "dependencies": versions(DEPENDENCIES),
         "inputs": [{"file": item.name, "sha256": item.sha256, "bytes": item.size}
                    for item in inputs],
     }
