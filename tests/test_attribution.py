@@ -119,6 +119,44 @@ def test_a_logger_delay_is_diagnosed_as_sensor_lag(tmp_path_factory):
     assert diagnosis.answer[:1] == ("sensor lag",), diagnosis.statement
 
 
+def _load_rewritten(spec, change):
+    """``spec``'s campaign with every run's recorded load replaced by change(time, load)."""
+    import numpy as np
+    import pandas as pd
+
+    for path in sorted((spec.parent / "data").glob("*.csv")):
+        frame = pd.read_csv(path)
+        load = frame["left-main_load_N"].to_numpy(dtype=float)
+        frame["left-main_load_N"] = np.round(change(frame["t_s"].to_numpy(), load))
+        frame.to_csv(path, index=False)
+    return spec
+
+
+def test_a_load_cell_reading_low_is_named_and_a_delayed_crosstalk_is_not(tmp_path_factory):
+    import numpy as np
+
+    # a load chain reading 4 % low: the recorded load is 0.96 times the force (the library's
+    # low form divides by 1 + 0.05·φ, so the fit must find φ = (1/0.96 − 1)/0.05 = 0.833)
+    low = _load_rewritten(_truth(tmp_path_factory, "gain-low", []), lambda t, f: 0.96 * f)
+    diagnosis = _diagnosis(low)
+    assert diagnosis.answer == ("load-cell gain",), diagnosis.statement
+    assert diagnosis.forms == ("reading low",)
+    assert diagnosis.refit.strengths[0] == pytest.approx((1 / 0.96 - 1) / 0.05, rel=0.05)
+    # the same force with 6 % of itself 12 ms earlier added to the record (a neighbouring
+    # cell's force through a shared frame): a gain of 1.06 to first order, but delayed; the
+    # gain's correction fits the residual 12 ms later, so no memoryless gain is named
+    def crosstalk(t, f):
+        earlier = np.interp(t - 0.012, t, f, left=f[0])
+        return f + 0.06 * earlier
+
+    late = _load_rewritten(_truth(tmp_path_factory, "crosstalk", []), crosstalk)
+    diagnosis = _diagnosis(late)
+    assert "load-cell gain" not in diagnosis.answer, diagnosis.statement
+    decisions = [d.status for step in diagnosis.refit_decisions for d in step
+                 if d.name.startswith("load-cell gain")]
+    assert any("fits the residual better 12 ms later" in d for d in decisions), decisions
+
+
 def test_sensor_lag_acts_alike_on_both_paths():
     import math
     from dataclasses import replace
@@ -191,8 +229,9 @@ def test_each_candidate_decision_names_the_rule_that_made_it():
             Fit(effects=("e",), training_cost=0.6), Fit(effects=("f",), training_cost=0.55)]
     harm = {("a",): [], ("b",): [], ("e",): [], ("f",): ["stroke"]}
     removed = {("a",): 9.0, ("b",): 1.0, ("e",): 5.0, ("f",): 5.0}
-    outcomes = [d.status for d in _refit_decisions(fits, 1.0, harm, removed, fits[0], (),
-                                                   names)]
+    timely = {f.effects: None for f in fits}
+    outcomes = [d.status for d in _refit_decisions(fits, 1.0, harm, removed, timely, fits[0],
+                                                   (), names)]
     assert outcomes[0] == "named"
     assert outcomes[1].endswith("not named") and f"less than {100 * GAIN:.0f} %" in outcomes[1]
     assert outcomes[2] == (f"cuts the training cost by {100 * GAIN:.0f} % or more, less than "
@@ -201,13 +240,13 @@ def test_each_candidate_decision_names_the_rule_that_made_it():
     # a refit that gains enough but removes less than DETECTABLE noise variances
     small = Fit(effects=("g",), training_cost=0.5)
     names["g"] = Form(name="G")
-    lost = _refit_decisions([small], 1.0, {("g",): []}, {("g",): DETECTABLE / 2}, None, (),
-                            names)[0].status
+    lost = _refit_decisions([small], 1.0, {("g",): []}, {("g",): DETECTABLE / 2},
+                            {("g",): None}, None, (), names)[0].status
     assert lost == (f"removes {DETECTABLE / 2:.2g} noise variances from the training records, "
                     f"fewer than {DETECTABLE:g}: not told apart from the nominal model's own "
                     f"floor, not named")
     # a tie: neither is named, and each says why
-    tied = [d.status for d in _refit_decisions(fits[:1] + fits[2:3], 1.0, harm, removed, None,
-                                               ("A", "E"), names)]
+    tied = [d.status for d in _refit_decisions(fits[:1] + fits[2:3], 1.0, harm, removed,
+                                               timely, None, ("A", "E"), names)]
     assert tied == [f"within {100 * (TIE_COST - 1):.0f} % of another effect's training "
                     f"cost: a tie, not named"] * 2

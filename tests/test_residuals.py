@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from certkit.gap.phases import Phase
-from certkit.gap.residuals import band_shares, describe, largest, residual_cells, timing_lag
+from certkit.gap.residuals import (band_shares, describe, largest, residual_cells, shifted_fit,
+                                   timing_lag)
 
 STEP = 0.001
 TIME = np.arange(0.0, 1.0, STEP)
@@ -41,3 +42,24 @@ def test_a_ripple_puts_its_energy_in_the_structural_band():
     assert shares["structural and tyre modes"] > 0.99
     assert band_shares(drift, STEP)["rigid-body"] > 0.99
     assert sum(shares.values()) == pytest.approx(1.0)
+
+
+def test_a_correction_that_fits_later_shows_its_shift_and_an_instant_one_none():
+    rng = np.random.default_rng(5)
+    force = [1000.0 * pulse(0.3), 1500.0 * pulse(0.25)]
+    noise = [rng.normal(0.0, 2.0, TIME.size) for _ in force]
+    # simulated − measured when the record carries 5 % of the force 12 ms late; a gain
+    # refit's correction raises the simulated load by 5 % at the same instant
+    late = [-0.05 * np.interp(TIME - 0.012, TIME, f) - n for f, n in zip(force, noise)]
+    gain = [0.05 * f for f in force]
+    shift, share = shifted_fit(late, gain, STEP)
+    assert shift == pytest.approx(0.012, abs=1e-9)        # fits best delayed by 12 ms
+    # delayed by 12 ms the correction leaves the noise alone: the share is what the noise
+    # is not, of the mean square left at the same instant
+    at_once = np.mean(np.concatenate([r + g for r, g in zip(late, gain)]) ** 2)
+    assert share == pytest.approx(1 - np.mean(np.concatenate(noise) ** 2) / at_once, rel=0.02)
+    assert share > 0.5
+    # a record that is truly 5 % high: the correction fits at the same instant
+    high = [-0.05 * f - n for f, n in zip(force, noise)]
+    shift, share = shifted_fit(high, gain, STEP)
+    assert shift == 0.0 and share == 0.0

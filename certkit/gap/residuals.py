@@ -18,6 +18,10 @@ from certkit.gap.phases import Phase
 BANDS = (("rigid-body", 0.0, 10.0), ("structural and tyre modes", 10.0, 100.0),
          ("above 100 Hz", 100.0, float("inf")))
 MAX_LAG = 0.020   # s, largest timing error looked for
+#: s, the largest shift :func:`shifted_fit` tries: timing errors of a recording chain (a
+#: skew between a logger's channels, a force reaching a cell through a frame) of a few to
+#: tens of milliseconds, well inside a first compression (about 0.1 s)
+TIMING_LAG = 0.030
 
 
 @dataclass(frozen=True)
@@ -59,6 +63,39 @@ def timing_lag(measured: np.ndarray, simulated: np.ndarray, step: float,
         if curvature < 0:
             shift += float(0.5 * (left - right) / curvature)
     return float(shift * step)
+
+
+def shifted_fit(before: list, correction: list, step: float,
+                max_lag: float = TIMING_LAG) -> tuple[float, float]:
+    """How much better a correction fits a residual when shifted in time: (the shift [s],
+    positive when the correction fits best delayed; the share of the corrected residual's
+    mean square that shift removes).
+
+    ``before`` and ``correction`` are one channel's residual (simulated − measured) and the
+    change a refit makes to it, one array per run, on samples ``step`` apart; the corrected
+    residual is before + correction, shifted by one common whole number of samples within
+    ±``max_lag`` (the ends held at their edge values).  A memoryless correction (a gain)
+    that fits the residual better at another instant than at the same one does not
+    explain it: what is missing changes the record's timing too."""
+    def mean_square(shift: int) -> float:
+        total = count = 0.0
+        for r, d in zip(before, correction):
+            moved = d if shift == 0 else np.concatenate(
+                [np.full(shift, d[0]), d[:-shift]] if shift > 0 else
+                [d[-shift:], np.full(-shift, d[-1])])
+            total += float(np.sum((r + moved) ** 2))
+            count += r.size
+        return total / count if count else 0.0
+
+    reach = int(max_lag / step)
+    shortest = min((r.size for r in before), default=0)
+    shifts = [k for k in range(-reach, reach + 1) if abs(k) < shortest]
+    if not shifts:
+        return 0.0, 0.0
+    costs = {k: mean_square(k) for k in shifts}
+    best = min(shifts, key=lambda k: (costs[k], abs(k)))
+    share = (costs[0] - costs[best]) / costs[0] if costs[0] > 0 else 0.0
+    return best * step, float(share)
 
 
 def band_shares(residual: np.ndarray, step: float) -> dict[str, float]:

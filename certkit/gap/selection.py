@@ -7,8 +7,9 @@ are scored and profiled (:mod:`certkit.gap.attribution`); the best form of each 
 :data:`LEADING` relevant effects with the best profiles is refitted with the nominal
 parameters; the refit that cuts the training cost most, by :data:`GAIN` at least, leaves
 no training channel worse beyond its noise (:func:`certkit.gap.residuals.harmed`) and
-removes at least :data:`DETECTABLE` noise variances from the training records is named,
-unless another effect's refit comes within :data:`TIE_COST` of it: then the two
+removes at least :data:`DETECTABLE` noise variances from the training records is named
+(a memoryless error of a recorded channel, a gain, only if its correction fits that
+channel's residual at the same instant: :data:`TIMING_SHARE`), unless another effect's refit comes within :data:`TIE_COST` of it: then the two
 cannot be told apart by their fits, and the model-free missing force
 (:mod:`certkit.gap.missing_force`, on the training runs) decides when it shows the mark of
 one of them and not of the other; otherwise neither is named (a tie). The held-out runs are
@@ -29,13 +30,13 @@ from certkit.gap.attribution import (Attribution, Decision, Refit, _central_jaco
                                      nominal_jacobian, profiles, refit, score_candidates)
 from certkit.gap.holdout import split_for
 from certkit.gap.missing_force import campaign_missing_forces, pointed_effects, signatures
-from certkit.gap.residuals import gap_shares, harmed, noise_level
+from certkit.gap.residuals import gap_shares, harmed, noise_level, shifted_fit
 from certkit.physics.calibration import RunResiduals, aligned_records, calibrate_gear
 from certkit.physics.drop_model import DropModel
 from certkit.physics.effects import CANDIDATES, Candidate
 
-__all__ = ["CANDIDATES", "DETECTABLE", "GAIN", "LEADING", "RELEVANT", "TIE_COST", "Diagnosis",
-           "diagnose"]
+__all__ = ["CANDIDATES", "DETECTABLE", "GAIN", "LEADING", "RELEVANT", "TIE_COST", "TIMING_SHARE",
+           "Diagnosis", "diagnose"]
 
 #: A candidate is considered only if it would remove at least this RMS (in noise units).
 RELEVANT = 0.3
@@ -52,6 +53,13 @@ DETECTABLE = 2.0
 #: How many relevant effects are refitted at each step (the best form of each, those with
 #: the best profiles): two, so that the tie rule can compare the best pair.
 LEADING = 2
+#: A memoryless error of a recorded channel (a load cell's gain) changes each sample at its
+#: own instant.  When its refit's correction, shifted in time (up to
+#: :data:`certkit.gap.residuals.TIMING_LAG`), would remove this share or more of the mean
+#: square that stays on that channel, the record's error is not memoryless (a gain with a
+#: delay, crosstalk through a frame) and the form is not named.  A gain's own refit leaves
+#: at most a few per cent to a shift (the floor of the nominal model and the noise).
+TIMING_SHARE = 0.10
 #: The channel whose held-out gap the statement's closed and unexplained shares are of.
 FLOOR_CHANNEL = "load"
 
@@ -148,6 +156,22 @@ def _removed(residuals: RunResiduals, base: np.ndarray, fitted: np.ndarray,
                      for c in before if noise.get(c, 0.0) > 0.0))
 
 
+def _mistimed(residuals: RunResiduals, base: np.ndarray, fitted: np.ndarray,
+              candidate: Candidate) -> tuple[str, float, float] | None:
+    """(channel, shift [s], share) when ``candidate`` is memoryless on a recorded channel and
+    its refit's correction fits that channel's residual better shifted in time, by
+    :data:`TIMING_SHARE` or more of what stays (:func:`certkit.gap.residuals.shifted_fit`,
+    on the training runs); None otherwise."""
+    channel = candidate.memoryless_on
+    rows = [(part, scale) for _, name, part, scale in residuals.segments() if name == channel]
+    if not rows:
+        return None
+    shift, share = shifted_fit([base[part] * scale for part, scale in rows],
+                               [(fitted[part] - base[part]) * scale for part, scale in rows],
+                               1.0 / residuals.rate)
+    return (channel, shift, share) if share >= TIMING_SHARE else None
+
+
 def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
              calibration=None) -> Diagnosis:
     """Which effect(s) of the library explain the gap of ``gear_id``'s nominal model (the
@@ -201,8 +225,11 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
                 for f, r in zip(fits, fitted)}
         removed = {f.effects: _removed(residuals, base, r, training_noise)
                    for f, r in zip(fits, fitted)}
+        mistimed = {f.effects: _mistimed(residuals, base, r, names[f.effects[-1]])
+                    for f, r in zip(fits, fitted)}
         useful = sorted((f for f in fits if f.training_cost <= (1 - GAIN) * cost
-                         and not harm[f.effects] and removed[f.effects] >= DETECTABLE),
+                         and not harm[f.effects] and removed[f.effects] >= DETECTABLE
+                         and mistimed[f.effects] is None),
                         key=lambda f: f.training_cost)
         evidence.append(tuple(signatures(campaign_missing_forces(
             campaign, gear_id, training,
@@ -216,7 +243,7 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
             if best is None:
                 tie = (names[useful[0].effects[-1]].name, names[useful[1].effects[-1]].name)
                 statement = _tie_statement(chosen, useful[0], useful[1], names, attribution)
-        refit_notes.append(_refit_decisions(fits, cost, harm, removed,
+        refit_notes.append(_refit_decisions(fits, cost, harm, removed, mistimed,
                                             best if not tie else None, tie, names, broken))
         if tie:
             break
@@ -324,7 +351,7 @@ def _decisions(attribution: Attribution, relevant: set, leading: list, names: di
     return tuple(decisions)
 
 
-def _refit_decisions(fits: list, cost: float, harm: dict, removed: dict,
+def _refit_decisions(fits: list, cost: float, harm: dict, removed: dict, mistimed: dict,
                      named: Refit | None, tie: tuple, names: dict, broken: str = "") -> tuple:
     """What became of each refit of one step: named, or not named and why."""
     decisions = []
@@ -341,6 +368,14 @@ def _refit_decisions(fits: list, cost: float, harm: dict, removed: dict,
             status = (f"removes {removed[refitted.effects]:.2g} noise variances from the "
                       f"training records, fewer than {DETECTABLE:g}: not told apart from the "
                       f"nominal model's own floor, not named")
+        elif mistimed[refitted.effects] is not None:
+            channel, shift, share = mistimed[refitted.effects]
+            status = (f"its correction of the recorded {channel} fits the residual better "
+                      f"{abs(shift) * 1e3:.3g} ms {'later' if shift > 0 else 'earlier'} than "
+                      f"at the same instant (removing {percent(share, 0)} more of what "
+                      f"stays, {percent(TIMING_SHARE, 0)} or more): an error without memory "
+                      f"acts at the same instant, so the {channel} record's error is not "
+                      f"this one: not named")
         elif effect in tie:
             status = (f"within {percent(TIE_COST - 1, 0)} of another effect's training cost: "
                       f"a tie, not named")

@@ -42,6 +42,10 @@ class Candidate:
     add: Callable[[DropModel, float], DropModel]     # the model with the effect at strength φ
     probe: float = 0.05                              # φ of the finite-difference signature
     form: str = ""                                   # the form's name ("": the effect's only one)
+    #: the recorded channel this form changes sample by sample, without memory (a sensor's
+    #: gain): its correction must fit that channel's residual at the same instant, which
+    #: the diagnosis checks (:func:`certkit.gap.residuals.shifted_fit`); "" for the others
+    memoryless_on: str = ""
 
     @property
     def key(self) -> str:

@@ -45,8 +45,15 @@ EFFECT = Effect(
                 lambda m: m.effect("load-cell gain").gain,
                 lambda m, v: set_effect(m, "load-cell gain", gain=v),
                 lambda nominal: (-0.1, 0.1), needs="load-cell gain"),),
+    # a chain may read high or low; the low form divides by (1 + 0.05·φ), so that no
+    # strength the diagnosis may fit reaches a gain of −100 %
     candidates=(Candidate("load-cell gain", "a load channel reading 5 % high",
-                        lambda m, phi: m.with_effect(LoadCellGain(0.05 * phi))),),
+                          lambda m, phi: m.with_effect(LoadCellGain(0.05 * phi)),
+                          form="reading high", memoryless_on="load"),
+                Candidate("load-cell gain", "a load channel reading 1/1.05 of the force "
+                                            "(4.8 % low)",
+                          lambda m, phi: m.with_effect(LoadCellGain(1 / (1 + 0.05 * phi) - 1)),
+                          form="reading low", memoryless_on="load")),
     truth=Truth("load-cell gain", "load cells reading (1 + 0.001·s) times the platform force "
                                   "(the candidate's own form)", (0.05, 100.0),
                 mechanics=lambda m, s: m.with_effect(LoadCellGain(0.001 * s))))
