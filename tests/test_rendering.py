@@ -6,6 +6,8 @@
 * report.pdf rendered page by page to greyscale PNG with PDFium (the pypdfium2 wheel) and
   compared with the committed pages in tests/data/report-pages/: a change of the template
   that moves the layout fails, a changed digit does not.
+* Page breaks (WeasyPrint's own layout boxes): no table caption at a page's foot without
+  its table's rows, no single row of a table alone on a page.
 * Fonts (read with pikepdf): every font of report.pdf carries its font program; PDFium,
   a reader written apart, agrees.
 
@@ -418,6 +420,74 @@ def test_pdf_pages_match_the_reference_images(example_report, tmp_path_factory):
     message = pages_unlike_reference(example_report / "report.pdf",
                                      tmp_path_factory.mktemp("report-pages"))
     assert message is None, message
+
+
+# --------------------------------------------------------------------------- page breaks
+def stranded_rows(html: str) -> list[str]:
+    """Where a page break strands part of a table, as WeasyPrint lays ``html`` out: a
+    caption at a page's foot without its table's first row, and a table split across pages
+    with a single body row alone on one of them."""
+    from weasyprint.formatting_structure import boxes
+
+    from certkit.evidence.render import laid_out
+
+    def body_rows(table) -> int:
+        return sum(len(group.children) for group in table.children
+                   if isinstance(group, boxes.TableRowGroupBox)
+                   and not (group.is_header or group.is_footer))
+
+    fragments: dict = {}
+    problems = []
+    for number, page in enumerate(laid_out(html).pages, 1):
+        for box in page._page_box.descendants():
+            if isinstance(box, boxes.TableBox):
+                fragments.setdefault(box.element, []).append((number, body_rows(box)))
+            elif isinstance(box, boxes.BlockBox) and box.is_table_wrapper:
+                caption = [c for c in box.children if isinstance(c, boxes.TableCaptionBox)]
+                tables = [t for t in box.children if isinstance(t, boxes.TableBox)]
+                if caption and not any(body_rows(t) for t in tables):
+                    words = "".join(b.text for b in caption[0].descendants()
+                                    if isinstance(b, boxes.TextBox))
+                    problems.append(f"page {number}: the caption {words[:50]!r} without "
+                                    f"its table")
+    for parts in fragments.values():
+        if len(parts) > 1:
+            problems += [f"page {number}: one row of a table split over pages {parts} alone"
+                         for number, count in parts if count == 1]
+    return problems
+
+
+def _table_after_filler(height_mm: float, css: str) -> str:
+    rows = "".join(f"<tr><td>row {i}</td><td class=\"num\">{i}.5</td></tr>" for i in range(8))
+    return (f"<html><head><style>{css}</style></head><body>"
+            f"<div style=\"height: {height_mm}mm\"></div><table><caption>A caption</caption>"
+            f"<thead><tr><th>item</th><th>value</th></tr></thead><tbody>{rows}</tbody>"
+            f"</table></body></html>")
+
+
+def test_a_page_break_strands_no_caption_and_no_single_row():
+    from certkit.evidence.render import templates_dir
+
+    css = (templates_dir() / "report.css").read_text(encoding="utf-8")
+    # the same table pushed down the page 1 mm at a time, through every place a break can
+    # fall: with the report's rules nothing is stranded; without them (every break allowed)
+    # the check sees the caption and the single rows left at the page's foot and head
+    heights = [225 + 1.5 * k for k in range(30)]
+    free = css + (" caption, tbody tr:first-child, tbody tr:last-child { break-before: auto;"
+                  " break-after: auto; }")
+    loose = [p for h in heights for p in stranded_rows(_table_after_filler(h, free))]
+    assert any("the caption 'A caption' without its table" in p for p in loose), loose
+    assert any("one row of a table" in p for p in loose), loose
+    assert [p for h in heights for p in stranded_rows(_table_after_filler(h, css))] == []
+
+
+def test_the_example_report_strands_no_caption_or_row(example_report):
+    assert stranded_rows((example_report / "report.html").read_text(encoding="utf-8")) == []
+
+
+@pytest.mark.slow
+def test_the_full_report_strands_no_caption_or_row(full_report):
+    assert stranded_rows((full_report / "report.html").read_text(encoding="utf-8")) == []
 
 
 def _change_a_few_digits(html: str) -> str:

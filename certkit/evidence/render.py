@@ -103,20 +103,34 @@ def _source_date_epoch(epoch: int):
             os.environ["SOURCE_DATE_EPOCH"] = previous
 
 
+#: WeasyPrint's options for the report: PDF/A-3b, compressed
+PDF_OPTIONS = {"pdf_variant": "pdf/a-3b", "uncompressed_pdf": False}
+
+
+def laid_out(html: str, **options):
+    """The report's pages as WeasyPrint lays them out (a ``weasyprint.document.Document``:
+    its ``pages`` hold the boxes, where a check can see what a page break left where)."""
+    from weasyprint import CSS, DEFAULT_OPTIONS, HTML
+    from weasyprint.text.fonts import FontConfiguration
+
+    fetcher = _LocalOnlyFetcher([templates_dir(), fonts_dir()])
+    fonts = FontConfiguration()
+    document = HTML(string=html, base_url=str(templates_dir()) + "/", url_fetcher=fetcher)
+    return document.render(
+        font_config=fonts,
+        **{**DEFAULT_OPTIONS, **PDF_OPTIONS, **options,
+           "stylesheets": [CSS(string=_font_css(), font_config=fonts, url_fetcher=fetcher)]})
+
+
 def render_pdf(html: str, attachments: list[tuple[str, bytes, str]], date: dt.date) -> bytes:
     """PDF/A-3b of the report with ``attachments`` (name, bytes, relationship) embedded."""
-    from weasyprint import CSS, HTML, Attachment
-    from weasyprint.text.fonts import FontConfiguration
+    from weasyprint import DEFAULT_OPTIONS, Attachment
 
     stamp = dt.datetime(date.year, date.month, date.day, tzinfo=dt.timezone.utc)
     fetcher = _LocalOnlyFetcher([templates_dir(), fonts_dir()])
-    fonts = FontConfiguration()
     files = [Attachment(file_obj=io.BytesIO(content), name=name, created=stamp, modified=stamp,
                         relationship=relationship, url_fetcher=fetcher)
              for name, content, relationship in attachments]
-    document = HTML(string=html, base_url=str(templates_dir()) + "/", url_fetcher=fetcher)
     with _source_date_epoch(FONT_EPOCH):
-        return document.write_pdf(
-            stylesheets=[CSS(string=_font_css(), font_config=fonts, url_fetcher=fetcher)],
-            font_config=fonts, pdf_variant="pdf/a-3b", attachments=files,
-            uncompressed_pdf=False)
+        return laid_out(html, attachments=files).write_pdf(
+            **{**DEFAULT_OPTIONS, **PDF_OPTIONS, "attachments": files})
