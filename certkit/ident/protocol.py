@@ -43,10 +43,11 @@ from certkit.compliance.measures import touchdown_index, touchdown_time
 from certkit.display import with_unit
 from certkit.errors import CertkitInputError
 from certkit.ident.hammerstein import HammersteinLSSVM
-from certkit.ident.lssvm import LSSVMRegressor, kfold_cost, tune
+from certkit.ident.linear_models import ARX
+from certkit.ident.lssvm import tune
 from certkit.ident.narx import NARX
 from certkit.ident.validation import fit_percent, max_abs_error, nrmse, residual_analysis, rmse
-from certkit.ident.wiener import (SmallSignalExperiment, WienerModel, best_linear_records,
+from certkit.ident.wiener import (SmallSignalExperiment, WienerLSSVM, best_linear_records,
                                   physics_plant, small_signal_records)
 from certkit.physics.calibration import calibrate_gear, simulate_like_runs
 from certkit.physics.drops import default_split, drop_heights, recorded_drops
@@ -202,25 +203,9 @@ def _score(name: str, protocol: str, output: str, run: str, measured, simulated)
                  fit_percent(y, y_hat), max_abs_error(y, y_hat), np.asarray(simulated))
 
 
-def _static_map(settings, target: float):
-    """Steps 8-9: LS-SVM regression y = f(z); (γ, σ²) from the spec, or tuned by 4-fold
-    cross-validation on a shuffled (seeded) subsample of the training data: a grid, then a
-    refinement only while the cross-validated RMSE is above ``target`` [mm] (step 9)."""
-    def fit(x: np.ndarray, y: np.ndarray) -> LSSVMRegressor:
-        gamma, sigma2 = settings.gamma, settings.sigma2
-        if gamma is None or sigma2 is None:
-            order = np.random.default_rng(0).permutation(x.shape[0])[:300]
-            scale = float(np.var(x)) or 1.0
-            cost = kfold_cost(lambda g, s: LSSVMRegressor(g, s), x[order], y[order], folds=4)
-            ranges = {"gamma": gamma.si if gamma else (1e0, 1e7),
-                      "sigma2": sigma2.si if sigma2 else (1e-3 * scale, 10 * scale)}
-            result = tune(cost, grid=5, refine=False, **ranges)
-            if np.sqrt(result.cost) > target:
-                start = (result.gamma, result.sigma2)
-                result = tune(cost, grid=5, start=start, max_refine=15, **ranges)
-            return LSSVMRegressor(result.gamma, result.sigma2).fit(x, y)
-        return LSSVMRegressor(gamma.si, sigma2.si).fit(x, y)
-    return fit
+#: The spec's σ² of the Hammerstein map and of the Wiener static map is in the load's unit
+#: squared (kN², BlockModelSpec), so the kernels run on the load as it is (input_scale 1).
+RAW_UNITS = 1.0
 
 
 def _hammerstein(train: list[Drop], output: str, settings) -> HammersteinLSSVM:
@@ -239,7 +224,7 @@ def _hammerstein(train: list[Drop], output: str, settings) -> HammersteinLSSVM:
     def cost(gamma: float, sigma2: float) -> float:
         total = 0.0
         for fit_on, test_on, scored_from in folds:
-            model = HammersteinLSSVM(na, nb, gamma=gamma, sigma2=sigma2)
+            model = HammersteinLSSVM(na, nb, gamma=gamma, sigma2=sigma2, input_scale=RAW_UNITS)
             try:
                 model.fit([d.load for d in fit_on], [d.outputs[output] for d in fit_on])
             except (ValueError, np.linalg.LinAlgError):
@@ -260,7 +245,8 @@ def _hammerstein(train: list[Drop], output: str, settings) -> HammersteinLSSVM:
         gamma_value, sigma2_value = result.gamma, result.sigma2
     else:
         gamma_value, sigma2_value = gamma.si, sigma2.si
-    model = HammersteinLSSVM(na, nb, gamma=gamma_value, sigma2=sigma2_value)
+    model = HammersteinLSSVM(na, nb, gamma=gamma_value, sigma2=sigma2_value,
+                             input_scale=RAW_UNITS)
     return model.fit([d.load for d in train], [d.outputs[output] for d in train])
 
 
@@ -362,7 +348,8 @@ def _identify_hammerstein(result, output, train, held, paper_train, settings, gr
     # Hammerstein: tuned on the training runs only, for both protocols
     tuned = _hammerstein(train, output, settings.hammerstein)
     paper = _refit(HammersteinLSSVM(settings.hammerstein.na, settings.hammerstein.nb,
-                                    gamma=tuned.gamma, sigma2=tuned.sigma2),
+                                    gamma=tuned.gamma, sigma2=tuned.sigma2,
+                                    input_scale=RAW_UNITS),
                    [paper_train], output)
     na = settings.hammerstein.na
     for protocol, model in (("held-out", tuned), ("paper", paper)):
@@ -453,30 +440,34 @@ def _identify_wiener(result, output, routes, train, held, paper_train, settings)
     first = held[0]
     target = settings.nonlinearity_target.si * 1e3
     for name, records in routes.items():
-        wiener = WienerModel(settings.wiener.na, settings.wiener.nb).fit_linear(
+        block = ARX(settings.wiener.na, settings.wiener.nb, fit_intercept=False).fit(
             [f / 1e3 for f in records.force], [r * 1e3 for r in records.responses[output]])
-        result.linear_blocks[(name, output)] = wiener.raw_linear_
-        if not wiener.raw_linear_.stable_:
+        result.linear_blocks[(name, output)] = block
+        if not block.stable_:
             result.notes.append(f"{OUTPUT_LABELS[output]}: the {name} linear block is "
                                 f"unstable; no Wiener model on this route")
             continue
-        if not wiener.raw_linear_.gain_determined:
+        if not block.gain_determined:
             result.notes.append(f"{OUTPUT_LABELS[output]}: the {name} linear block's static "
                                 f"gain is not determined (Σb or 1 − Σa near zero); it is "
                                 f"scaled to unit ‖b‖ instead of unit gain")
-        wiener.fit_nonlinearity([d.load for d in train], [d.outputs[output] for d in train],
-                                _static_map(settings.wiener, target))
+        spec = settings.wiener
+        wiener = WienerLSSVM(gamma=spec.gamma.si if spec.gamma else None,
+                             sigma2=spec.sigma2.si if spec.sigma2 else None,
+                             linear_block=block, input_scale=RAW_UNITS,
+                             tuning={"target": target}).fit(
+            [d.load for d in train], [d.outputs[output] for d in train])
         z_grid = np.linspace(*wiener.z_range_, 200)
-        result.nonlinearities[(name, output)] = (
-            z_grid, wiener.nonlinearity_.predict(z_grid[:, None]))
+        result.nonlinearities[(name, output)] = (z_grid, wiener.nonlinearity(z_grid))
         for test in held:
             result.scores.append(_score(name, "held-out", output, test.run,
                                         test.outputs[output], wiener.simulate(test.load)))
         fitted = wiener.nonlinearity_   # the paper's protocol reuses the tuned (γ, σ²)
-        wiener.fit_nonlinearity([paper_train.load], [paper_train.outputs[output]],
-                                lambda x, y: LSSVMRegressor(fitted.gamma, fitted.sigma2).fit(x, y))
+        paper = WienerLSSVM(gamma=fitted.gamma, sigma2=fitted.sigma2, linear_block=block,
+                            input_scale=RAW_UNITS).fit(paper_train.load,
+                                                       paper_train.outputs[output])
         result.scores.append(_score(name, "paper", output, first.run,
-                                    first.outputs[output], wiener.simulate(first.load)))
+                                    first.outputs[output], paper.simulate(first.load)))
 
 
 def identify(campaign: Campaign, gears: list[str] | None = None) -> Identification:
