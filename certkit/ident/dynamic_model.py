@@ -54,7 +54,6 @@ class DynamicModel(RegressorMixin, BaseEstimator):
     def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
         tags.input_tags.two_d_array = True
-        tags.input_tags.one_d_array = True
         tags.target_tags.single_output = True
         tags.non_deterministic = False
         return tags
@@ -83,6 +82,9 @@ class DynamicModel(RegressorMixin, BaseEstimator):
         -------
         self
         """
+        if y is None:
+            raise DataInputError("y", f"{type(self).__name__} requires y to be passed, but the "
+                                      f"target y is None: expected the measured output")
         pairs, _ = experiments(X, y)
         self._fit(pairs)
         self._feature_check(X, reset=True)
@@ -91,7 +93,7 @@ class DynamicModel(RegressorMixin, BaseEstimator):
     # ------------------------------------------------------------------ use
     def _inputs(self, u):
         check_is_fitted(self)
-        us, single = inputs_only(u, self.n_features_in_)
+        us, single = inputs_only(u, self.n_features_in_, who=type(self).__name__)
         self._feature_check(u, reset=False)
         return us, single
 
@@ -162,7 +164,8 @@ class DynamicModel(RegressorMixin, BaseEstimator):
         if y is None:
             return self.simulate(X)
         check_is_fitted(self)
-        pairs, single = experiments(X, y, n_channels=self.n_features_in_)
+        pairs, single = experiments(X, y, n_channels=self.n_features_in_,
+                                    who=type(self).__name__)
         self._feature_check(X, reset=False)
         out = []
         for k, (ue, ye) in enumerate(pairs):

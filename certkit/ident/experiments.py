@@ -26,9 +26,19 @@ from certkit.errors import DataInputError
 
 
 def _array(name: str, x) -> np.ndarray:
+    if hasattr(x, "tocsr") or hasattr(x, "todense"):
+        raise DataInputError(name, f"expected a dense array, found a sparse "
+                                   f"{type(x).__name__} (sparse input is not supported: "
+                                   f"convert it with .toarray())")
     try:
-        return np.asarray(x, dtype=float)
+        array = np.asarray(x)
+        if np.iscomplexobj(array):
+            raise DataInputError(name, "expected real numbers, found complex data (Complex "
+                                       "data not supported)")
+        return array.astype(float)
     except (TypeError, ValueError) as error:
+        if isinstance(error, DataInputError):
+            raise
         raise DataInputError(name, f"expected numbers (an array, Series, DataFrame or list), "
                                    f"found {type(x).__name__} that is not numeric: "
                                    f"{error}") from None
@@ -57,17 +67,22 @@ def signal(name: str, x, length: int | None = None) -> np.ndarray:
     return _finite(name, x)
 
 
-def channels(name: str, x, n_channels: int | None = None) -> np.ndarray:
+def channels(name: str, x, n_channels: int | None = None, who: str = "the model"
+             ) -> np.ndarray:
     """An input as an (n, n_inputs) float array: 1-D means n samples of one channel."""
     x = _array(name, x)
     if x.ndim == 1:
         x = x[:, None]
-    if x.ndim != 2 or x.shape[0] == 0 or x.shape[1] == 0:
+    if x.ndim == 2 and x.shape[1] == 0:
+        raise DataInputError(name, f"expected at least one input channel, found 0 feature(s) "
+                                   f"(shape={x.shape}) while a minimum of 1 is required.")
+    if x.ndim != 2 or x.shape[0] == 0:
         raise DataInputError(name, f"expected a non-empty input of shape (n_samples,) or "
                                    f"(n_samples, n_inputs), found shape {x.shape}")
     if n_channels is not None and x.shape[1] != n_channels:
-        raise DataInputError(name, f"expected {n_channels} input channel(s) (as in fit), "
-                                   f"found {x.shape[1]}")
+        raise DataInputError(name, f"X has {x.shape[1]} features, but {who} is expecting "
+                                   f"{n_channels} features as input (input channels, as in "
+                                   f"fit)")
     return _finite(name, x)
 
 
@@ -80,7 +95,7 @@ def is_experiment_list(data) -> bool:
 
 
 def experiments(u, y, names: tuple[str, str] = ("u", "y"), same_length: bool = True,
-                n_channels: int | None = None
+                n_channels: int | None = None, who: str = "the model"
                 ) -> tuple[list[tuple[np.ndarray, np.ndarray]], bool]:
     """Inputs and outputs of one experiment or of several -> (list of (input (n, n_inputs),
     output (n,)) pairs, whether it was one).  ``same_length``: each output as long as its
@@ -102,7 +117,7 @@ def experiments(u, y, names: tuple[str, str] = ("u", "y"), same_length: bool = T
     pairs = []
     for k, (ue, ye) in enumerate(zip(us, ys)):
         where = (lambda n: f"{n}[{k}]") if listed_u else (lambda n: n)
-        ue = channels(where(a), ue, n_channels)
+        ue = channels(where(a), ue, n_channels, who)
         n_channels = ue.shape[1]
         ye = signal(where(b), ye)
         if same_length and ue.shape[0] != ye.size:
@@ -113,13 +128,13 @@ def experiments(u, y, names: tuple[str, str] = ("u", "y"), same_length: bool = T
     return pairs, not listed_u
 
 
-def inputs_only(u, n_channels: int | None = None, name: str = "u"
+def inputs_only(u, n_channels: int | None = None, name: str = "u", who: str = "the model"
                 ) -> tuple[list[np.ndarray], bool]:
     """Inputs of one experiment or of several -> (list of (n, n_inputs) arrays, whether it
     was one)."""
     if is_experiment_list(u):
-        return [channels(f"{name}[{k}]", x, n_channels) for k, x in enumerate(u)], False
-    return [channels(name, u, n_channels)], True
+        return [channels(f"{name}[{k}]", x, n_channels, who) for k, x in enumerate(u)], False
+    return [channels(name, u, n_channels, who)], True
 
 
 def order(name: str, value, minimum: int = 0) -> int:

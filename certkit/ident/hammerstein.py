@@ -44,7 +44,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from scipy.linalg import cho_factor, cho_solve, eigh, solve
+from scipy.linalg import LinAlgError, cho_factor, cho_solve, eigh, solve
 from scipy.signal import lfilter, lfiltic
 
 from sklearn.utils.validation import check_is_fitted
@@ -316,7 +316,7 @@ class HammersteinLSSVM(DynamicModel):
             if uk.shape[0] <= lag:
                 raise DataInputError(f"u[{k}]" if len(pairs) > 1 else "u",
                                      f"expected at least max(na, delay + nb - 1) + 1 = "
-                                     f"{lag + 1} samples, found {uk.shape[0]}")
+                                     f"{lag + 1} samples, found {uk.shape[0]} sample(s)")
         u_all = np.vstack([uk for uk, _ in pairs])
         y_all = np.concatenate([yk for _, yk in pairs])
         starts = np.cumsum([0] + [uk.shape[0] for uk, _ in pairs[:-1]])
@@ -430,7 +430,10 @@ class HammersteinLSSVM(DynamicModel):
             rhs += z.T @ y_all[t]
         ridge = np.arange(na, na + nb * m)
         normal[ridge, ridge] += 1.0 / self.gamma
-        solution = solve(normal, rhs, assume_a="pos", check_finite=False)
+        try:
+            solution = solve(normal, rhs, assume_a="pos", check_finite=False)
+        except LinAlgError:     # a or d not determined by the data (e.g. a constant input)
+            solution = np.linalg.lstsq(normal, rhs, rcond=None)[0]
         a, d = solution[:na], float(solution[-1])
         w = solution[na:na + nb * m].reshape(nb, m).T             # (m, nb): w_j in columns
         eigenvalues, vectors = eigh(w.T @ gram @ w)              # G G' = W' Psi'Psi W

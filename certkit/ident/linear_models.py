@@ -111,7 +111,7 @@ class ARX(DynamicModel):
             if y.size <= start:
                 raise DataInputError(f"y[{k}]" if len(pairs) > 1 else "y",
                                      f"expected more than {start} samples for these orders, "
-                                     f"found {y.size}")
+                                     f"found {y.size} sample(s)")
             t = np.arange(start, y.size)
             rows.append(self._regressors(u, y, t))
             targets.append(y[t])

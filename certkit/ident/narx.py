@@ -45,7 +45,7 @@ def narx_regressors(u, y, na: int, nb=2, delay=1) -> tuple[np.ndarray, np.ndarra
         if ye.size <= start:
             raise DataInputError(f"y[{k}]" if len(pairs) > 1 else "y",
                                  f"expected at least {start + 1} samples for these lags, "
-                                 f"found {ye.size}")
+                                 f"found {ye.size} sample(s)")
         t = np.arange(start, ye.size)
         columns = [lagged(ye, t, range(1, na + 1))]
         columns += [ue[t - lag, c][:, None] for c, lag in input_lags(nb, delay)]

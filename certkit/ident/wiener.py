@@ -29,7 +29,6 @@ from certkit.ident.dynamic_model import DynamicModel
 from certkit.ident.experiments import DataInputError, positive_number
 from certkit.ident.linear_models import ARX
 from certkit.ident.lssvm import LSSVMRegressor, kfold_cost, tune
-from certkit.physics.simulation import simulate_driven
 from certkit.units import STANDARD_GRAVITY
 
 Plant = Callable[[np.ndarray], dict]
@@ -316,6 +315,8 @@ def physics_plant(model, samples: int, sample_rate: float, outputs=("stroke", "t
 
     The applied force is the unit's weight less lift plus the excitation; the outputs are
     the departures of stroke and tyre deflection from their resting values."""
+
+    from certkit.physics.simulation import simulate_driven   # the physics only when asked
 
     time = np.arange(samples) / sample_rate
     weight = model.total_mass * STANDARD_GRAVITY - model.lift
