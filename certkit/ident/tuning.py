@@ -133,7 +133,8 @@ def default_ranges(estimator, n_inputs: int) -> dict:
     NARX: γ ∈ [1e-1, 1e7], σ² ∈ [0.01, 1000]·(na + Σnb) in standardised regressor units
     (lagged samples of an oversampled signal are strongly correlated, so the useful σ² can
     be far above the dimension).  Hammerstein: γ ∈ [1e-1, 1e7], σ² ∈ [1e-2, 1e2]·n_inputs
-    (standardised inputs).  Wiener: γ ∈ [1, 1e7], σ² ∈ [1e-3, 10] (standardised z).  ARX:
+    (standardised inputs).  Wiener: γ ∈ [1, 1e7], σ² ∈ [1e-3, 1e3] (standardised z: a smooth map needs
+    σ² of several variances of z).  ARX:
     none (orders only)."""
     if isinstance(estimator, NARX):
         nb = estimator.nb if np.ndim(estimator.nb) else [estimator.nb] * n_inputs
@@ -142,7 +143,7 @@ def default_ranges(estimator, n_inputs: int) -> dict:
     if isinstance(estimator, HammersteinLSSVM):
         return {"gamma": (1e-1, 1e7), "sigma2": (1e-2 * n_inputs, 1e2 * n_inputs)}
     if isinstance(estimator, WienerLSSVM):
-        return {"gamma": (1e0, 1e7), "sigma2": (1e-3, 1e1)}
+        return {"gamma": (1e0, 1e7), "sigma2": (1e-3, 1e3)}
     return {}
 
 
