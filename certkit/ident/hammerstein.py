@@ -162,7 +162,8 @@ class HammersteinLSSVM(DynamicModel):
     Notes
     -----
     Over-parametrised model, rows ``t`` in ``T`` (per experiment ``t = r .. N_e - 1`` with
-    ``r = max(na, k + nb - 1)`` (written here for ``k = 0``), zero-based, so no lag leaves its experiment)::
+    ``r = max(na, k + nb - 1)`` (written here for ``k = 0``), zero-based, so no lag leaves
+    its experiment)::
 
         y_t = sum_i a_i y_{t-i} + sum_j w_j' phi(u_{t-j}) + d + e_t              (M)
 
@@ -486,7 +487,8 @@ class HammersteinLSSVM(DynamicModel):
         return (self._kernel_to_centres(arr) @ self._weights).T
 
     def _forcing(self, u: np.ndarray) -> np.ndarray:
-        """``sum_j b_j f(u_{t-k-j}) + d`` for every t >= k + nb - 1 (earlier entries meaningless)."""
+        """``sum_j b_j f(u_{t-k-j}) + d`` for every t >= k + nb - 1 (earlier entries
+        meaningless)."""
         f = self._kernel_to_centres(u) @ self._theta
         lagged_b = np.concatenate([np.zeros(self.delay), self.b_])
         return np.convolve(f, lagged_b)[:u.shape[0]] + self.d_

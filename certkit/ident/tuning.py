@@ -133,9 +133,8 @@ def default_ranges(estimator, n_inputs: int) -> dict:
     NARX: γ ∈ [1e-1, 1e7], σ² ∈ [0.01, 1000]·(na + Σnb) in standardised regressor units
     (lagged samples of an oversampled signal are strongly correlated, so the useful σ² can
     be far above the dimension).  Hammerstein: γ ∈ [1e-1, 1e7], σ² ∈ [1e-2, 1e2]·n_inputs
-    (standardised inputs).  Wiener: γ ∈ [1, 1e7], σ² ∈ [1e-3, 1e3] (standardised z: a smooth map needs
-    σ² of several variances of z).  ARX:
-    none (orders only)."""
+    (standardised inputs).  Wiener: γ ∈ [1, 1e7], σ² ∈ [1e-3, 1e3] (standardised z: a
+    smooth map needs σ² of several variances of z).  ARX: none (orders only)."""
     if isinstance(estimator, NARX):
         nb = estimator.nb if np.ndim(estimator.nb) else [estimator.nb] * n_inputs
         d = estimator.na + int(np.sum(nb))
@@ -214,7 +213,7 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
             raise DataInputError("orders", f"expected parameters of {type(estimator).__name__}"
                                            f", found {name!r}")
     names = list(orders)
-    hyper = "gamma" in estimator.get_params() and not isinstance(estimator, type(None))
+    hyper = "gamma" in estimator.get_params()
     rows: list[dict] = []
     for combination in itertools.product(*(orders[n] for n in names)):
         chosen = dict(zip(names, combination))
