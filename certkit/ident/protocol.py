@@ -203,8 +203,10 @@ def _score(name: str, protocol: str, output: str, run: str, measured, simulated)
                  fit_percent(y, y_hat), max_abs_error(y, y_hat), np.asarray(simulated))
 
 
-#: The spec's σ² of the Hammerstein map and of the Wiener static map is in the load's unit
-#: squared (kN², BlockModelSpec), so the kernels run on the load as it is (input_scale 1).
+#: The spec's σ² of the Hammerstein map and of the Wiener static map (BlockModelSpec) has
+#: always been in the load's unit squared (kN²; the NARX's in standardised units), so those
+#: kernels run on the load as it is (input_scale 1), not on the estimators' default
+#: standardised input: the report's numbers and the spec's meaning stay as they were.
 RAW_UNITS = 1.0
 
 
