@@ -263,6 +263,21 @@ def test_wiener_from_recorded_data_in_one_call():
         model.predict(held, wiener_record(held))
 
 
+def test_wiener_with_two_input_channels_adds_them_in_one_linear_block():
+    # z = G₁(q)u₁ + G₂(q)u₂ with one denominator (poles 0.6 ± 0.374i, |p| = √0.5), y = tanh(z/2)
+    def record(u):
+        return np.tanh(0.5 * (lfilter([0.3, 0.2], [1.0, -1.2, 0.5], u[:, 0])
+                              + lfilter([0.0, 0.4], [1.0, -1.2, 0.5], u[:, 1])))
+
+    rng = np.random.default_rng(20)
+    u, held = rng.standard_normal((800, 2)), rng.standard_normal((400, 2))
+    model = WienerLSSVM(na=2, nb=2).fit(u, record(u))
+    assert np.abs(model.linear_.poles_) == pytest.approx([math.sqrt(0.5)] * 2, rel=0.05)
+    linear_only = ARX(2, 2).fit(u, record(u)).predict(held)
+    free_run = nrmse(record(held), model.predict(held))
+    assert free_run < 0.05 and free_run < 0.5 * nrmse(record(held), linear_only)
+
+
 def test_wiener_simulation_from_initial_outputs_beats_rest_on_a_record_in_motion():
     rng = np.random.default_rng(12)
     u = rng.standard_normal(1200)
