@@ -37,6 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.interpolate import CubicSpline
 from scipy.signal import butter, sosfiltfilt
+from sklearn.base import clone
 from threadpoolctl import threadpool_limits
 
 from certkit.compliance.measures import touchdown_index, touchdown_time
@@ -44,8 +45,8 @@ from certkit.display import with_unit
 from certkit.errors import CertkitInputError
 from certkit.ident.hammerstein import HammersteinLSSVM
 from certkit.ident.linear_models import ARX
-from certkit.ident.lssvm import tune
 from certkit.ident.narx import NARX
+from certkit.ident.tuning import tune_free_run
 from certkit.ident.validation import fit_percent, max_abs_error, nrmse, residual_analysis, rmse
 from certkit.ident.wiener import (SmallSignalExperiment, WienerLSSVM, best_linear_records,
                                   physics_plant, small_signal_records)
@@ -210,46 +211,47 @@ def _score(name: str, protocol: str, output: str, run: str, measured, simulated)
 RAW_UNITS = 1.0
 
 
-def _hammerstein(train: list[Drop], output: str, settings) -> HammersteinLSSVM:
-    """Hammerstein LS-SVM; (γ, σ²) from the spec, or tuned on free-run error: each training
-    run simulated by a model fitted on the others, or with one training run, its second
-    half simulated by a model fitted on its first half."""
-    na, nb = settings.na, settings.nb
-    if len(train) > 1:
-        folds = [([d for d in train if d is not held], held, 0) for held in train]
+def _drop_by_drop_cost(estimator, drops) -> float:
+    """The protocol's tuning cost of a Hammerstein model (a ``cost`` of
+    :func:`certkit.ident.tune_free_run`): the sum of the free-run NRMSEs of each training
+    drop simulated by the model fitted on the others; with one training drop, of its second
+    half simulated by the model fitted on its first half.  An unstable AR part is no
+    candidate (+inf)."""
+    if len(drops) > 1:
+        folds = [([d for d in drops if d is not held], held, 0) for held in drops]
     else:
-        half = train[0].load.size // 2
-        first = Drop(train[0].run, train[0].load[:half], {output: train[0].outputs[output][:half]},
-                     train[0].time[:half])
-        folds = [([first], train[0], half)]
+        (u, y), = drops
+        half = y.size // 2
+        folds = [([(u[:half], y[:half])], drops[0], half)]
+    total = 0.0
+    for fit_on, (u, y), scored_from in folds:
+        model = clone(estimator)
+        try:
+            model.fit([d[0] for d in fit_on], [d[1] for d in fit_on])
+        except (ValueError, np.linalg.LinAlgError):
+            return float("inf")
+        if not model.stable_:
+            return float("inf")
+        simulated = model.simulate(u, y[:model.na])
+        if not np.all(np.isfinite(simulated)):
+            return float("inf")
+        total += nrmse(y[scored_from:], simulated[scored_from:])
+    return total
 
-    def cost(gamma: float, sigma2: float) -> float:
-        total = 0.0
-        for fit_on, test_on, scored_from in folds:
-            model = HammersteinLSSVM(na, nb, gamma=gamma, sigma2=sigma2, input_scale=RAW_UNITS)
-            try:
-                model.fit([d.load for d in fit_on], [d.outputs[output] for d in fit_on])
-            except (ValueError, np.linalg.LinAlgError):
-                return float("inf")
-            if not model.stable_:
-                return float("inf")   # an unstable AR part is no candidate
-            y = test_on.outputs[output]
-            simulated = model.simulate(test_on.load, y[:na])
-            if not np.all(np.isfinite(simulated)):
-                return float("inf")
-            total += nrmse(y[scored_from:], simulated[scored_from:])
-        return total
 
+def _hammerstein(train: list[Drop], output: str, settings) -> HammersteinLSSVM:
+    """Hammerstein LS-SVM; (γ, σ²) from the spec, or tuned on free-run error
+    (:func:`_drop_by_drop_cost`, a 3 x 3 grid and 6 refinement steps)."""
+    loads, outputs = [d.load for d in train], [d.outputs[output] for d in train]
+    estimator = HammersteinLSSVM(settings.na, settings.nb, input_scale=RAW_UNITS)
     gamma, sigma2 = settings.gamma, settings.sigma2
     if gamma is None or sigma2 is None:
-        result = tune(cost, gamma=gamma.si if gamma else (1e1, 1e6),
-                      sigma2=sigma2.si if sigma2 else (1e-1, 1e3), grid=3, max_refine=6)
-        gamma_value, sigma2_value = result.gamma, result.sigma2
-    else:
-        gamma_value, sigma2_value = gamma.si, sigma2.si
-    model = HammersteinLSSVM(na, nb, gamma=gamma_value, sigma2=sigma2_value,
-                             input_scale=RAW_UNITS)
-    return model.fit([d.load for d in train], [d.outputs[output] for d in train])
+        model, _ = tune_free_run(estimator, loads, outputs, cost=_drop_by_drop_cost,
+                                 gamma=gamma.si if gamma else (1e1, 1e6),
+                                 sigma2=sigma2.si if sigma2 else (1e-1, 1e3), grid=3,
+                                 max_refine=6)
+        return model
+    return estimator.set_params(gamma=gamma.si, sigma2=sigma2.si).fit(loads, outputs)
 
 
 def _refit(model, train: list[Drop], output: str):
