@@ -62,6 +62,15 @@ class CertkitInputError(Exception):
         return cls([Problem(str(file), line, key, message)])
 
 
+class DataInputError(CertkitInputError, ValueError):
+    """Bad data or settings given to a library function from code (a notebook's arrays, an
+    estimator's hyper-parameters), not read from a file: names the argument, says what was
+    expected and what was found.  A ValueError too, as scikit-learn's conventions expect."""
+
+    def __init__(self, name: str, message: str):
+        super().__init__([Problem("argument", None, name, message)])
+
+
 class CampaignError(Exception):
     """What a valid campaign can still cause and its user can act on, though no key is wrong:
     a drop model that cannot be simulated, residuals that cannot be evaluated, a blind check

@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 
+from certkit.errors import DataInputError
 from certkit.ident.hammerstein import HammersteinLSSVM, ar_poles, is_stable
 
 A_TRUE = np.array([1.2, -0.5])        # poles 0.6 ± 0.374i, |p| = sqrt(0.5)
@@ -119,7 +120,7 @@ def hammerstein_fit(hammerstein_data):
 
 def test_dual_solution_satisfies_the_kkt_system(two_short_experiments):
     na, nb, gamma, sigma2 = 2, 3, 50.0, 0.7
-    model = HammersteinLSSVM(na=na, nb=nb, gamma=gamma, sigma2=sigma2)
+    model = HammersteinLSSVM(na=na, nb=nb, gamma=gamma, sigma2=sigma2, input_scale=1.0)
     model.fit([e[0] for e in two_short_experiments], [e[1] for e in two_short_experiments])
     m, rhs = kkt_system(two_short_experiments, na, nb, gamma, sigma2)
     assert np.allclose(m, m.T)
@@ -133,8 +134,9 @@ def test_experiments_are_not_mixed(two_short_experiments):
     na, nb, gamma, sigma2 = 2, 3, 50.0, 0.7
     us = [e[0] for e in two_short_experiments]
     ys = [e[1] for e in two_short_experiments]
-    separate = HammersteinLSSVM(na=na, nb=nb, gamma=gamma, sigma2=sigma2).fit(us, ys)
-    joined = HammersteinLSSVM(na=na, nb=nb, gamma=gamma, sigma2=sigma2).fit(
+    separate = HammersteinLSSVM(na=na, nb=nb, gamma=gamma, sigma2=sigma2,
+                                input_scale=1.0).fit(us, ys)
+    joined = HammersteinLSSVM(na=na, nb=nb, gamma=gamma, sigma2=sigma2, input_scale=1.0).fit(
         np.concatenate(us), np.concatenate(ys))
     # rows by hand (no lag crosses the boundary): the separate fit is exactly that system
     m, rhs = kkt_system(two_short_experiments, na, nb, gamma, sigma2)
@@ -216,19 +218,19 @@ def test_unstable_system_is_flagged():
 
 
 @pytest.mark.parametrize("u, y, message", [
-    (np.zeros(20), np.zeros(19), "different lengths"),
-    (np.zeros((20, 1)), np.zeros((20, 1)), "1-D"),
+    (np.zeros(20), np.zeros(19), "same number of samples, found 20 and 19"),
+    (np.zeros((20, 1, 1)), np.zeros(20), r"\(n_samples, n_inputs\), found shape \(20, 1, 1\)"),
     (np.r_[np.zeros(19), np.nan], np.zeros(20), "NaN"),
-    ([np.zeros(20), np.zeros(3)], [np.zeros(20), np.zeros(3)], "experiment 1 has 3 samples"),
-    ([np.zeros(20)], np.zeros(20), "both as arrays"),
+    ([np.zeros(20), np.zeros(3)], [np.zeros(20), np.zeros(3)], r"u\[1\]: expected at least"),
+    ([np.zeros(20)], np.zeros(20), "both as one experiment"),
 ])
 def test_bad_data_raise(u, y, message):
-    with pytest.raises(ValueError, match=message):
+    with pytest.raises(DataInputError, match=message):
         HammersteinLSSVM(na=3, nb=2).fit(u, y)
 
 
 @pytest.mark.parametrize("kwargs, message", [
-    ({"na": -1}, "na >= 0"),
+    ({"na": -1}, "na: expected an integer >= 0"),
     ({"nb": 2.0}, "integer"),
     ({"gamma": 0.0}, "gamma"),
     ({"sigma2": np.inf}, "sigma2"),

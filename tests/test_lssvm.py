@@ -92,13 +92,13 @@ def test_lssvm_with_bias_is_kernel_ridge_on_y_minus_b(regression_data):
 
 
 @pytest.mark.parametrize("kwargs, X, y, message", [
-    ({}, np.zeros((5, 2)), np.zeros(4), "y has 4 samples"),
+    ({}, np.zeros((5, 2)), np.zeros(4), "expected 5 samples, found 4"),
     ({}, np.zeros((0, 2)), np.zeros(0), "non-empty"),
     ({}, np.zeros((2, 2, 2)), np.zeros(2), "n_samples, n_features"),
     ({}, np.array([[0.0], [np.nan]]), np.zeros(2), "NaN"),
     ({}, np.zeros((2, 1)), np.array([0.0, np.inf]), "NaN or infinite"),
-    ({"gamma": 0.0}, np.zeros((2, 1)), np.zeros(2), "gamma must be a positive"),
-    ({"sigma2": -1.0}, np.zeros((2, 1)), np.zeros(2), "sigma2 must be a positive"),
+    ({"gamma": 0.0}, np.zeros((2, 1)), np.zeros(2), "gamma: expected a positive"),
+    ({"sigma2": -1.0}, np.zeros((2, 1)), np.zeros(2), "sigma2: expected a positive"),
 ])
 @pytest.mark.parametrize("estimator", [LSSVMRegressor, FixedSizeLSSVM])
 def test_bad_data_and_hyper_parameters_are_refused(estimator, kwargs, X, y, message):
@@ -264,9 +264,9 @@ def test_fixed_size_narx_and_lists_of_experiments(experiments):
 def test_narx_refuses_short_windows_and_mismatched_experiments(experiments):
     us, ys = experiments
     model = NARX(3, 2, 1, gamma=10.0, sigma2=1.0).fit(us[0], ys[0])
-    with pytest.raises(ValueError, match="at least 3"):
+    with pytest.raises(ValueError, match="between init_length = 3 and"):
         model.simulate(us[1], ys[1][:2])
-    with pytest.raises(ValueError, match="2 experiments"):
+    with pytest.raises(ValueError, match="found 2 and 1"):
         NARX(2, 2).fit(us[:2], ys[:1] + [])
     with pytest.raises(ValueError, match="engine"):
         NARX(engine="sparse").fit(us[0], ys[0])

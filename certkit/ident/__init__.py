@@ -1,2 +1,23 @@
 """System identification: LS-SVM, Hammerstein, Wiener and linear (ARX) engines that need no
-campaign, and the drop protocol that applies them to a campaign's gear units."""
+campaign, and the drop protocol that applies them to a campaign's gear units.
+
+The estimators follow scikit-learn (``fit(u, y)``, ``get_params``, ``clone``); see
+:mod:`certkit.ident.dynamic_model` for what ``predict`` and ``simulate`` mean on time series
+and :mod:`certkit.ident.experiments` for the data they accept.
+
+>>> from certkit.ident import ARX, NARX, HammersteinLSSVM, WienerLSSVM, tune_free_run
+"""
+
+from certkit.ident.dynamic_model import DynamicModel
+from certkit.ident.fixed_size import FixedSizeLSSVM
+from certkit.ident.hammerstein import HammersteinLSSVM
+from certkit.ident.linear_models import ARX
+from certkit.ident.lssvm import LSSVMRegressor, TuningResult, tune
+from certkit.ident.narx import NARX
+from certkit.ident.tuning import CostSurface, FreeRunCV, tune_free_run
+from certkit.ident.validation import fit_percent, nrmse, residual_analysis, rmse
+from certkit.ident.wiener import WienerLSSVM
+
+__all__ = ["ARX", "NARX", "HammersteinLSSVM", "WienerLSSVM", "DynamicModel",
+           "LSSVMRegressor", "FixedSizeLSSVM", "tune_free_run", "FreeRunCV", "CostSurface",
+           "tune", "TuningResult", "rmse", "nrmse", "fit_percent", "residual_analysis"]

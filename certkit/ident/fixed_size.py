@@ -10,9 +10,8 @@ from __future__ import annotations
 import numpy as np
 from scipy import linalg
 
-from certkit.ident.experiments import signal
-from certkit.ident.lssvm import (CHUNK_ENTRIES, KernelModel, feature_matrix, positive_number,
-                                 rbf_kernel)
+from certkit.ident.experiments import positive_number, signal
+from certkit.ident.lssvm import CHUNK_ENTRIES, KernelModel, feature_matrix, rbf_kernel
 
 
 # ------------------------------------------------------------------ fixed-size LS-SVM
@@ -106,6 +105,26 @@ def select_prototypes(X, size: int, sigma2: float, *, n_swaps: int | None = None
             points[i] = x
             sq_norms[i] = x @ x
     return chosen
+
+
+
+def nystrom_map(centres: np.ndarray, sigma2: float, eigen_tolerance: float = 1e-10
+                ) -> np.ndarray:
+    """The matrix Λ^(−1/2)U (retained columns) that maps k_M(x) to the Nyström features.
+
+    With K_MM = UΛUᵀ the prototype kernel matrix, φ̂(x) = Λ^(−1/2)Uᵀk_M(x) so that
+    φ̂(x)ᵀφ̂(z) = k_M(x)ᵀK_MM⁻¹k_M(z) ≈ K(x, z), exact on the prototypes (Williams & Seeger
+    2001; Suykens et al. 2002, §6.5).  Eigenvalues below ``eigen_tolerance·λ_max`` are
+    dropped (the map is numerically undefined there).
+
+    Returns
+    -------
+    numpy.ndarray, shape (M, m)
+        ``k_M(x) @ result`` is φ̂(x) (m ≤ M features).
+    """
+    eigenvalues, vectors = linalg.eigh(rbf_kernel(centres, centres, sigma2))
+    keep = eigenvalues > eigen_tolerance * eigenvalues[-1]
+    return vectors[:, keep] / np.sqrt(eigenvalues[keep])
 
 
 
@@ -207,9 +226,7 @@ class FixedSizeLSSVM(KernelModel):
                 raise ValueError(f"prototypes have {centres.shape[1]} features, X has "
                                  f"{X.shape[1]}")
             self.prototype_indices_ = None
-        eigenvalues, vectors = linalg.eigh(rbf_kernel(centres, centres, sigma2))
-        keep = eigenvalues > self.eigen_tolerance * eigenvalues[-1]
-        projection = vectors[:, keep] / np.sqrt(eigenvalues[keep])   # k_M(x) → φ̂(x)
+        projection = nystrom_map(centres, sigma2, self.eigen_tolerance)   # k_M(x) → φ̂(x)
         m = projection.shape[1]
         normal = np.zeros((m + 1, m + 1))
         rhs = np.zeros(m + 1)

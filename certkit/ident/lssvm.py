@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import linalg, optimize
 
-from certkit.ident.experiments import signal
+from certkit.ident.experiments import DataInputError, positive_number, signal
 
 CHUNK_ENTRIES = 4_000_000      # kernel entries evaluated at once (≈ 32 MB) in predictions
 
@@ -41,27 +41,16 @@ def rbf_kernel(x: np.ndarray, z: np.ndarray, sigma2: float) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------- checks
-def positive_number(name: str, value) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a positive number, got {value!r}") from None
-    if not (math.isfinite(value) and value > 0.0):
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
-    return value
-
-
-
 def feature_matrix(name: str, x) -> np.ndarray:
     """Inputs as an (n, d) float array: 1-D means n samples of one feature."""
     x = np.asarray(x, dtype=float)
     if x.ndim == 1:
         x = x[:, None]
     if x.ndim != 2 or x.shape[0] == 0 or x.shape[1] == 0:
-        raise ValueError(f"{name} must be a non-empty (n_samples, n_features) array, "
-                         f"got shape {x.shape}")
+        raise DataInputError(name, f"expected a non-empty (n_samples, n_features) array, "
+                                   f"found shape {x.shape}")
     if not np.all(np.isfinite(x)):
-        raise ValueError(f"{name} contains NaN or infinite values")
+        raise DataInputError(name, "expected finite values, found NaN or infinite values")
     return x
 
 

@@ -37,16 +37,18 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.interpolate import CubicSpline
 from scipy.signal import butter, sosfiltfilt
+from sklearn.base import clone
 from threadpoolctl import threadpool_limits
 
 from certkit.compliance.measures import touchdown_index, touchdown_time
 from certkit.display import with_unit
 from certkit.errors import CertkitInputError
 from certkit.ident.hammerstein import HammersteinLSSVM
-from certkit.ident.lssvm import LSSVMRegressor, kfold_cost, tune
+from certkit.ident.linear_models import ARX
 from certkit.ident.narx import NARX
+from certkit.ident.tuning import tune_free_run
 from certkit.ident.validation import fit_percent, max_abs_error, nrmse, residual_analysis, rmse
-from certkit.ident.wiener import (SmallSignalExperiment, WienerModel, best_linear_records,
+from certkit.ident.wiener import (SmallSignalExperiment, WienerLSSVM, best_linear_records,
                                   physics_plant, small_signal_records)
 from certkit.physics.calibration import calibrate_gear, simulate_like_runs
 from certkit.physics.drops import default_split, drop_heights, recorded_drops
@@ -202,66 +204,54 @@ def _score(name: str, protocol: str, output: str, run: str, measured, simulated)
                  fit_percent(y, y_hat), max_abs_error(y, y_hat), np.asarray(simulated))
 
 
-def _static_map(settings, target: float):
-    """Steps 8-9: LS-SVM regression y = f(z); (γ, σ²) from the spec, or tuned by 4-fold
-    cross-validation on a shuffled (seeded) subsample of the training data: a grid, then a
-    refinement only while the cross-validated RMSE is above ``target`` [mm] (step 9)."""
-    def fit(x: np.ndarray, y: np.ndarray) -> LSSVMRegressor:
-        gamma, sigma2 = settings.gamma, settings.sigma2
-        if gamma is None or sigma2 is None:
-            order = np.random.default_rng(0).permutation(x.shape[0])[:300]
-            scale = float(np.var(x)) or 1.0
-            cost = kfold_cost(lambda g, s: LSSVMRegressor(g, s), x[order], y[order], folds=4)
-            ranges = {"gamma": gamma.si if gamma else (1e0, 1e7),
-                      "sigma2": sigma2.si if sigma2 else (1e-3 * scale, 10 * scale)}
-            result = tune(cost, grid=5, refine=False, **ranges)
-            if np.sqrt(result.cost) > target:
-                start = (result.gamma, result.sigma2)
-                result = tune(cost, grid=5, start=start, max_refine=15, **ranges)
-            return LSSVMRegressor(result.gamma, result.sigma2).fit(x, y)
-        return LSSVMRegressor(gamma.si, sigma2.si).fit(x, y)
-    return fit
+#: The spec's σ² of the Hammerstein map and of the Wiener static map (BlockModelSpec) has
+#: always been in the load's unit squared (kN²; the NARX's in standardised units), so those
+#: kernels run on the load as it is (input_scale 1), not on the estimators' default
+#: standardised input: the report's numbers and the spec's meaning stay as they were.
+RAW_UNITS = 1.0
+
+
+def _drop_by_drop_cost(estimator, drops) -> float:
+    """The protocol's tuning cost of a Hammerstein model (a ``cost`` of
+    :func:`certkit.ident.tune_free_run`): the sum of the free-run NRMSEs of each training
+    drop simulated by the model fitted on the others; with one training drop, of its second
+    half simulated by the model fitted on its first half.  An unstable AR part is no
+    candidate (+inf)."""
+    if len(drops) > 1:
+        folds = [([d for d in drops if d is not held], held, 0) for held in drops]
+    else:
+        (u, y), = drops
+        half = y.size // 2
+        folds = [([(u[:half], y[:half])], drops[0], half)]
+    total = 0.0
+    for fit_on, (u, y), scored_from in folds:
+        model = clone(estimator)
+        try:
+            model.fit([d[0] for d in fit_on], [d[1] for d in fit_on])
+        except (ValueError, np.linalg.LinAlgError):
+            return float("inf")
+        if not model.stable_:
+            return float("inf")
+        simulated = model.simulate(u, y[:model.na])
+        if not np.all(np.isfinite(simulated)):
+            return float("inf")
+        total += nrmse(y[scored_from:], simulated[scored_from:])
+    return total
 
 
 def _hammerstein(train: list[Drop], output: str, settings) -> HammersteinLSSVM:
-    """Hammerstein LS-SVM; (γ, σ²) from the spec, or tuned on free-run error: each training
-    run simulated by a model fitted on the others, or with one training run, its second
-    half simulated by a model fitted on its first half."""
-    na, nb = settings.na, settings.nb
-    if len(train) > 1:
-        folds = [([d for d in train if d is not held], held, 0) for held in train]
-    else:
-        half = train[0].load.size // 2
-        first = Drop(train[0].run, train[0].load[:half], {output: train[0].outputs[output][:half]},
-                     train[0].time[:half])
-        folds = [([first], train[0], half)]
-
-    def cost(gamma: float, sigma2: float) -> float:
-        total = 0.0
-        for fit_on, test_on, scored_from in folds:
-            model = HammersteinLSSVM(na, nb, gamma=gamma, sigma2=sigma2)
-            try:
-                model.fit([d.load for d in fit_on], [d.outputs[output] for d in fit_on])
-            except (ValueError, np.linalg.LinAlgError):
-                return float("inf")
-            if not model.stable_:
-                return float("inf")   # an unstable AR part is no candidate
-            y = test_on.outputs[output]
-            simulated = model.simulate(test_on.load, y[:na])
-            if not np.all(np.isfinite(simulated)):
-                return float("inf")
-            total += nrmse(y[scored_from:], simulated[scored_from:])
-        return total
-
+    """Hammerstein LS-SVM; (γ, σ²) from the spec, or tuned on free-run error
+    (:func:`_drop_by_drop_cost`, a 3 x 3 grid and 6 refinement steps)."""
+    loads, outputs = [d.load for d in train], [d.outputs[output] for d in train]
+    estimator = HammersteinLSSVM(settings.na, settings.nb, input_scale=RAW_UNITS)
     gamma, sigma2 = settings.gamma, settings.sigma2
     if gamma is None or sigma2 is None:
-        result = tune(cost, gamma=gamma.si if gamma else (1e1, 1e6),
-                      sigma2=sigma2.si if sigma2 else (1e-1, 1e3), grid=3, max_refine=6)
-        gamma_value, sigma2_value = result.gamma, result.sigma2
-    else:
-        gamma_value, sigma2_value = gamma.si, sigma2.si
-    model = HammersteinLSSVM(na, nb, gamma=gamma_value, sigma2=sigma2_value)
-    return model.fit([d.load for d in train], [d.outputs[output] for d in train])
+        model, _ = tune_free_run(estimator, loads, outputs, cost=_drop_by_drop_cost,
+                                 gamma=gamma.si if gamma else (1e1, 1e6),
+                                 sigma2=sigma2.si if sigma2 else (1e-1, 1e3), grid=3,
+                                 max_refine=6)
+        return model
+    return estimator.set_params(gamma=gamma.si, sigma2=sigma2.si).fit(loads, outputs)
 
 
 def _refit(model, train: list[Drop], output: str):
@@ -362,7 +352,8 @@ def _identify_hammerstein(result, output, train, held, paper_train, settings, gr
     # Hammerstein: tuned on the training runs only, for both protocols
     tuned = _hammerstein(train, output, settings.hammerstein)
     paper = _refit(HammersteinLSSVM(settings.hammerstein.na, settings.hammerstein.nb,
-                                    gamma=tuned.gamma, sigma2=tuned.sigma2),
+                                    gamma=tuned.gamma, sigma2=tuned.sigma2,
+                                    input_scale=RAW_UNITS),
                    [paper_train], output)
     na = settings.hammerstein.na
     for protocol, model in (("held-out", tuned), ("paper", paper)):
@@ -453,30 +444,34 @@ def _identify_wiener(result, output, routes, train, held, paper_train, settings)
     first = held[0]
     target = settings.nonlinearity_target.si * 1e3
     for name, records in routes.items():
-        wiener = WienerModel(settings.wiener.na, settings.wiener.nb).fit_linear(
+        block = ARX(settings.wiener.na, settings.wiener.nb, fit_intercept=False).fit(
             [f / 1e3 for f in records.force], [r * 1e3 for r in records.responses[output]])
-        result.linear_blocks[(name, output)] = wiener.raw_linear_
-        if not wiener.raw_linear_.stable_:
+        result.linear_blocks[(name, output)] = block
+        if not block.stable_:
             result.notes.append(f"{OUTPUT_LABELS[output]}: the {name} linear block is "
                                 f"unstable; no Wiener model on this route")
             continue
-        if not wiener.raw_linear_.gain_determined:
+        if not block.gain_determined:
             result.notes.append(f"{OUTPUT_LABELS[output]}: the {name} linear block's static "
                                 f"gain is not determined (Σb or 1 − Σa near zero); it is "
                                 f"scaled to unit ‖b‖ instead of unit gain")
-        wiener.fit_nonlinearity([d.load for d in train], [d.outputs[output] for d in train],
-                                _static_map(settings.wiener, target))
+        spec = settings.wiener
+        wiener = WienerLSSVM(gamma=spec.gamma.si if spec.gamma else None,
+                             sigma2=spec.sigma2.si if spec.sigma2 else None,
+                             linear_block=block, input_scale=RAW_UNITS,
+                             tuning={"target": target}).fit(
+            [d.load for d in train], [d.outputs[output] for d in train])
         z_grid = np.linspace(*wiener.z_range_, 200)
-        result.nonlinearities[(name, output)] = (
-            z_grid, wiener.nonlinearity_.predict(z_grid[:, None]))
+        result.nonlinearities[(name, output)] = (z_grid, wiener.nonlinearity(z_grid))
         for test in held:
             result.scores.append(_score(name, "held-out", output, test.run,
                                         test.outputs[output], wiener.simulate(test.load)))
         fitted = wiener.nonlinearity_   # the paper's protocol reuses the tuned (γ, σ²)
-        wiener.fit_nonlinearity([paper_train.load], [paper_train.outputs[output]],
-                                lambda x, y: LSSVMRegressor(fitted.gamma, fitted.sigma2).fit(x, y))
+        paper = WienerLSSVM(gamma=fitted.gamma, sigma2=fitted.sigma2, linear_block=block,
+                            input_scale=RAW_UNITS).fit(paper_train.load,
+                                                       paper_train.outputs[output])
         result.scores.append(_score(name, "paper", output, first.run,
-                                    first.outputs[output], wiener.simulate(first.load)))
+                                    first.outputs[output], paper.simulate(first.load)))
 
 
 def identify(campaign: Campaign, gears: list[str] | None = None) -> Identification:

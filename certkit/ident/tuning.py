@@ -1,0 +1,246 @@
+"""Tuning any identified model on its free run: (γ, σ²) and lag orders by cross-validation on
+the estimation data only, with the whole cost surface kept for plotting.
+
+* :class:`FreeRunCV` — the cost: fit on some pieces of the data, simulate the held-out
+  pieces in free run (or predict them one step ahead), normalised mean squared error.  Its
+  fields (folds, initialisation window, free run or one step) are the knobs to change.
+* :func:`tune_free_run` — a log grid (and a Nelder–Mead refinement) of (γ, σ²) by
+  :func:`certkit.ident.lssvm.tune`, for every combination of the orders asked for; optionally
+  a smoothness prior on the surface; returns the refitted model and :class:`CostSurface`.
+
+A model is validated by its simulation, not its one-step prediction (Ljung 1999, §16.6), so
+the free run is the default cost; LS-SVMlab tunes (γ, σ²) the same way, a global search
+then a simplex on a cross-validation cost (Suykens et al. 2002, §3.6 and §4.4).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from sklearn.base import clone
+
+from certkit.ident.experiments import DataInputError, experiments, free_run_folds
+from certkit.ident.hammerstein import HammersteinLSSVM
+from certkit.ident.lssvm import tune
+from certkit.ident.narx import NARX
+from certkit.ident.wiener import WienerLSSVM
+
+MODES = ("free-run", "one-step")
+
+
+@dataclass(frozen=True)
+class FreeRunCV:
+    """Cross-validated simulation error of a model, the cost :func:`tune_free_run` minimises.
+
+    Parameters
+    ----------
+    folds : int, default 3
+        Folds (:func:`certkit.ident.experiments.free_run_folds`): whole experiments held
+        out when there are at least ``folds`` of them, else contiguous segments of each.
+    n_init : int, optional
+        Measured outputs that start each held-out simulation (not scored); default the
+        fitted model's ``init_length``.
+    mode : {"free-run", "one-step"}, default "free-run"
+        Score the free-run simulation or the one-step-ahead prediction.
+
+    Calling it with an unfitted estimator and a list of (input, output) experiments returns
+    Σ(y − ŷ)² / (count · var(y)) over every held-out sample after its window (NRMSE²);
+    +inf when a fit fails or a simulation diverges (an unstable candidate is no candidate).
+    """
+
+    folds: int = 3
+    n_init: int | None = None
+    mode: str = "free-run"
+
+    def __call__(self, estimator, pairs) -> float:
+        if self.mode not in MODES:
+            raise DataInputError("mode", f"expected one of {', '.join(MODES)}, found "
+                                         f"{self.mode!r}")
+        lengths = [y.size for _, y in pairs]
+        variance = float(np.var(np.concatenate([y for _, y in pairs]))) or 1.0
+        squared, count = 0.0, 0
+        for train, held in free_run_folds(lengths, self.folds, 2):
+            model = clone(estimator)
+            try:
+                model.fit([pairs[e][0][s] for e, s in train], [pairs[e][1][s] for e, s in train])
+            except (ValueError, np.linalg.LinAlgError):
+                return math.inf
+            n_init = model.init_length if self.n_init is None else int(self.n_init)
+            if n_init < model.init_length:
+                raise DataInputError("n_init", f"expected at least the model's init_length "
+                                               f"{model.init_length}, found {n_init}")
+            for e, s in held:
+                u, y = pairs[e][0][s], pairs[e][1][s]
+                if y.size <= n_init:
+                    raise DataInputError("folds", f"expected held-out pieces longer than the "
+                                                  f"{n_init}-sample window, found {y.size}")
+                estimate = (model.simulate(u, y[:n_init]) if self.mode == "free-run"
+                            else model.predict(u, y))
+                error = y[n_init:] - estimate[n_init:]
+                if not np.all(np.isfinite(error)):
+                    return math.inf
+                squared += float(error @ error)
+                count += error.size
+        return squared / (count * variance)
+
+
+@dataclass(frozen=True)
+class CostSurface:
+    """Every point :func:`tune_free_run` evaluated, in call order.
+
+    ``rows``: one dict per evaluation with the parameters set (``gamma``, ``sigma2`` and the
+    orders searched), ``cost`` and ``stage`` ("grid" or "refine"); ``best``: the parameters
+    chosen; ``smoothed``: the smoothed log10 cost of each row when a smoothness prior was
+    used (else None).
+    """
+
+    rows: tuple[dict, ...]
+    best: dict
+    smoothed: tuple[float, ...] | None = None
+
+    def to_frame(self):
+        """The rows as a pandas DataFrame (one column per parameter, ``cost``, ``stage``)."""
+        import pandas as pd
+        frame = pd.DataFrame(list(self.rows))
+        if self.smoothed is not None:
+            frame["smoothed_log10_cost"] = self.smoothed
+        return frame
+
+    def grid(self, **orders) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The grid stage for the given orders as (γ values, σ² values, cost matrix
+        [γ index, σ² index]), ready for ``pcolormesh``/``contourf`` on log axes."""
+        rows = [r for r in self.rows if r["stage"] == "grid"
+                and all(r.get(k) == v for k, v in orders.items())]
+        if not rows:
+            raise DataInputError("orders", f"expected orders that were searched, found "
+                                           f"{orders or 'none'} with no grid rows")
+        gammas = np.unique([r["gamma"] for r in rows])
+        sigma2s = np.unique([r["sigma2"] for r in rows])
+        cost = np.full((gammas.size, sigma2s.size), np.nan)
+        for r in rows:
+            cost[np.searchsorted(gammas, r["gamma"]), np.searchsorted(sigma2s, r["sigma2"])] \
+                = r["cost"]
+        return gammas, sigma2s, cost
+
+
+def default_ranges(estimator, n_inputs: int) -> dict:
+    """The (γ, σ²) search ranges of :func:`tune_free_run` when none are given.
+
+    NARX: γ ∈ [1e-1, 1e7], σ² ∈ [0.01, 1000]·(na + Σnb) in standardised regressor units
+    (lagged samples of an oversampled signal are strongly correlated, so the useful σ² can
+    be far above the dimension).  Hammerstein: γ ∈ [1e-1, 1e7], σ² ∈ [1e-2, 1e2]·n_inputs
+    (standardised inputs).  Wiener: γ ∈ [1, 1e7], σ² ∈ [1e-3, 1e3] (standardised z: a
+    smooth map needs σ² of several variances of z).  ARX: none (orders only)."""
+    if isinstance(estimator, NARX):
+        nb = estimator.nb if np.ndim(estimator.nb) else [estimator.nb] * n_inputs
+        d = estimator.na + int(np.sum(nb))
+        return {"gamma": (1e-1, 1e7), "sigma2": (0.01 * d, 1e3 * d)}
+    if isinstance(estimator, HammersteinLSSVM):
+        return {"gamma": (1e-1, 1e7), "sigma2": (1e-2 * n_inputs, 1e2 * n_inputs)}
+    if isinstance(estimator, WienerLSSVM):
+        return {"gamma": (1e0, 1e7), "sigma2": (1e-3, 1e3)}
+    return {}
+
+
+def _smoothed(rows: list[dict], width: float) -> list[float]:
+    """log10 cost averaged with Gaussian weights over the grid rows of the same orders, in
+    (log10 γ, log10 σ²) [decades] — a smoothness prior: a point wins by a good
+    neighbourhood, not by one lucky evaluation."""
+    out = []
+    for r in rows:
+        same = [q for q in rows if q["stage"] == "grid" and q["orders"] == r["orders"]
+                and math.isfinite(q["cost"])]
+        if not same or not math.isfinite(r["cost"]):
+            out.append(math.inf)
+            continue
+        weights, values = [], []
+        for q in same:
+            distance2 = sum((math.log10(q[k]) - math.log10(r[k])) ** 2
+                            for k in ("gamma", "sigma2") if k in r)
+            weights.append(math.exp(-distance2 / (2 * width ** 2)))
+            values.append(math.log10(max(q["cost"], 1e-300)))
+        out.append(float(np.dot(weights, values) / np.sum(weights)))
+    return out
+
+
+def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | None = None,
+                  cost: Callable | None = None, grid: int = 5, refine: bool = True,
+                  max_refine: int = 20, smoothing: float = 0.0):
+    """Tune a model's hyper-parameters (and orders) on its cross-validated free run.
+
+    Parameters
+    ----------
+    estimator : ARX, NARX, HammersteinLSSVM or WienerLSSVM
+        The model, its other settings as wanted (not modified: clones are fitted).
+    u, y : array_like or list of array_like
+        Estimation data only (one experiment or a list, as for ``fit``).
+    gamma, sigma2 : (low, high), float or None
+        Search range (log10), a fixed value, or None for :func:`default_ranges`.  Ignored
+        for ARX (no hyper-parameter).
+    orders : dict, optional
+        Orders to search, e.g. ``{"na": [1, 2, 3], "nb": [1, 2]}``: every combination
+        gets its own (γ, σ²) search.
+    cost : callable, default FreeRunCV()
+        ``cost(unfitted_estimator, experiments) -> float``; e.g. ``FreeRunCV(folds=5)``,
+        ``FreeRunCV(mode="one-step")`` or any function of that signature.
+    grid : int, default 5
+        Grid points per searched parameter (log-spaced).
+    refine : bool, default True
+        Nelder–Mead refinement from the best grid point (:func:`certkit.ident.lssvm.tune`);
+        not used with ``smoothing``.
+    max_refine : int, default 20
+        Cost evaluations allowed to each refinement.
+    smoothing : float, default 0
+        Width [decades] of a Gaussian smoothness prior: the grid point with the least
+        smoothed log10 cost wins (0: the least cost wins).
+
+    Returns
+    -------
+    estimator
+        A clone with the chosen parameters set, refitted on all of ``u``, ``y``.
+    CostSurface
+        Every evaluation (parameters, cost, stage) and the chosen point.
+    """
+    pairs, _ = experiments(u, y)
+    cost = FreeRunCV() if cost is None else cost
+    orders = dict(orders or {})
+    for name in orders:
+        if name not in estimator.get_params():
+            raise DataInputError("orders", f"expected parameters of {type(estimator).__name__}"
+                                           f", found {name!r}")
+    names = list(orders)
+    hyper = "gamma" in estimator.get_params()
+    rows: list[dict] = []
+    for combination in itertools.product(*(orders[n] for n in names)):
+        chosen = dict(zip(names, combination))
+        base = clone(estimator).set_params(**chosen)
+        if not hyper:
+            rows.append({**chosen, "cost": cost(base, pairs), "stage": "grid",
+                         "orders": combination})
+            continue
+        ranges = default_ranges(base, pairs[0][0].shape[1])
+        ranges.update({k: v for k, v in (("gamma", gamma), ("sigma2", sigma2))
+                       if v is not None})
+        result = tune(lambda g, s, base=base: cost(clone(base).set_params(gamma=g, sigma2=s),
+                                                   pairs),
+                      grid=grid, refine=refine and smoothing == 0.0,
+                      max_refine=max_refine, **ranges)
+        n_grid = grid ** sum(np.ndim(ranges[k]) > 0 for k in ("gamma", "sigma2"))
+        for index, (g, s, value) in enumerate(result.evaluations):
+            rows.append({**chosen, "gamma": g, "sigma2": s, "cost": value,
+                         "stage": "grid" if index < n_grid else "refine",
+                         "orders": combination})
+    smoothed = _smoothed(rows, smoothing) if smoothing > 0 else None
+    score = smoothed if smoothed is not None else [r["cost"] for r in rows]
+    best_row = rows[int(np.argmin(score))]
+    if not math.isfinite(best_row["cost"]):
+        raise DataInputError("u, y", "expected at least one candidate with a finite free-run "
+                                     "cost, found none (every fit failed or diverged)")
+    best = {k: v for k, v in best_row.items() if k not in ("cost", "stage", "orders")}
+    model = clone(estimator).set_params(**best).fit(u, y)
+    public = tuple({k: v for k, v in r.items() if k != "orders"} for r in rows)
+    return model, CostSurface(public, best, None if smoothed is None else tuple(smoothed))
