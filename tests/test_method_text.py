@@ -46,3 +46,16 @@ def test_the_report_states_the_windows_and_thresholds_the_measures_use(timeserie
     assert f"±{100 * measures.SETTLING_BAND:g} % band" in page
     # what the report said before the text was taken from the code (the code used 50 ms)
     assert "over the 20 ms before" not in page
+
+
+def test_the_gap_method_states_the_timing_rule_the_diagnosis_applies(monkeypatch):
+    from certkit.evidence.methods import gap_method
+    from certkit.gap import residuals, selection
+
+    from .conftest import SEED
+
+    monkeypatch.setattr(selection, "TIMING_SHARE", 0.17)
+    monkeypatch.setattr(residuals, "TIMING_LAG", 0.045)
+    units = load_campaign(SEED).spec.report.units
+    text = " ".join(str(v) for v in gap_method(units).values())
+    assert "shifted by up to ±45 ms, would remove 17 % or more" in text

@@ -58,9 +58,9 @@ def gap_method(units) -> dict:
     from certkit.gap.attribution import STARTS
     from certkit.gap.missing_force import SEEN, STEP_VELOCITY
     from certkit.gap.phases import BREAKOUT_TRAVEL, BREAKOUT_WINDOW, REBOUND_DROP
-    from certkit.gap.residuals import BANDS, MAX_LAG
+    from certkit.gap.residuals import BANDS, MAX_LAG, TIMING_LAG
     from certkit.gap.selection import (CANDIDATES, DETECTABLE, FLOOR_CHANNEL, GAIN, LEADING,
-                                       RELEVANT, TIE_COST)
+                                       RELEVANT, TIE_COST, TIMING_SHARE)
 
     bands = ", ".join(f"{name} ({low:g}-{high:g} Hz)" if math.isfinite(high)
                       else f"{name}" for name, low, high in BANDS)
@@ -106,7 +106,13 @@ def gap_method(units) -> dict:
                   f"differences) and removes at least {DETECTABLE:g} noise variances from the "
                   f"training records (Σ over the channels of (RMSE before² − RMSE after²)/σ²; "
                   f"less is not told apart from the floor the nominal model's own "
-                  f"imperfection leaves) is named, with its form. When the other effect's "
+                  f"imperfection leaves) is named, with its form. A form that changes a "
+                  f"recorded channel sample by sample without memory (the load-cell gain) "
+                  f"must also fit that channel's residual at the same instant: when its "
+                  f"correction, shifted by up to ±{TIMING_LAG * 1e3:g} ms, would remove "
+                  f"{percent(TIMING_SHARE, 0)} or more of the channel's remaining mean square, "
+                  f"the record's error is not memoryless (a delayed crosstalk, for example) "
+                  f"and the form is not named. When the other effect's "
                   f"refit comes "
                   f"within a ratio of {TIE_COST:g} of its training cost, the fits cannot tell "
                   f"the two apart: the model-free missing force (below) decides when it shows "

@@ -372,10 +372,10 @@ def _refit_decisions(fits: list, cost: float, harm: dict, removed: dict, mistime
             channel, shift, share = mistimed[refitted.effects]
             status = (f"its correction of the recorded {channel} fits the residual better "
                       f"{abs(shift) * 1e3:.3g} ms {'later' if shift > 0 else 'earlier'} than "
-                      f"at the same instant (removing {percent(share, 0)} more of what "
-                      f"stays, {percent(TIMING_SHARE, 0)} or more): an error without memory "
-                      f"acts at the same instant, so the {channel} record's error is not "
-                      f"this one: not named")
+                      f"at the same instant (the shift removes {percent(share, 0)} of the "
+                      f"{channel}'s remaining mean square; {percent(TIMING_SHARE, 0)} or more "
+                      f"is a timing error): an error without memory acts at the same "
+                      f"instant, so the {channel} record's error is not this one: not named")
         elif effect in tie:
             status = (f"within {percent(TIE_COST - 1, 0)} of another effect's training cost: "
                       f"a tie, not named")
