@@ -9,6 +9,7 @@ and :mod:`certkit.ident.experiments` for the data they accept.
 """
 
 from certkit.ident.dynamic_model import DynamicModel
+from certkit.ident.ensemble import EnsembleModel
 from certkit.ident.fixed_size import FixedSizeLSSVM
 from certkit.ident.hammerstein import HammersteinLSSVM
 from certkit.ident.linear_models import ARX
@@ -18,6 +19,6 @@ from certkit.ident.tuning import CostSurface, FreeRunCV, tune_free_run
 from certkit.ident.validation import fit_percent, nrmse, residual_analysis, rmse
 from certkit.ident.wiener import WienerLSSVM
 
-__all__ = ["ARX", "NARX", "HammersteinLSSVM", "WienerLSSVM", "DynamicModel",
+__all__ = ["ARX", "NARX", "HammersteinLSSVM", "WienerLSSVM", "DynamicModel", "EnsembleModel",
            "LSSVMRegressor", "FixedSizeLSSVM", "tune_free_run", "FreeRunCV", "CostSurface",
            "tune", "TuningResult", "rmse", "nrmse", "fit_percent", "residual_analysis"]

@@ -190,7 +190,8 @@ class TuningResult:
 
 
 def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
-         sigma2=(1e-2, 1e3), grid: int = 7, start: tuple[float, float] | None = None,
+         sigma2=(1e-2, 1e3), grid: int | tuple[int, int] = 7,
+         start: tuple[float, float] | None = None,
          refine: bool = True, max_refine: int = 40,
          tolerance: float = 0.02) -> TuningResult:
     """Minimise a cross-validation cost over (γ, σ²): log grid, then Nelder–Mead.
@@ -203,8 +204,9 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
         treated as +inf.
     gamma, sigma2 : (low, high) or float
         Search range (searched in log10), or a number to keep that parameter fixed.
-    grid : int
-        Grid points per searched parameter, evenly spaced in log10 (grid ≥ 2).
+    grid : int or (int, int)
+        Grid points per searched parameter, evenly spaced in log10 (grid ≥ 2); a pair
+        gives (γ points, σ² points).
     start : (gamma, sigma2), optional
         Skip the grid and refine from this point (must lie in the ranges).
     refine : bool
@@ -238,6 +240,7 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
                 raise ValueError(f"{name} range must be (low, high) with low < high")
             bounds[name] = (math.log10(low), math.log10(high))
     free = list(bounds)
+    points = dict(zip(names, (grid, grid) if np.ndim(grid) == 0 else tuple(grid)))
     record: dict[tuple, float] = {}
     order: list[tuple[float, float, float]] = []
 
@@ -259,9 +262,9 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
         evaluate(())
         refine = False
     elif start is None:
-        if grid < 2:
+        if min(points[n] for n in free) < 2:
             raise ValueError("grid must be at least 2")
-        axes = [np.linspace(*bounds[n], grid) for n in free]
+        axes = [np.linspace(*bounds[n], points[n]) for n in free]
         for logs in np.array(np.meshgrid(*axes, indexing="ij")).reshape(len(free), -1).T:
             evaluate(logs)
     else:
@@ -280,7 +283,8 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
         low = np.array([bounds[n][0] for n in free])
         high = np.array([bounds[n][1] for n in free])
         x0 = np.clip(np.array(best, dtype=float), low, high)  # rounding can leave a bound
-        steps = np.array([(bounds[n][1] - bounds[n][0]) / max(grid - 1, 1) for n in free])
+        steps = np.array([(bounds[n][1] - bounds[n][0]) / max(points[n] - 1, 1)
+                          for n in free])
         simplex = [x0]
         for i, n in enumerate(free):
             vertex = x0.copy()

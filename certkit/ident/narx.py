@@ -4,6 +4,7 @@ automatic tuning uses the free-run simulation error on held-out data.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -54,6 +55,32 @@ def narx_regressors(u, y, na: int, nb=2, delay=1) -> tuple[np.ndarray, np.ndarra
     return np.vstack(blocks), np.concatenate(targets)
 
 
+OUTPUT_BOUNDS = ("none", "upper", "range")
+FILTER_STATE_GRID = 41      # candidate initial filter states over the training input range
+
+
+def input_filter(u: np.ndarray, pole: float, z0: float | None = None, delay: int = 1,
+                 cap: float = np.inf) -> np.ndarray:
+    """Unit-gain first-order low-pass of one input channel, saturating at ``cap``.
+
+    z_0 = min(z0, cap) (``z0`` default u_0: the input's steady state at the record's
+    start) and z_t = min(p·z_{t−1} + (1 − p)·u_{t−d}, cap) for t ≥ 1, with u_{t−d} = u_0
+    before the record starts.  A fixed filter of the input is an output-independent input
+    "state", as the first Laguerre function of a Laguerre model, a first-order low-pass
+    whose pole is fixed beforehand (Wahlberg, "System identification using Laguerre
+    models", IEEE Trans. Automatic Control 36(5), 1991).
+    """
+    u = np.asarray(u, dtype=float)
+    z = np.empty(u.size)
+    if u.size == 0:
+        return z
+    source = np.concatenate([np.full(delay, u[0]), u])[:u.size]     # u_{t−d}
+    gain = 1.0 - pole
+    z[0] = min(u[0] if z0 is None else z0, cap)
+    for t in range(1, u.size):
+        z[t] = min(pole * z[t - 1] + gain * source[t], cap)
+    return z
+
 
 class NARX(DynamicModel):
     """LS-SVM NARX model y_t = f(y_{t−1..t−na}, u_{c,t−d_c..t−d_c−nb_c+1}) + e_t.
@@ -91,6 +118,23 @@ class NARX(DynamicModel):
         σ² can be far above d: about 80·d on Silverbox).
     random_state : int, default 0
         Seed of the prototype selection.
+    filter_pole : float in (0, 1), optional
+        Adds one regressor per input channel: z_t, a unit-gain first-order low-pass of the
+        input (:func:`input_filter`, z_t = p·z_{t−1} + (1 − p)·u_{t−d}), a proxy of a slow
+        state the lagged signals show only through noise (the upper tank's level in the
+        Cascaded Tanks).  The pole is a structure choice: search it with
+        :func:`certkit.ident.tune_free_run` (``orders={"filter_pole": [...]}``).  In
+        training each experiment's filter starts at its first input; in
+        :meth:`simulate` from measured ``y_init`` its start is estimated from that window
+        (:meth:`_initial_filter_state`), from rest it is 0.  Default None: no filter.
+    filter_cap : float in (0, 1], optional
+        The filter state saturates at this quantile of its training values (a tank that
+        overflows).  Default None: no saturation.
+    output_bound : {"none", "upper", "range"}, default "none"
+        Clip each simulated output to at most the largest training output ("upper") or to
+        the training range ("range"): a saturating output y_t = sat(f(·)) fed back in the
+        recursion (an overflowing tank, a saturating sensor).  A structure choice to make
+        on estimation data like the others; it also keeps a free run from diverging.
 
     Attributes
     ----------
@@ -108,6 +152,11 @@ class NARX(DynamicModel):
         Regression rows used (all experiments).
     n_features_in_ : int
         Number of input channels.
+    output_bounds_ : (float, float)
+        The clipping bounds of the simulated output [output unit] (±inf: none).
+    filter_cap_, u_range_ : numpy.ndarray
+        Filter saturation per channel and training input range (n_inputs, 2), in
+        standardised input units.
 
     Notes
     -----
@@ -142,7 +191,8 @@ class NARX(DynamicModel):
                  gamma: float | None = None, sigma2: float | None = None, *,
                  engine: str = "full", prototypes: int = 300, folds: int = 3,
                  n_init: int | None = None, tuning: dict | None = None,
-                 random_state: int = 0):
+                 random_state: int = 0, filter_pole: float | None = None,
+                 filter_cap: float | None = None, output_bound: str = "none"):
         self.na = na
         self.nb = nb
         self.delay = delay
@@ -154,6 +204,9 @@ class NARX(DynamicModel):
         self.n_init = n_init
         self.tuning = tuning
         self.random_state = random_state
+        self.filter_pole = filter_pole
+        self.filter_cap = filter_cap
+        self.output_bound = output_bound
 
     # -- structure
     @property
@@ -171,6 +224,17 @@ class NARX(DynamicModel):
         if self.engine not in ("full", "fixed-size"):
             raise DataInputError("engine", f"expected 'full' or 'fixed-size', found "
                                            f"{self.engine!r}")
+        if self.filter_pole is not None and not 0.0 < float(self.filter_pole) < 1.0:
+            raise DataInputError("filter_pole", f"expected a pole in (0, 1) or None, found "
+                                                f"{self.filter_pole!r}")
+        if self.filter_cap is not None and (self.filter_pole is None
+                                            or not 0.0 < float(self.filter_cap) <= 1.0):
+            raise DataInputError("filter_cap", f"expected a quantile in (0, 1] with a "
+                                               f"filter_pole, or None, found "
+                                               f"{self.filter_cap!r}")
+        if self.output_bound not in OUTPUT_BOUNDS:
+            raise DataInputError("output_bound", f"expected one of {', '.join(OUTPUT_BOUNDS)}"
+                                                 f", found {self.output_bound!r}")
 
     def _make_regressor(self, gamma, sigma2, prototypes=None):
         if self.engine == "full":
@@ -193,16 +257,55 @@ class NARX(DynamicModel):
         return [(u - u_mean) / u_std for u in us], [(y - y_mean) / y_std for y in ys]
 
     def _rows(self, us, ys):
-        return narx_regressors(us, ys, self._na, self._nb, self._delay)
+        X, target = narx_regressors(us, ys, self._na, self._nb, self._delay)
+        if self.filter_pole is None:
+            return X, target
+        start = self.init_length
+        Z = np.vstack([self._filter_columns(u)[start:] for u in us])
+        return np.hstack([X, Z]), target
+
+    # -- input filter (standardised units: the filter has unit gain, so filtering the
+    #    standardised input gives the standardised filter state)
+    def _filter_columns(self, u: np.ndarray, z0=None, caps=None) -> np.ndarray:
+        """(n, n_inputs) filter states of every channel of the standardised input ``u``,
+        from ``z0`` (one per channel; default u_0) and saturating at ``caps``."""
+        caps = self.filter_cap_ if caps is None else caps
+        return np.column_stack([
+            input_filter(u[:, c], float(self.filter_pole), None if z0 is None else z0[c],
+                         self._delay[c], caps[c]) for c in range(u.shape[1])])
+
+    def _initial_filter_state(self, model, u: np.ndarray, y_init: np.ndarray):
+        """Filter states at sample 0 estimated from the initialisation window, like the
+        lagged outputs: per channel (in turn), the value of a grid over the training input
+        range whose one-step predictions of the measured y_init (rows after the lag
+        window) are closest in least squares.  No such row (a window of init_length
+        samples, or a run from rest): u_0."""
+        n0, start = y_init.size, self.init_length
+        if n0 <= start:
+            return None
+        X, target = narx_regressors([u[:n0]], [y_init], self._na, self._nb, self._delay)
+        z0 = u[0].copy()
+        for c in range(u.shape[1]):
+            best, best_sse = z0[c], np.inf
+            for value in np.linspace(*self.u_range_[c], FILTER_STATE_GRID):
+                z0[c] = value
+                Z = self._filter_columns(u[:n0], z0)[start:]
+                error = model.predict(np.hstack([X, Z])) - target
+                sse = float(error @ error)
+                if sse < best_sse:
+                    best, best_sse = value, sse
+            z0[c] = best
+        return z0
 
     # -- fitting
     def _fit(self, pairs) -> None:
         us, ys = [p[0] for p in pairs], [p[1] for p in pairs]
         self._check_structure(us[0].shape[1])
-        self._rows(us, ys)                      # shape checks before any statistics
+        narx_regressors(us, ys, self._na, self._nb, self._delay)   # shape checks first
         scaling = self._standardisation(us, ys)
         self.u_mean_, self.u_std_, self.y_mean_, self.y_std_ = scaling
         us, ys = self._scaled(us, ys)
+        self._set_bounds(us, ys)
         self.tuning_ = None
         if self.gamma is None or self.sigma2 is None:
             d = self._na + sum(self._nb)
@@ -218,6 +321,21 @@ class NARX(DynamicModel):
         X, target = self._rows(us, ys)
         self.regressor_ = self._make_regressor(self.gamma_, self.sigma2_).fit(X, target)
         self.n_rows_ = X.shape[0]
+
+    def _set_bounds(self, us, ys) -> None:
+        """Output bound, filter caps and input range (standardised) from training data."""
+        y_all = np.concatenate(ys)
+        self._low = float(y_all.min()) if self.output_bound == "range" else -np.inf
+        self._high = float(y_all.max()) if self.output_bound != "none" else np.inf
+        self.output_bounds_ = (self._low * self.y_std_ + self.y_mean_,
+                               self._high * self.y_std_ + self.y_mean_)
+        n_inputs = us[0].shape[1]
+        u_all = np.vstack(us)
+        self.u_range_ = np.column_stack([u_all.min(axis=0), u_all.max(axis=0)])
+        self.filter_cap_ = np.full(n_inputs, np.inf)
+        if self.filter_pole is not None and self.filter_cap is not None:
+            states = np.vstack([self._filter_columns(u) for u in us])
+            self.filter_cap_ = np.quantile(states, float(self.filter_cap), axis=0)
 
     def simulation_cost(self, u, y) -> Callable[[float, float], float]:
         """Free-run cross-validation cost ``cost(gamma, sigma2)`` on held-out data.
@@ -237,9 +355,11 @@ class NARX(DynamicModel):
         pairs, _ = experiments(u, y)
         us, ys = [p[0] for p in pairs], [p[1] for p in pairs]
         self._check_structure(us[0].shape[1])
-        self._rows(us, ys)
+        narx_regressors(us, ys, self._na, self._nb, self._delay)
         scaling = self._standardisation(us, ys)
-        return self._scaled_simulation_cost(*self._scaled(us, ys, scaling))
+        us, ys = self._scaled(us, ys, scaling)
+        self._set_bounds(us, ys)
+        return self._scaled_simulation_cost(us, ys)
 
     def _scaled_simulation_cost(self, us, ys):
         n_init = self.init_length if self.n_init is None else order("n_init", self.n_init)
@@ -292,6 +412,11 @@ class NARX(DynamicModel):
         centres, coef, bias, s2 = model.support_, model.alpha_, model.b_, model.sigma2
         c_y, c_u = centres[:, :na], centres[:, na:]
         lags = input_lags(self._nb, self._delay)
+        states = None
+        if self.filter_pole is not None:
+            states = self._filter_columns(u, self._initial_filter_state(model, u, y_init))
+        low, high = self._low, self._high
+        bounded = math.isfinite(low) or math.isfinite(high)
         y = np.empty(n)
         y[:start] = y_init
         # −‖h − c_y‖²/σ² expanded; columns reversed so h = y[t−na:t] in time order
@@ -300,16 +425,21 @@ class NARX(DynamicModel):
         block = max(1, CHUNK_ENTRIES // (4 * centres.shape[0]))
         for first in range(start, n, block):
             t = np.arange(first, min(first + block, n))
-            if lags:
-                window = np.column_stack([u[t - lag, c] for c, lag in lags])
+            if lags or states is not None:
+                columns = [u[t - lag, c] for c, lag in lags]
+                window = np.column_stack(columns + ([] if states is None else [states[t]]))
                 weights = rbf_kernel(window, c_u, s2) * coef
             else:
                 weights = np.broadcast_to(coef, (t.size, coef.size))
             if na == 0:
                 y[t] = weights.sum(axis=1) + bias
+                if bounded:
+                    y[t] = np.clip(y[t], low, high)
                 continue
             for row, step in enumerate(t):
                 history = y[step - na:step]                 # y_{t−na}, …, y_{t−1}
                 z = lin @ history + offset - (history @ history) / s2
                 y[step] = weights[row] @ np.exp(np.minimum(z, 0.0)) + bias
+                if bounded:
+                    y[step] = min(max(y[step], low), high)
         return y
