@@ -16,7 +16,7 @@ from pathlib import Path
 
 from certkit.archive.bag import BagError, bag_hash, check_bag, read_info
 from certkit.archive.campaign_bag import archived_results, opened_bag
-from certkit.errors import CertkitInputError
+from certkit.errors import CertkitInputError, shown
 
 SCHEMA_VERSION = 1
 SCHEMA = """
@@ -143,7 +143,32 @@ def describe(bag: str | Path) -> tuple[Entry, list[tuple]]:
     except (KeyError, TypeError) as error:
         raise BagError(f"{bag}: its results.json lacks what the catalog indexes "
                        f"({error})") from None
+    _check_indexed(bag, entry, verdicts)
     return entry, verdicts
+
+
+_COUNTS = {"passed", "failed", "not_shown", "dq_errors", "dq_warnings"}
+_VERDICT_FIELDS = ("bag_hash", "id", "clause", "run", "gear", "verdict")
+
+
+def _check_indexed(bag: Path, entry: Entry, verdicts: list[tuple]) -> None:
+    """Raise BagError unless every value indexed is what its column holds: a count a
+    whole number from 0 to 2^63 - 1 (SQLite's integers), anything else text (a verdict's run and
+    gear may be null).  A results.json edited and re-hashed can hold anything."""
+    def refuse(name: str, value: object, expected: str):
+        raise BagError(f"{bag}: its results.json holds {shown(value)} where the catalog "
+                       f"indexes {name}: expected {expected}")
+
+    for name, value in entry.as_dict().items():
+        if name in _COUNTS:
+            if type(value) is not int or not 0 <= value < 2 ** 63:
+                refuse(name, value, "a count (a whole number from 0)")
+        elif not isinstance(value, str):
+            refuse(name, value, "text")
+    for row in verdicts:
+        for name, value in zip(_VERDICT_FIELDS, row):
+            if not isinstance(value, str) and not (name in ("run", "gear") and value is None):
+                refuse(f"verdicts[].{name}", value, "text")
 
 
 def add(catalog: str | Path, bag: str | Path) -> tuple[Entry, bool]:
