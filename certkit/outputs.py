@@ -279,8 +279,10 @@ def _locked(final: Path, target: Path):
             os.close(descriptor)
 
 
-# a path that cannot be written where it points: bad input, not the machine's fault
-_NOT_A_PLACE = (errno.ENOENT, errno.ENOTDIR, errno.EISDIR, errno.ENAMETOOLONG, errno.ELOOP)
+# a path that cannot be written where it points: bad input, not the machine's fault (EEXIST:
+# a file stands where a folder of the path must be made)
+_NOT_A_PLACE = (errno.ENOENT, errno.ENOTDIR, errno.EISDIR, errno.ENAMETOOLONG, errno.ELOOP,
+                errno.EEXIST)
 
 
 def writing_failure(error: OSError, path: str | Path, doing: str = "cannot write the outputs",
@@ -294,8 +296,10 @@ def writing_failure(error: OSError, path: str | Path, doing: str = "cannot write
             Path(os.fsdecode(error.filename)).is_relative_to(staging):
         error = OSError(error.errno, error.strerror)
     if error.errno in _NOT_A_PLACE:
-        return CertkitInputError.single(str(path), None, key, f"{doing}: "
-                                        f"{error.strerror or error}{named_file(error, path)}")
+        why = "a file stands where a folder must be" if error.errno == errno.EEXIST else \
+            error.strerror or error
+        return CertkitInputError.single(str(path), None, key,
+                                        f"{doing}: {why}{named_file(error, path)}")
     return EnvironmentFailure.from_os_error(error, path, doing)
 
 

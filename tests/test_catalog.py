@@ -293,3 +293,16 @@ def test_a_results_file_json_cannot_hold_is_refused_by_verify_recompute(bags, na
     result = runner.invoke(app, ["verify", "--recompute", str(bag)])
     assert result.exit_code == 2, (result.output, result.exception)
     assert f"{bag}: data/results/results.json: " in result.output and words in result.output
+
+
+def test_a_catalog_path_through_a_file_or_at_a_folder_is_an_input_error(bags, tmp_path):
+    # before: a file where the catalog's folder must be said only "File exists", and a
+    # folder named as the catalog "not a certkit catalog (unable to open database file)"
+    (tmp_path / "notes").write_text("a file", encoding="utf-8")
+    for catalog, words in ((tmp_path / "notes" / "catalog.sqlite", "a file stands where a "
+                                                                   "folder must be"),
+                           (tmp_path, "it is a folder")):
+        result = runner.invoke(app, ["catalog", "add", str(bags["A"]), "--catalog",
+                                     str(catalog)])
+        assert result.exit_code == 2, (result.output, result.exception)
+        assert str(catalog) in result.output and words in result.output, result.output

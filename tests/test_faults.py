@@ -13,6 +13,7 @@ from __future__ import annotations
 import datetime
 import errno
 import fcntl
+import json
 import os
 import pathlib
 import random
@@ -229,6 +230,52 @@ def test_a_folder_refusing_new_entries_exits_4(seed_copy, tmp_path, monkeypatch)
     result = report(seed_copy, parent / "out")
     assert_environment_failure(result, parent / "out", "permission denied")
     assert list(parent.iterdir()) == []
+
+
+# --------------------------------------------------------------------------- the catalog
+def small_bag(folder: Path) -> Path:
+    """A bag with the results a catalog indexes (no report), made in a moment."""
+    results = {"format": "certkit-results/1", "outcome": "COMPLIANCE SHOWN",
+               "counts": {"PASS": 1, "FAIL": 0, "NOT SHOWN": 0},
+               "finding_counts": {"error": 0, "warning": 0, "info": 0},
+               "verdicts": [{"id": "CFR23.725a/D1", "clause": "CFR23.725a", "run": "D1",
+                             "gear": None, "verdict": "PASS"}]}
+    (folder / "data" / "results").mkdir(parents=True)
+    (folder / "data" / "results" / "results.json").write_text(json.dumps(results))
+    write_bag(folder, [("Campaign-Id", "C-1"), ("Aircraft-Model", "Test aircraft")])
+    return folder
+
+
+def test_a_full_disk_while_adding_to_the_catalog_exits_4_and_leaves_nothing(tmp_path,
+                                                                           monkeypatch):
+    # before: "cannot add to the catalog: database or disk is full", exit 2 (bad input)
+    import certkit.archive.catalog as catalog_module
+
+    real = catalog_module._connect
+
+    def full(path):   # SQLite itself answers SQLITE_FULL: the file may not grow
+        connection = real(path)
+        pages = connection.execute("PRAGMA page_count").fetchone()[0]
+        connection.execute(f"PRAGMA max_page_count = {max(pages, 1)}")
+        return connection
+
+    monkeypatch.setattr(catalog_module, "_connect", full)
+    bag = small_bag(tmp_path / "bag")
+    catalog = tmp_path / "lab" / "catalog.sqlite"
+    result = runner.invoke(app, ["catalog", "add", str(bag), "--catalog", str(catalog)])
+    assert_environment_failure(result, catalog, "no space left")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bag"]
+
+
+@pytest.mark.parametrize("options, words", [("size=4k", "no space left"),
+                                            ("size=1m,ro", "read-only")])
+def test_a_catalog_on_a_real_full_or_read_only_disk_exits_4(tmp_path, options, words):
+    bag = small_bag(tmp_path / "bag")
+    catalog = tmp_path / "disk" / "lab" / "catalog.sqlite"
+    completed, left = _run_on_small_disk(tmp_path, options, [
+        "catalog", "add", str(bag), "--catalog", str(catalog)])
+    assert_environment_failure(completed, catalog, words)
+    assert left == []
 
 
 # --------------------------------------------------------------------------- two writers
