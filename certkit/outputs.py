@@ -101,6 +101,22 @@ def check_target(target: Path, inputs: list[Path], own_paths: set[str]) -> None:
                                   f"certkit only replaces its own output folders")
 
 
+def check_file_target(target: Path, inputs: list[Path], key: str) -> None:
+    """Raise CertkitInputError when the single file ``target`` (``audit -o``, ``--json``)
+    cannot be written without loss: it is a folder, or it is one of ``inputs`` (the
+    campaign's spec and data files, a baseline), by name or by link."""
+    if target.is_dir():
+        raise CertkitInputError.single(str(target), None, key, "is a folder; give a file "
+                                                               "name for it")
+    for item in inputs:
+        same = target.resolve() == Path(item).resolve() or (
+            target.exists() and os.path.samefile(target, item))
+        if same:
+            raise CertkitInputError.single(
+                str(target), None, key, f"is the input {item}; writing there would replace "
+                                        f"it: choose another file")
+
+
 def _folder_mode(final: Path) -> int:
     """Keep an existing folder's permissions; a new one gets the umask's."""
     if final.exists():

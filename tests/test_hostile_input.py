@@ -360,3 +360,30 @@ def test_a_date_shaped_text_value_survives_the_simulation(physics_campaign, tmp_
     result = runner.invoke(app, ["simulate", str(physics_campaign), "-o", str(tmp_path / "s"),
                                  "--no-noise"])
     assert result.exit_code == 0, (result.output, result.exception)
+
+
+# --------------------------------------------------------------------------- outputs at inputs
+@pytest.mark.parametrize("command, option, target", [
+    ("audit", "-o", "campaign.yaml"), ("audit", "-o", "data/r1.csv"),
+    ("audit", "--junit", "data/r1.csv"), ("calibrate", "--json", "campaign.yaml"),
+    ("identify", "--json", "data/r1.csv"), ("audit", "-o", "data")])
+def test_a_single_output_file_named_at_an_input_is_refused_before_anything_is_written(
+        timeseries_campaign, command, option, target):
+    # found probing: `audit -o campaign.yaml` replaced the spec with the audit table (exit 1)
+    folder = timeseries_campaign.parent
+    before = {p: p.read_bytes() for p in folder.rglob("*") if p.is_file()}
+    result = runner.invoke(app, [command, str(timeseries_campaign), option,
+                                 str(folder / target)])
+    assert result.exit_code == 2, (result.output, result.exception)
+    expected = "is a folder" if target == "data" else "writing there would replace it"
+    assert f"{folder / target} {option if option != '-o' else '--output'}: " in result.output
+    assert expected in result.output, result.output
+    assert {p: p.read_bytes() for p in folder.rglob("*") if p.is_file()} == before
+
+
+def test_the_audit_and_its_junit_table_in_one_file_are_refused(timeseries_campaign, tmp_path):
+    result = runner.invoke(app, ["audit", str(timeseries_campaign), "-o", str(tmp_path / "a"),
+                                 "--junit", str(tmp_path / "a")])
+    assert result.exit_code == 2 and "--junit: expected another file than --output" in \
+        result.output, result.output
+    assert not (tmp_path / "a").exists()
