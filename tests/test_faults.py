@@ -543,3 +543,35 @@ def test_a_zip_member_declaring_gigabytes_is_refused_before_extraction(tmp_path)
     result = runner.invoke(app, ["verify", str(archive)])
     assert result.exit_code == 2, result.output
     assert "zeros.bin" in result.output and "zip bomb" in result.output
+
+
+# --------------------------------------------------------------------------- stop signals
+@pytest.mark.parametrize("delay", [0.3, 1.0, 2.5])
+def test_ctrl_c_at_any_moment_exits_130_with_a_message_and_no_traceback(seed_copy, tmp_path,
+                                                                        delay):
+    # before: a Ctrl-C while certkit was still importing printed a KeyboardInterrupt
+    # traceback (exit -2), and a later one stopped with no word of what happened
+    out = tmp_path / "out"
+    process = subprocess.Popen([*CLI, "report", str(seed_copy), "-o", str(out), "--no-model"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(delay)
+    process.send_signal(signal.SIGINT)
+    _, stderr = process.communicate(timeout=120)
+    assert process.returncode == 130, stderr
+    assert "Traceback" not in stderr and "KeyboardInterrupt" not in stderr, stderr
+    if "certkit report:" in stderr:   # the run had begun: it says why it stopped
+        assert "stopped (SIGINT, Ctrl-C)" in stderr, stderr
+    assert litter(tmp_path) == [] and not out.exists()
+
+
+# --------------------------------------------------------------------------- the terminal
+def test_a_closed_standard_output_or_one_without_unicode_is_no_certkit_bug(seed_copy):
+    # before: `certkit audit spec >&-` and PYTHONIOENCODING=ascii (a locale without UTF-8)
+    # were AttributeError / UnicodeEncodeError, "a certkit bug" (exit 3)
+    closed = subprocess.run(" ".join([*CLI, "audit", str(seed_copy), ">&-"]), shell=True,
+                            capture_output=True, text=True)
+    assert closed.returncode == 1 and closed.stderr == "", closed.stderr  # 1: criteria fail
+    ascii_only = subprocess.run([*CLI, "audit", str(seed_copy)], capture_output=True,
+                                env=dict(os.environ, PYTHONIOENCODING="ascii"))
+    assert ascii_only.returncode == 1, ascii_only.stderr
+    assert b"\\u2014" in ascii_only.stdout and ascii_only.stdout.isascii()
