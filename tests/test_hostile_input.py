@@ -271,6 +271,31 @@ def test_the_data_loader_raises_only_input_errors_and_assess_survives(spec_folde
     assert result.kind != "crash", result.detail
 
 
+@examples(40)
+@given(mutation=hostile.parquet_mutations())
+def test_the_parquet_loader_raises_only_input_errors_and_assess_survives(spec_folder, mutation):
+    """Column types, nulls, odd and two-level names, timestamps, zero rows, row groups,
+    damaged bytes: read, or refused with an input error."""
+    result = hostile.try_data(spec_folder, mutation, assess=True)
+    assert result.kind != "crash", result.detail
+
+
+@pytest.fixture(scope="module")
+def model_folder(tmp_path_factory) -> Path:
+    return tmp_path_factory.mktemp("model-fuzz")
+
+
+@pytest.mark.slow
+@examples(8)
+@given(mutation=hostile.model_mutations())
+def test_what_validate_accepts_the_drop_model_stages_survive(model_folder, mutation):
+    """The simulated drop-model campaign, its spec or a run's data mutated, through what
+    `certkit report` runs: assess, calibration, identification, gap diagnosis (a few
+    seconds to a minute per accepted input; benchmarks/fuzz_inputs.py runs more)."""
+    result = hostile.try_model(model_folder, mutation, gap=True)
+    assert result.kind != "crash", result.detail
+
+
 def test_an_unknown_top_level_key_is_an_input_error(timeseries_campaign):
     # found by the spec fuzzer: an unknown key at the top level crashed the spelling hint
     edit_spec(timeseries_campaign, "certkit: 1\n", "certkit: 1\nrunz: []\n")
