@@ -412,3 +412,17 @@ def test_the_audit_and_its_junit_table_in_one_file_are_refused(timeseries_campai
     assert result.exit_code == 2 and "--junit: expected another file than --output" in \
         result.output, result.output
     assert not (tmp_path / "a").exists()
+
+
+@pytest.mark.parametrize("encoding, line, byte", [("utf-16", 1, "0xff"), ("latin-1", 1, "0xd1")])
+def test_a_csv_file_not_in_utf8_says_so_with_the_line_and_byte(timeseries_campaign, encoding,
+                                                               line, byte):
+    # found probing: a spreadsheet's UTF-16 or Latin-1 export was refused with Python's
+    # "'utf-8' codec can't decode byte 0xff in position 0: invalid start byte"
+    path = timeseries_campaign.parent / "data" / "r1.csv"
+    text = path.read_text(encoding="utf-8").replace("Fz_kN", "Fz_kÑ")
+    path.write_bytes(text.encode(encoding))
+    edit_spec(timeseries_campaign, "column: Fz_kN", "column: Fz_kÑ")
+    refused("validate", timeseries_campaign, f"data/r1.csv:{line}: expected UTF-8 text, found "
+                                             f"byte {byte} on line {line}", "save the file as "
+                                                                            "UTF-8")

@@ -217,6 +217,8 @@ def _read_table(path: Path, display: str):
                or fail(f"cannot read data file: {exc}")) from None
     except pd.errors.EmptyDataError:
         raise fail("the data file is empty") from None
+    except UnicodeDecodeError:
+        raise _not_utf8(path, display) from None
     except Exception as exc:  # pandas and pyarrow raise many types for malformed files
         raise fail(f"cannot read data file: {exc}") from None
     if frame.columns.nlevels > 1:
@@ -236,6 +238,24 @@ def _read_table(path: Path, display: str):
         layout = f"{SEPARATORS[separator]}-separated with decimal " + (
             "commas" if decimal == "," else "points")
     return frame, first_line, layout
+
+
+def _not_utf8(path: Path, display: str) -> CertkitInputError:
+    """A CSV file that is not UTF-8 (a spreadsheet's UTF-16 or Latin-1 export): the line
+    and byte of the first character that is not, and what to do."""
+    content = path.read_bytes()
+    try:
+        content.decode("utf-8")
+        start = 0
+    except UnicodeDecodeError as error:
+        start = error.start
+    line = content[:start].count(b"\n") + 1
+    utf16 = " (a UTF-16 file: it starts with a UTF-16 byte-order mark)" if content[:2] in (
+        b"\xff\xfe", b"\xfe\xff") else ""
+    return CertkitInputError.single(
+        display, line, "", f"expected UTF-8 text, found byte 0x{content[start]:02x} on line "
+                           f"{line}{utf16}; save the file as UTF-8 (in a spreadsheet: CSV "
+                           f"UTF-8)")
 
 
 def _names(names) -> str:
