@@ -426,3 +426,12 @@ def test_a_csv_file_not_in_utf8_says_so_with_the_line_and_byte(timeseries_campai
     refused("validate", timeseries_campaign, f"data/r1.csv:{line}: expected UTF-8 text, found "
                                              f"byte {byte} on line {line}", "save the file as "
                                                                             "UTF-8")
+
+
+@pytest.mark.parametrize("path", ["data\\\\r1.csv", "'C:\\\\data\\\\r1.csv'"])
+def test_a_windows_path_to_a_data_file_is_refused_saying_how_to_write_it(timeseries_campaign,
+                                                                         path):
+    # found probing: a path written with backslashes said only "not found"
+    edit_spec(timeseries_campaign, "file: data/r1.csv", f"file: {path}")
+    refused("validate", timeseries_campaign, "runs[0].data.file", "not found",
+            "relative to the spec's folder with '/'")
