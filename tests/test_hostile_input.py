@@ -77,6 +77,14 @@ def test_explicit_yaml_tags_are_refused(timeseries_campaign, tagged):
             tagged.split()[0])
 
 
+def test_a_yaml_merge_key_is_refused_in_words(timeseries_campaign):
+    # found probing: `<<: {model: X}` said "could not determine a constructor for the tag
+    # 'tag:yaml.org,2002:merge'"
+    edit_spec(timeseries_campaign, "aircraft:\n", "aircraft:\n  <<: {model: X}\n")
+    refused("validate", timeseries_campaign, "campaign.yaml:14", "YAML merge keys (<<) are "
+                                                                 "not supported")
+
+
 # --------------------------------------------------------------------------- 2. huge numbers
 @pytest.mark.parametrize("old, new", [
     ("wing_lift_ratio: 0.667", "wing_lift_ratio: " + "9" * 5000),
