@@ -436,7 +436,10 @@ def write_bytes_atomically(path: str | Path, data: bytes, private: bool = False)
     new one, never a part); ``private``: readable by its owner only (0600), else what the
     umask allows."""
     path = Path(path)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.tmp-", dir=path.parent)
+    try:
+        handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.tmp-", dir=path.parent)
+    except OSError as error:   # name the file asked for, not a temporary one never made
+        raise type(error)(error.errno, error.strerror, str(path)) from None
     try:
         with os.fdopen(handle, "wb") as stream:
             stream.write(data)

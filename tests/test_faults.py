@@ -162,6 +162,16 @@ def test_a_read_only_file_system_exits_4_naming_the_folder(seed_copy, tmp_path):
     assert left == []
 
 
+def test_a_single_file_on_a_read_only_file_system_is_named_as_asked(seed_copy, tmp_path):
+    # before: "cannot write the audit: the file system is read-only (DISK/.a.md.tmp-XXXXXXXX)",
+    # naming a temporary file the user never asked for and certkit never made
+    table = tmp_path / "disk" / "a.md"
+    completed, left = _run_on_small_disk(tmp_path, "size=1m,ro", [
+        "audit", str(seed_copy), "-o", str(table)])
+    assert_environment_failure(completed, table, "read-only")
+    assert ".tmp-" not in completed.stderr, completed.stderr
+
+
 @pytest.mark.skipif(os.geteuid() == 0, reason="root writes into any folder, whatever its mode")
 def test_a_folder_without_write_permission_exits_4(seed_copy, tmp_path):
     parent = tmp_path / "shared"
