@@ -355,12 +355,16 @@ class ParquetMutation:
             frame = frame.iloc[:0]
         elif self.operation == "row-groups":
             row_group = 1 if self.choice % 2 else rows
-        table = pa.Table.from_pandas(frame, preserve_index=self.operation == "index") \
-            if not isinstance(frame.columns, pd.MultiIndex) else None
         buffer = io.BytesIO()
-        if table is None:
+        if isinstance(frame.columns, pd.MultiIndex):
             frame.to_parquet(buffer)
         else:
+            if frame.columns.duplicated().any():   # pandas refuses; Parquet holds them
+                table = pa.Table.from_arrays([pa.Array.from_pandas(frame.iloc[:, i])
+                                              for i in range(frame.shape[1])],
+                                             names=[str(c) for c in frame.columns])
+            else:
+                table = pa.Table.from_pandas(frame, preserve_index=self.operation == "index")
             pq.write_table(table, buffer, row_group_size=row_group)
         data = buffer.getvalue()
         position = int(self.where * len(data))

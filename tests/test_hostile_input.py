@@ -443,3 +443,14 @@ def test_a_windows_path_to_a_data_file_is_refused_saying_how_to_write_it(timeser
     edit_spec(timeseries_campaign, "file: data/r1.csv", f"file: {path}")
     refused("validate", timeseries_campaign, "runs[0].data.file", "not found",
             "relative to the spec's folder with '/'")
+
+
+def test_a_parquet_file_repeating_a_column_name_says_so(timeseries_campaign):
+    # found by the Parquet fuzzer: pyarrow's "Multiple matches for FieldRef.Name(Fz_kN) in
+    # t_s: double\nFz_kN: double\n…" (exit 2, but no word of what to change)
+    path = timeseries_campaign.parent / "data" / "r1.parquet"
+    path.write_bytes(hostile.ParquetMutation("name", 4, hostile.PARQUET_NAMES.index("Fz_kN"))
+                     .apply())
+    edit_spec(timeseries_campaign, "file: data/r1.csv", "file: data/r1.parquet")
+    refused("validate", timeseries_campaign,
+            "data/r1.parquet: column name(s) repeated in the header: Fz_kN")

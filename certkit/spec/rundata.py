@@ -210,8 +210,13 @@ def _read_table(path: Path, display: str):
             if suffix == ".csv":
                 frame = pd.read_csv(path, sep=separator, decimal=decimal, index_col=False)
                 first_line = 2
-            else:
-                frame, first_line = pd.read_parquet(path), 0
+                with path.open(newline="", encoding="utf-8-sig", errors="replace") as handle:
+                    header = next(csv.reader(handle, delimiter=separator), [])
+            else:   # the names first: pyarrow cannot read a file that repeats one
+                import pyarrow.parquet as pq
+
+                header, first_line = pq.read_schema(path).names, 0
+                frame = None if len(set(header)) < len(header) else pd.read_parquet(path)
     except (pd.errors.ParserWarning, pd.errors.ParserError) as exc:
         raise (_field_count_error(path, display, separator)
                or fail(f"cannot read data file: {exc}")) from None
@@ -221,18 +226,15 @@ def _read_table(path: Path, display: str):
         raise _not_utf8(path, display) from None
     except Exception as exc:  # pandas and pyarrow raise many types for malformed files
         raise fail(f"cannot read data file: {exc}") from None
+    repeated = sorted({name for name in header if header.count(name) > 1})
+    if repeated:
+        raise fail(f"column name(s) repeated in the header: {_names(repeated)}",
+                   1 if suffix == ".csv" else None)
     if frame.columns.nlevels > 1:
         raise fail(f"column names must be one level of text; this file has "
                    f"{frame.columns.nlevels}-level column names such as "
                    f"{shown(frame.columns[0]) if len(frame.columns) else '()'}")
     frame.columns = [str(name) for name in frame.columns]
-    if suffix == ".csv":
-
-        with path.open(newline="", encoding="utf-8-sig", errors="replace") as handle:
-            header = next(csv.reader(handle, delimiter=separator), [])
-        repeated = sorted({name for name in header if header.count(name) > 1})
-        if repeated:
-            raise fail(f"column name(s) repeated in the header: {_names(repeated)}", 1)
     layout = None
     if separator != ",":
         layout = f"{SEPARATORS[separator]}-separated with decimal " + (
