@@ -134,8 +134,8 @@ def _usable_streams() -> None:
     """Standard output and error as certkit writes them: a closed one (``>&-``) discards
     what is written, as /dev/null would; one whose encoding lacks a character (a locale
     without UTF-8, PYTHONIOENCODING=ascii) gets it as an escape (``\\u2014``), not an
-    error.  (A reader that stops early, ``| head -1``, ends the run quietly with exit 1:
-    click's handling of EPIPE.)"""
+    error.  (A reader that stops early, ``| head -1``, ends a run still writing quietly,
+    exit 1: click's handling of EPIPE.)"""
     for name in ("stdout", "stderr"):
         stream = getattr(sys, name)
         if stream is None:
