@@ -10,8 +10,18 @@ them, derandomised, in the suite) for longer, with random seeds:
   text inserted or deleted, lines dropped or repeated);
 * data loader: load_campaign on the analytic campaign with its CSV mutated (cells,
   columns, bytes, cuts, time rescaled), half of them with every data check waived;
+* Parquet loader: load_campaign and assess on the analytic run written as Parquet and
+  mutated (column types, nulls, odd, repeated, non-text and two-level names, the time as
+  timestamps, an index, zero rows, row groups of one row or of all, bytes overwritten,
+  the file cut), half of them with every data check waived;
 * validate -> assess chain: spec mutations that the loader accepts are assessed (audit
-  rows, results document) and, for the drop-model campaign, simulated (the model stage).
+  rows, results document) and, for the drop-model campaign, simulated;
+* validate -> assess -> drop model: the drop-model campaign simulated (250 Hz, cheap
+  identification settings: tests/hostile_inputs.py, MODELLED_SETTINGS), its spec or one
+  run's CSV mutated, through what ``certkit report`` runs: assessment, calibration,
+  identification and, for the first --gap accepted inputs, the gap diagnosis. This is
+  slow (about 6 s per accepted input, 40 s more with the gap diagnosis, on an idle core;
+  three in four are refused at load), hence its own, small count.
 
 A crash is any exception other than certkit's own input errors (CertkitInputError,
 CampaignError, QuantityError).  Prints per loader: inputs tried, accepted, clean input
@@ -60,7 +70,10 @@ class Tally:
 
 
 def run(strategy, examples: int, random_seed: int, body) -> None:
-    """Call ``body`` on ``examples`` draws of ``strategy`` (no shrinking: body never fails)."""
+    """Call ``body`` on ``examples`` draws of ``strategy`` (no shrinking: body never fails);
+    none when ``examples`` is 0 (to run the other loaders only)."""
+    if examples == 0:
+        return
     @seed(random_seed)
     @settings(max_examples=examples, database=None, deadline=None, phases=[Phase.generate],
               suppress_health_check=list(HealthCheck))
@@ -76,6 +89,12 @@ def main() -> int:
     parser.add_argument("--examples", type=int, default=10_000, help="inputs per loader")
     parser.add_argument("--chain", type=int, default=2_000,
                         help="spec mutations run through load, assess and simulate")
+    parser.add_argument("--parquet", type=int, default=2_000,
+                        help="Parquet mutations (about 0.1 s each)")
+    parser.add_argument("--model", type=int, default=40,
+                        help="mutations run through the drop-model stages")
+    parser.add_argument("--gap", type=int, default=3,
+                        help="accepted ones of those that get the gap diagnosis too")
     parser.add_argument("--seed", type=int, default=16)
     args = parser.parse_args()
     tallies = []
@@ -97,14 +116,26 @@ def main() -> int:
 
     with tempfile.TemporaryDirectory() as scratch:
         folder = hostile.campaign_folder(Path(scratch) / "campaign")
+        gaps = [args.gap]
+
+        def modelled(mutation):
+            result = hostile.try_model(Path(scratch) / "modelled", mutation, gap=gaps[0] > 0)
+            if result.kind == "ok" and gaps[0] > 0:
+                gaps[0] -= 1
+            return result
         for name, strategy, attempt, count in (
                 ("spec loader (load_campaign, mutated spec)", hostile.spec_mutations(),
                  lambda m: hostile.try_spec(folder, m), args.examples),
                 ("data loader (load_campaign, mutated CSV)", hostile.data_mutations(),
                  lambda m: hostile.try_data(folder, m, assess=True), args.examples),
+                ("Parquet loader (load_campaign and assess, mutated Parquet)",
+                 hostile.parquet_mutations(), lambda m: hostile.try_data(folder, m, assess=True),
+                 args.parquet),
                 ("validate -> assess -> simulate (mutated spec)", hostile.spec_mutations(),
                  lambda m: hostile.try_spec(folder, m, assess=True, simulate=True),
-                 args.chain)):
+                 args.chain),
+                ("validate -> assess -> calibration, identification, gap (mutated spec or "
+                 "data)", hostile.model_mutations(), modelled, args.model)):
             tally = Tally(name)
 
             def body(mutation, tally=tally, attempt=attempt):

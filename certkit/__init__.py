@@ -8,12 +8,20 @@ Library use (what the CLI does)::
     certkit.render_report(assessment, "out")
 """
 
-from certkit.compliance.assessment import Assessment
-from certkit.compliance.engine import assess
-from certkit.errors import CertkitInputError
-from certkit.evidence.report import render_report
-from certkit.spec.campaign import Campaign, load_campaign
+import importlib
+
 from certkit.version import VERSION as __version__
 
+# Exported lazily (PEP 562), so that ``import certkit.cli`` runs the command line's first
+# lines (its stop-signal handling) before the heavy modules load.
+_EXPORTS = {"Assessment": "certkit.compliance.assessment", "assess": "certkit.compliance.engine",
+            "CertkitInputError": "certkit.errors", "render_report": "certkit.evidence.report",
+            "Campaign": "certkit.spec.campaign", "load_campaign": "certkit.spec.campaign"}
 __all__ = ["Assessment", "Campaign", "CertkitInputError", "assess", "load_campaign",
            "render_report", "__version__"]
+
+
+def __getattr__(name: str):
+    if name in _EXPORTS:
+        return getattr(importlib.import_module(_EXPORTS[name]), name)
+    raise AttributeError(f"module 'certkit' has no attribute {name!r}")

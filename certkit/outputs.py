@@ -101,6 +101,22 @@ def check_target(target: Path, inputs: list[Path], own_paths: set[str]) -> None:
                                   f"certkit only replaces its own output folders")
 
 
+def check_file_target(target: Path, inputs: list[Path], key: str) -> None:
+    """Raise CertkitInputError when the single file ``target`` (``audit -o``, ``--json``)
+    cannot be written without loss: it is a folder, or it is one of ``inputs`` (the
+    campaign's spec and data files, a baseline), by name or by link."""
+    if target.is_dir():
+        raise CertkitInputError.single(str(target), None, key, "is a folder; give a file "
+                                                               "name for it")
+    for item in inputs:
+        same = target.resolve() == Path(item).resolve() or (
+            target.exists() and os.path.samefile(target, item))
+        if same:
+            raise CertkitInputError.single(
+                str(target), None, key, f"is the input {item}; writing there would replace "
+                                        f"it: choose another file")
+
+
 def _folder_mode(final: Path) -> int:
     """Keep an existing folder's permissions; a new one gets the umask's."""
     if final.exists():
@@ -279,8 +295,10 @@ def _locked(final: Path, target: Path):
             os.close(descriptor)
 
 
-# a path that cannot be written where it points: bad input, not the machine's fault
-_NOT_A_PLACE = (errno.ENOENT, errno.ENOTDIR, errno.EISDIR, errno.ENAMETOOLONG, errno.ELOOP)
+# a path that cannot be written where it points: bad input, not the machine's fault (EEXIST:
+# a file stands where a folder of the path must be made)
+_NOT_A_PLACE = (errno.ENOENT, errno.ENOTDIR, errno.EISDIR, errno.ENAMETOOLONG, errno.ELOOP,
+                errno.EEXIST)
 
 
 def writing_failure(error: OSError, path: str | Path, doing: str = "cannot write the outputs",
@@ -294,8 +312,10 @@ def writing_failure(error: OSError, path: str | Path, doing: str = "cannot write
             Path(os.fsdecode(error.filename)).is_relative_to(staging):
         error = OSError(error.errno, error.strerror)
     if error.errno in _NOT_A_PLACE:
-        return CertkitInputError.single(str(path), None, key, f"{doing}: "
-                                        f"{error.strerror or error}{named_file(error, path)}")
+        why = "a file stands where a folder must be" if error.errno == errno.EEXIST else \
+            error.strerror or error
+        return CertkitInputError.single(str(path), None, key,
+                                        f"{doing}: {why}{named_file(error, path)}")
     return EnvironmentFailure.from_os_error(error, path, doing)
 
 
@@ -416,7 +436,10 @@ def write_bytes_atomically(path: str | Path, data: bytes, private: bool = False)
     new one, never a part); ``private``: readable by its owner only (0600), else what the
     umask allows."""
     path = Path(path)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.tmp-", dir=path.parent)
+    try:
+        handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.tmp-", dir=path.parent)
+    except OSError as error:   # name the file asked for, not a temporary one never made
+        raise type(error)(error.errno, error.strerror, str(path)) from None
     try:
         with os.fdopen(handle, "wb") as stream:
             stream.write(data)

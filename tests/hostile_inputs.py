@@ -10,11 +10,14 @@ CampaignError, QuantityError) or ``crash`` (anything else: a certkit bug).
 
 from __future__ import annotations
 
+import functools
+import io
 import re
 import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 from hypothesis import strategies as st
 
 from certkit.errors import CampaignError, CertkitInputError
@@ -114,9 +117,57 @@ def spec_values() -> st.SearchStrategy[str]:
 # --------------------------------------------------------------------------- campaigns
 #: The analytic campaign (measured time histories) and the drop-model campaign (no data).
 BASES = {"timeseries": TIMESERIES_SPEC, "physics": PHYSICS_SPEC}
-WAIVERS = ("      waivers: [{check: gaps, reason: x}, {check: sample_rate, reason: x}, "
+_WAIVED = ("waivers: [{check: gaps, reason: x}, {check: sample_rate, reason: x}, "
            "{check: clipping, reason: x}, {check: implausible_range, reason: x}]\n")
+WAIVERS = "      " + _WAIVED
 _WAIVER_AFTER = "drop_mass_displacement: {column: x_mm, unit: mm}\n"
+# the same place in the simulated campaign's spec (block style, data keys 4 deep)
+_MODELLED_WAIVER_AFTER = "      column: x_mm\n      unit: mm\n"
+
+#: The drop-model campaign with time histories: PHYSICS_SPEC simulated (no sensor noise),
+#: so what ``certkit report`` runs after the assessment (calibration, identification, gap
+#: diagnosis) has data to work on.  Made cheaper than the defaults, or a trial would take a
+#: minute: 250 Hz, two calibrated parameters, low orders with fixed hyper-parameters.
+MODELLED_SETTINGS = (
+    "  calibration: {parameters: [discharge-coefficient, gas-precharge]}\n"
+    "  identification:\n"
+    "    hammerstein: {na: 2, nb: 2, gamma: 100, sigma2: 1}\n"
+    "    wiener: {na: 2, nb: 2, gamma: 100, sigma2: 1}\n"
+    "    narx: {na: 1, nb: 1, gamma: 100, sigma2: 1}\n")
+
+
+@functools.cache
+def modelled_campaign() -> tuple[str, dict[str, bytes]]:
+    """The simulated drop-model campaign: its spec's text and its data files' bytes (by
+    path relative to the spec), made once per process."""
+    import tempfile
+
+    from certkit.physics.synthetic import NO_SENSOR_EFFECTS, simulate_campaign
+    from certkit.spec.campaign import load_campaign
+
+    text = PHYSICS_SPEC.replace("sampling_rate: 1000 Hz", "sampling_rate: 250 Hz").replace(
+        "  effects: [rebound-orifice, seal-friction]\n",
+        "  effects: [rebound-orifice, seal-friction]\n" + MODELLED_SETTINGS)
+    with tempfile.TemporaryDirectory() as scratch:
+        spec = Path(scratch) / "truth" / "campaign.yaml"
+        spec.parent.mkdir()
+        spec.write_text(text, encoding="utf-8")
+        written = simulate_campaign(load_campaign(spec), Path(scratch) / "simulated", seed=0,
+                                    sensors=NO_SENSOR_EFFECTS)
+        data = {path.relative_to(written.parent).as_posix(): path.read_bytes()
+                for path in sorted((written.parent / "data").iterdir())}
+        return written.read_text(encoding="utf-8"), data
+
+
+def base_spec(name: str, waived: bool = False) -> str:
+    """The text of base spec ``name`` ('timeseries', 'physics' or 'modelled'), with every
+    data-quality waiver on each run that has data when ``waived``."""
+    if name == "modelled":
+        spec = modelled_campaign()[0]
+        return spec.replace(_MODELLED_WAIVER_AFTER, _MODELLED_WAIVER_AFTER + "    " + _WAIVED) \
+            if waived else spec
+    spec = BASES[name]
+    return spec.replace(_WAIVER_AFTER, _WAIVER_AFTER + WAIVERS) if waived else spec
 #: Where a value stands in a spec: after "key: " in block or flow style, up to a separator.
 _VALUE = re.compile(r"(?<=: )[^,{}\[\]\n#]+|(?<=\[)[^,{}\[\]\n#:]+(?=[,\]])")
 
@@ -129,8 +180,6 @@ def campaign_folder(folder: Path) -> Path:
 
 
 def base_csv() -> bytes:
-    import io
-
     columns = analytic_signals()
     buffer = io.StringIO()
     names = list(columns)
@@ -155,9 +204,7 @@ class SpecMutation:
     waived: bool = False
 
     def apply(self) -> str:
-        spec = BASES[self.base]
-        if self.waived:
-            spec = spec.replace(_WAIVER_AFTER, _WAIVER_AFTER + WAIVERS)
+        spec = base_spec(self.base, self.waived)
         if self.operation == "value":
             spans = [match.span() for match in _VALUE.finditer(spec)]
             start, end = spans[int(self.where * len(spans)) % len(spans)]
@@ -174,12 +221,13 @@ class SpecMutation:
         return "".join(lines[:index + 1] + lines[index:])  # repeat-line
 
 
-def spec_mutations() -> st.SearchStrategy[SpecMutation]:
+def spec_mutations(bases: tuple[str, ...] = tuple(sorted(BASES))
+                   ) -> st.SearchStrategy[SpecMutation]:
     share = st.floats(min_value=0, max_value=1, exclude_max=True)
     return st.one_of(
-        st.builds(SpecMutation, st.sampled_from(sorted(BASES)), st.just("value"), share,
+        st.builds(SpecMutation, st.sampled_from(bases), st.just("value"), share,
                   spec_values(), st.booleans()),
-        st.builds(SpecMutation, st.sampled_from(sorted(BASES)),
+        st.builds(SpecMutation, st.sampled_from(bases),
                   st.sampled_from(["insert", "delete", "drop-line", "repeat-line"]), share,
                   st.text(max_size=8), st.booleans()))
 
@@ -203,9 +251,9 @@ class DataMutation:
     payload: bytes = b""
     factor: float = 1.0
     waived: bool = False
+    file: str = "data/r1.csv"   # of the modelled campaign: which run's file is mutated
 
-    def apply(self) -> bytes:
-        data = BASE_CSV
+    def apply(self, data: bytes = BASE_CSV) -> bytes:
         position = int(self.where * len(data))
         if self.operation == "bytes":
             return data[:position] + self.payload + data[position + len(self.payload):]
@@ -250,6 +298,145 @@ def data_mutations() -> st.SearchStrategy[DataMutation]:
                   waived=st.booleans()))
 
 
+# --------------------------------------------------------------------------- Parquet
+#: What a Parquet writer can make of a column (pandas dtypes and pyarrow types).
+PARQUET_TYPES = ["int8", "int64", "uint64", "float16", "float32", "bool", "string", "object",
+                 "category", "Int64", "Float64", "decimal", "timedelta", "datetime",
+                 "datetime-tz", "date", "bytes", "list", "struct", "large-list", "dictionary",
+                 "null"]
+#: Column names no logger should write, and some a careless script does.
+PARQUET_NAMES = ["", " ", "t_s ", "T_S", "\x00", "\x1b[31m", "x" * 300, "1", "None", "nan",
+                 "Fz_kN", "a.b", "(a, b)", "__index_level_0__", "é", "\ufefft_s"]
+
+
+@dataclass(frozen=True)
+class ParquetMutation:
+    """One change to the analytic run written as Parquet: a column's type, nulls in it, its
+    name (odd, repeated, not text, two-level), the time column as timestamps, zero rows,
+    row groups of one row or one group of all rows, bytes overwritten or the file cut."""
+
+    operation: str
+    column: int
+    choice: int = 0
+    where: float = 0.0
+    payload: bytes = b""
+    waived: bool = False
+
+    def apply(self) -> bytes:
+        import pandas as pd
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        frame = pd.DataFrame(analytic_signals())
+        name = frame.columns[self.column % frame.shape[1]]
+        rows = len(frame)
+        row_group = None
+        if self.operation == "type":
+            frame[name] = _parquet_column(frame[name], PARQUET_TYPES[self.choice
+                                                                     % len(PARQUET_TYPES)])
+        elif self.operation == "nulls":
+            count = max(1, int(self.where * rows)) if self.choice % 3 else rows
+            frame.loc[frame.index[:count], name] = None
+        elif self.operation == "name":
+            names = list(frame.columns)
+            names[self.column % len(names)] = PARQUET_NAMES[self.choice % len(PARQUET_NAMES)]
+            frame.columns = names
+        elif self.operation == "non-text-name":
+            frame.columns = [[0, 1.5, None, ("a", "b"), True, -1][self.choice % 6]
+                             if column == name else column for column in frame.columns]
+        elif self.operation == "two-level":
+            frame.columns = pd.MultiIndex.from_tuples([(c, "v") for c in frame.columns])
+        elif self.operation == "time-stamps":
+            frame["t_s"] = pd.Timestamp("2025-02-27T10:00", tz="UTC" if self.choice % 2
+                                        else None) + pd.to_timedelta(frame["t_s"], unit="s")
+        elif self.operation == "index":
+            frame = frame.set_index(name)
+        elif self.operation == "zero-rows":
+            frame = frame.iloc[:0]
+        elif self.operation == "row-groups":
+            row_group = 1 if self.choice % 2 else rows
+        buffer = io.BytesIO()
+        if isinstance(frame.columns, pd.MultiIndex):
+            frame.to_parquet(buffer)
+        else:
+            if frame.columns.duplicated().any():   # pandas refuses; Parquet holds them
+                table = pa.Table.from_arrays([pa.Array.from_pandas(frame.iloc[:, i])
+                                              for i in range(frame.shape[1])],
+                                             names=[str(c) for c in frame.columns])
+            else:
+                table = pa.Table.from_pandas(frame, preserve_index=self.operation == "index")
+            pq.write_table(table, buffer, row_group_size=row_group)
+        data = buffer.getvalue()
+        position = int(self.where * len(data))
+        if self.operation == "bytes":
+            return data[:position] + self.payload + data[position + len(self.payload):]
+        if self.operation == "cut":
+            return data[:position]
+        return data
+
+
+def _parquet_column(values, kind: str):
+    """``values`` (floats) as a column of type ``kind``."""
+    import decimal
+
+    import pandas as pd
+    import pyarrow as pa
+
+    arrow = {"decimal": lambda: pa.array([decimal.Decimal(repr(v)[:12]) for v in values]),
+             "bytes": lambda: pa.array([repr(v).encode() for v in values]),
+             "list": lambda: pa.array([[v] for v in values]),
+             "large-list": lambda: pa.array([[v, v] for v in values],
+                                            type=pa.large_list(pa.float64())),
+             "struct": lambda: pa.array([{"value": v} for v in values]),
+             "dictionary": lambda: pa.array(values.round(1)).dictionary_encode(),
+             "null": lambda: pa.nulls(len(values))}
+    if kind in arrow:
+        return pd.Series(pd.arrays.ArrowExtensionArray(arrow[kind]()), index=values.index)
+    if kind == "timedelta":
+        return pd.to_timedelta(values, unit="s")
+    if kind in ("datetime", "datetime-tz", "date"):
+        stamps = pd.Timestamp("2025-02-27", tz="UTC" if kind == "datetime-tz" else None) + \
+            pd.to_timedelta(values, unit="s")
+        return stamps.dt.date if kind == "date" else stamps
+    if kind in ("category", "string", "object"):
+        return values.round(3).astype(str).astype(kind)
+    if "int" in kind.lower():   # whole numbers (wrapped around in the narrow ones)
+        values = values.abs().round() if kind.startswith("u") else values.round()
+        if kind[0].islower():
+            return pd.Series(values.to_numpy().astype(np.int64).astype(kind), index=values.index)
+    return values.astype(kind)
+
+
+def parquet_mutations() -> st.SearchStrategy[ParquetMutation]:
+    share = st.floats(min_value=0, max_value=1, exclude_max=True)
+    column = st.integers(min_value=0, max_value=5)
+    choice = st.integers(min_value=0, max_value=len(PARQUET_TYPES) - 1)
+    return st.one_of(
+        st.builds(ParquetMutation, st.sampled_from(
+            ["type", "nulls", "name", "non-text-name", "two-level", "time-stamps", "index",
+             "zero-rows", "row-groups"]), column, choice, share, waived=st.booleans()),
+        st.builds(ParquetMutation, st.sampled_from(["bytes", "cut"]), column, choice, share,
+                  st.binary(min_size=1, max_size=8), st.booleans()))
+
+
+# --------------------------------------------------------------------------- model stages
+@dataclass(frozen=True)
+class ModelMutation:
+    """A mutation of the simulated drop-model campaign: of its spec (``spec``) or of one
+    run's data file (``data``, its ``file`` naming which)."""
+
+    spec: SpecMutation | None = None
+    data: DataMutation | None = None
+
+
+def model_mutations() -> st.SearchStrategy[ModelMutation]:
+    files = st.sampled_from(["data/D200.csv", "data/D250.csv", "data/D300.csv"])
+    data = st.builds(lambda m, file: DataMutation(**{**m.__dict__, "file": file}),
+                     data_mutations(), files)
+    return st.one_of(st.builds(ModelMutation, spec=spec_mutations(("modelled",))),
+                     st.builds(ModelMutation, data=data))
+
+
 # --------------------------------------------------------------------------- harness
 @dataclass(frozen=True)
 class Result:
@@ -271,7 +458,8 @@ def _crash(stage: str, error: Exception) -> Result:
     return Result("crash", stage, f"{stage}: {type(error).__name__} at {where}\n{message}")
 
 
-def _run(folder: Path, assess: bool, simulate: bool) -> Result:
+def _run(folder: Path, assess: bool, simulate: bool, model: bool = False,
+         gap: bool = False) -> Result:
     from certkit.spec.campaign import load_campaign
 
     stage = "load"
@@ -291,6 +479,18 @@ def _run(folder: Path, assess: bool, simulate: bool) -> Result:
 
             stage = "simulate"
             simulate_campaign(campaign, folder / "simulated", seed=0, sensors=NO_SENSOR_EFFECTS)
+        if model:   # what report adds after the assessment, as it runs it
+            from certkit.evidence.model_evidence import model_evidence
+            from certkit.evidence.results_document import results_document
+
+            def progress(message: str) -> None:
+                nonlocal stage
+                stage = message.split(" ")[0]   # calibrating, diagnosing, identifying
+
+            stage = "model"
+            evidence = model_evidence(campaign, gap=gap, progress=progress)
+            stage = "model results"
+            results_document(assessment, evidence)
     except CLEAN:
         return Result("clean", stage)
     except Exception as error:  # noqa: BLE001 - what the fuzzer looks for
@@ -307,10 +507,35 @@ def try_spec(folder: Path, mutation: SpecMutation, assess: bool = False,
     return _run(folder, assess, simulate and mutation.base == "physics")
 
 
-def try_data(folder: Path, mutation: DataMutation, assess: bool = False) -> Result:
-    """Load the analytic campaign with its data file mutated (and assess it if accepted)."""
-    spec = TIMESERIES_SPEC.replace(_WAIVER_AFTER, _WAIVER_AFTER + WAIVERS) if mutation.waived \
-        else TIMESERIES_SPEC
+def try_data(folder: Path, mutation: DataMutation | ParquetMutation,
+             assess: bool = False) -> Result:
+    """Load the analytic campaign with its data file mutated (CSV, or Parquet for a
+    ParquetMutation) and assess it if accepted."""
+    spec = base_spec("timeseries", mutation.waived)
+    name = "r1.csv"
+    if isinstance(mutation, ParquetMutation):
+        name = "r1.parquet"
+        spec = spec.replace("file: data/r1.csv", f"file: data/{name}")
     (folder / "campaign.yaml").write_text(spec, encoding="utf-8")
-    (folder / "data" / "r1.csv").write_bytes(mutation.apply())
+    (folder / "data" / name).write_bytes(mutation.apply())
     return _run(folder, assess, False)
+
+
+def try_model(folder: Path, mutation: ModelMutation, gap: bool = False) -> Result:
+    """The simulated drop-model campaign with ``mutation`` applied, through load, assess and
+    the drop model's evidence as ``certkit report`` makes it (calibration, identification
+    and, with ``gap``, the gap diagnosis: about 6 s per accepted input, 40 s more with
+    ``gap``)."""
+    spec, files = modelled_campaign()
+    files = dict(files)
+    if mutation.spec is not None:
+        spec = mutation.spec.apply()
+    else:
+        spec = base_spec("modelled", mutation.data.waived)
+        files[mutation.data.file] = mutation.data.apply(files[mutation.data.file])
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "campaign.yaml").write_text(spec, encoding="utf-8", errors="surrogatepass")
+    for name, data in files.items():
+        (folder / name).parent.mkdir(parents=True, exist_ok=True)
+        (folder / name).write_bytes(data)
+    return _run(folder, True, False, model=True, gap=gap)

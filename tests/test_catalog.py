@@ -13,7 +13,7 @@ import pytest
 from typer.testing import CliRunner
 
 from certkit.archive.campaign_bag import archive_campaign
-from certkit.archive.bag import write_bag
+from certkit.archive.bag import read_info, write_bag
 from certkit.archive.catalog import add, search
 from certkit.cli import app
 
@@ -232,3 +232,77 @@ def test_two_additions_blocked_by_a_writer_both_land_when_it_finishes(bags, tmp_
     holder.close()
     _finish(processes)
     assert sorted(e.campaign_id for e in search(catalog)) == ["AMPH-1", "LSA-1", "LSA-2"]
+
+
+# --------------------------------------------------------------------------- hostile bags
+def _rewritten(bag: Path, change) -> Path:
+    """The bag with its results.json replaced by ``change(document)`` (text, or a document
+    written as JSON) and its manifests written again: intact by its own manifests, as a bag
+    edited by someone who knows BagIt is."""
+    path = bag / "data" / "results" / "results.json"
+    content = change(json.loads(path.read_text(encoding="utf-8")))
+    path.write_text(content if isinstance(content, str) else json.dumps(content),
+                    encoding="utf-8")
+    info = [(label, value) for label, values in read_info(bag).items() for value in values
+            if label != "Payload-Oxum"]
+    write_bag(bag, info)
+    return bag
+
+
+def _counts(value):
+    def change(document):
+        document["counts"]["PASS"] = value
+        return document
+    return change
+
+
+def _verdict_run(document):
+    document["verdicts"][0]["run"] = [1]
+    return document
+
+
+HOSTILE_RESULTS = {
+    "nested 100,000 deep": (lambda d: "[" * 100_000 + "]" * 100_000, "nested too deeply"),
+    "a 5,000-digit integer": (lambda d: '{"format": ' + "9" * 5000 + "}",
+                              "an integer of 5000 digits"),
+    "a count that is a mapping": (_counts({"a": 1}), "where the catalog indexes passed"),
+    "a count that is NaN": (_counts(float("nan")), "where the catalog indexes passed"),
+    "a count beyond SQLite": (_counts(2 ** 64), "where the catalog indexes passed"),
+    "a verdict's run that is a list": (_verdict_run, "verdicts[].run: expected text"),
+}
+
+
+@pytest.mark.parametrize("name", HOSTILE_RESULTS)
+def test_a_hostile_results_file_in_an_intact_bag_is_refused_naming_it(bags, tmp_path, name):
+    # before: RecursionError and OverflowError were "a certkit bug" (exit 3), a mapping was
+    # blamed on --catalog, and a NaN count was silently not added ("already catalogued")
+    change, words = HOSTILE_RESULTS[name]
+    bag = _rewritten(bags["A"], change)
+    catalog = tmp_path / "catalog.sqlite"
+    result = runner.invoke(app, ["catalog", "add", str(bag), "--catalog", str(catalog)])
+    assert result.exit_code == 2, (result.output, result.exception)
+    assert str(bag) in result.output and words in result.output, result.output
+    assert "--catalog" not in result.output and "certkit bug" not in result.output
+    assert search(catalog) == []
+
+
+@pytest.mark.parametrize("name", ["nested 100,000 deep", "a 5,000-digit integer"])
+def test_a_results_file_json_cannot_hold_is_refused_by_verify_recompute(bags, name):
+    change, words = HOSTILE_RESULTS[name]
+    bag = _rewritten(bags["A"], change)
+    result = runner.invoke(app, ["verify", "--recompute", str(bag)])
+    assert result.exit_code == 2, (result.output, result.exception)
+    assert f"{bag}: data/results/results.json: " in result.output and words in result.output
+
+
+def test_a_catalog_path_through_a_file_or_at_a_folder_is_an_input_error(bags, tmp_path):
+    # before: a file where the catalog's folder must be said only "File exists", and a
+    # folder named as the catalog "not a certkit catalog (unable to open database file)"
+    (tmp_path / "notes").write_text("a file", encoding="utf-8")
+    for catalog, words in ((tmp_path / "notes" / "catalog.sqlite", "a file stands where a "
+                                                                   "folder must be"),
+                           (tmp_path, "it is a folder")):
+        result = runner.invoke(app, ["catalog", "add", str(bags["A"]), "--catalog",
+                                     str(catalog)])
+        assert result.exit_code == 2, (result.output, result.exception)
+        assert str(catalog) in result.output and words in result.output, result.output

@@ -13,6 +13,7 @@ from __future__ import annotations
 import datetime
 import errno
 import fcntl
+import json
 import os
 import pathlib
 import random
@@ -161,6 +162,16 @@ def test_a_read_only_file_system_exits_4_naming_the_folder(seed_copy, tmp_path):
     assert left == []
 
 
+def test_a_single_file_on_a_read_only_file_system_is_named_as_asked(seed_copy, tmp_path):
+    # before: "cannot write the audit: the file system is read-only (DISK/.a.md.tmp-XXXXXXXX)",
+    # naming a temporary file the user never asked for and certkit never made
+    table = tmp_path / "disk" / "a.md"
+    completed, left = _run_on_small_disk(tmp_path, "size=1m,ro", [
+        "audit", str(seed_copy), "-o", str(table)])
+    assert_environment_failure(completed, table, "read-only")
+    assert ".tmp-" not in completed.stderr, completed.stderr
+
+
 @pytest.mark.skipif(os.geteuid() == 0, reason="root writes into any folder, whatever its mode")
 def test_a_folder_without_write_permission_exits_4(seed_copy, tmp_path):
     parent = tmp_path / "shared"
@@ -229,6 +240,52 @@ def test_a_folder_refusing_new_entries_exits_4(seed_copy, tmp_path, monkeypatch)
     result = report(seed_copy, parent / "out")
     assert_environment_failure(result, parent / "out", "permission denied")
     assert list(parent.iterdir()) == []
+
+
+# --------------------------------------------------------------------------- the catalog
+def small_bag(folder: Path) -> Path:
+    """A bag with the results a catalog indexes (no report), made in a moment."""
+    results = {"format": "certkit-results/1", "outcome": "COMPLIANCE SHOWN",
+               "counts": {"PASS": 1, "FAIL": 0, "NOT SHOWN": 0},
+               "finding_counts": {"error": 0, "warning": 0, "info": 0},
+               "verdicts": [{"id": "CFR23.725a/D1", "clause": "CFR23.725a", "run": "D1",
+                             "gear": None, "verdict": "PASS"}]}
+    (folder / "data" / "results").mkdir(parents=True)
+    (folder / "data" / "results" / "results.json").write_text(json.dumps(results))
+    write_bag(folder, [("Campaign-Id", "C-1"), ("Aircraft-Model", "Test aircraft")])
+    return folder
+
+
+def test_a_full_disk_while_adding_to_the_catalog_exits_4_and_leaves_nothing(tmp_path,
+                                                                           monkeypatch):
+    # before: "cannot add to the catalog: database or disk is full", exit 2 (bad input)
+    import certkit.archive.catalog as catalog_module
+
+    real = catalog_module._connect
+
+    def full(path):   # SQLite itself answers SQLITE_FULL: the file may not grow
+        connection = real(path)
+        pages = connection.execute("PRAGMA page_count").fetchone()[0]
+        connection.execute(f"PRAGMA max_page_count = {max(pages, 1)}")
+        return connection
+
+    monkeypatch.setattr(catalog_module, "_connect", full)
+    bag = small_bag(tmp_path / "bag")
+    catalog = tmp_path / "lab" / "catalog.sqlite"
+    result = runner.invoke(app, ["catalog", "add", str(bag), "--catalog", str(catalog)])
+    assert_environment_failure(result, catalog, "no space left")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bag"]
+
+
+@pytest.mark.parametrize("options, words", [("size=4k", "no space left"),
+                                            ("size=1m,ro", "read-only")])
+def test_a_catalog_on_a_real_full_or_read_only_disk_exits_4(tmp_path, options, words):
+    bag = small_bag(tmp_path / "bag")
+    catalog = tmp_path / "disk" / "lab" / "catalog.sqlite"
+    completed, left = _run_on_small_disk(tmp_path, options, [
+        "catalog", "add", str(bag), "--catalog", str(catalog)])
+    assert_environment_failure(completed, catalog, words)
+    assert left == []
 
 
 # --------------------------------------------------------------------------- two writers
@@ -496,3 +553,35 @@ def test_a_zip_member_declaring_gigabytes_is_refused_before_extraction(tmp_path)
     result = runner.invoke(app, ["verify", str(archive)])
     assert result.exit_code == 2, result.output
     assert "zeros.bin" in result.output and "zip bomb" in result.output
+
+
+# --------------------------------------------------------------------------- stop signals
+@pytest.mark.parametrize("delay", [0.3, 1.0, 2.5])
+def test_ctrl_c_at_any_moment_exits_130_with_a_message_and_no_traceback(seed_copy, tmp_path,
+                                                                        delay):
+    # before: a Ctrl-C while certkit was still importing printed a KeyboardInterrupt
+    # traceback (exit -2), and a later one stopped with no word of what happened
+    out = tmp_path / "out"
+    process = subprocess.Popen([*CLI, "report", str(seed_copy), "-o", str(out), "--no-model"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(delay)
+    process.send_signal(signal.SIGINT)
+    _, stderr = process.communicate(timeout=120)
+    assert process.returncode == 130, stderr
+    assert "Traceback" not in stderr and "KeyboardInterrupt" not in stderr, stderr
+    if "certkit report:" in stderr:   # the run had begun: it says why it stopped
+        assert "stopped (SIGINT, Ctrl-C)" in stderr, stderr
+    assert litter(tmp_path) == [] and not out.exists()
+
+
+# --------------------------------------------------------------------------- the terminal
+def test_a_closed_standard_output_or_one_without_unicode_is_no_certkit_bug(seed_copy):
+    # before: `certkit audit spec >&-` and PYTHONIOENCODING=ascii (a locale without UTF-8)
+    # were AttributeError / UnicodeEncodeError, "a certkit bug" (exit 3)
+    closed = subprocess.run(" ".join([*CLI, "audit", str(seed_copy), ">&-"]), shell=True,
+                            capture_output=True, text=True)
+    assert closed.returncode == 1 and closed.stderr == "", closed.stderr  # 1: criteria fail
+    ascii_only = subprocess.run([*CLI, "audit", str(seed_copy)], capture_output=True,
+                                env=dict(os.environ, PYTHONIOENCODING="ascii"))
+    assert ascii_only.returncode == 1, ascii_only.stderr
+    assert b"\\u2014" in ascii_only.stdout and ascii_only.stdout.isascii()

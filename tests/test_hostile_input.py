@@ -77,6 +77,14 @@ def test_explicit_yaml_tags_are_refused(timeseries_campaign, tagged):
             tagged.split()[0])
 
 
+def test_a_yaml_merge_key_is_refused_in_words(timeseries_campaign):
+    # found probing: `<<: {model: X}` said "could not determine a constructor for the tag
+    # 'tag:yaml.org,2002:merge'"
+    edit_spec(timeseries_campaign, "aircraft:\n", "aircraft:\n  <<: {model: X}\n")
+    refused("validate", timeseries_campaign, "campaign.yaml:14", "YAML merge keys (<<) are "
+                                                                 "not supported")
+
+
 # --------------------------------------------------------------------------- 2. huge numbers
 @pytest.mark.parametrize("old, new", [
     ("wing_lift_ratio: 0.667", "wing_lift_ratio: " + "9" * 5000),
@@ -271,6 +279,31 @@ def test_the_data_loader_raises_only_input_errors_and_assess_survives(spec_folde
     assert result.kind != "crash", result.detail
 
 
+@examples(40)
+@given(mutation=hostile.parquet_mutations())
+def test_the_parquet_loader_raises_only_input_errors_and_assess_survives(spec_folder, mutation):
+    """Column types, nulls, odd and two-level names, timestamps, zero rows, row groups,
+    damaged bytes: read, or refused with an input error."""
+    result = hostile.try_data(spec_folder, mutation, assess=True)
+    assert result.kind != "crash", result.detail
+
+
+@pytest.fixture(scope="module")
+def model_folder(tmp_path_factory) -> Path:
+    return tmp_path_factory.mktemp("model-fuzz")
+
+
+@pytest.mark.slow
+@examples(8)
+@given(mutation=hostile.model_mutations())
+def test_what_validate_accepts_the_drop_model_stages_survive(model_folder, mutation):
+    """The simulated drop-model campaign, its spec or a run's data mutated, through what
+    `certkit report` runs: assess, calibration, identification, gap diagnosis (a few
+    seconds to a minute per accepted input; benchmarks/fuzz_inputs.py runs more)."""
+    result = hostile.try_model(model_folder, mutation, gap=True)
+    assert result.kind != "crash", result.detail
+
+
 def test_an_unknown_top_level_key_is_an_input_error(timeseries_campaign):
     # found by the spec fuzzer: an unknown key at the top level crashed the spelling hint
     edit_spec(timeseries_campaign, "certkit: 1\n", "certkit: 1\nrunz: []\n")
@@ -360,3 +393,64 @@ def test_a_date_shaped_text_value_survives_the_simulation(physics_campaign, tmp_
     result = runner.invoke(app, ["simulate", str(physics_campaign), "-o", str(tmp_path / "s"),
                                  "--no-noise"])
     assert result.exit_code == 0, (result.output, result.exception)
+
+
+# --------------------------------------------------------------------------- outputs at inputs
+@pytest.mark.parametrize("command, option, target", [
+    ("audit", "-o", "campaign.yaml"), ("audit", "-o", "data/r1.csv"),
+    ("audit", "--junit", "data/r1.csv"), ("calibrate", "--json", "campaign.yaml"),
+    ("identify", "--json", "data/r1.csv"), ("audit", "-o", "data")])
+def test_a_single_output_file_named_at_an_input_is_refused_before_anything_is_written(
+        timeseries_campaign, command, option, target):
+    # found probing: `audit -o campaign.yaml` replaced the spec with the audit table (exit 1)
+    folder = timeseries_campaign.parent
+    before = {p: p.read_bytes() for p in folder.rglob("*") if p.is_file()}
+    result = runner.invoke(app, [command, str(timeseries_campaign), option,
+                                 str(folder / target)])
+    assert result.exit_code == 2, (result.output, result.exception)
+    expected = "is a folder" if target == "data" else "writing there would replace it"
+    assert f"{folder / target} {option if option != '-o' else '--output'}: " in result.output
+    assert expected in result.output, result.output
+    assert {p: p.read_bytes() for p in folder.rglob("*") if p.is_file()} == before
+
+
+def test_the_audit_and_its_junit_table_in_one_file_are_refused(timeseries_campaign, tmp_path):
+    result = runner.invoke(app, ["audit", str(timeseries_campaign), "-o", str(tmp_path / "a"),
+                                 "--junit", str(tmp_path / "a")])
+    assert result.exit_code == 2 and "--junit: expected another file than --output" in \
+        result.output, result.output
+    assert not (tmp_path / "a").exists()
+
+
+@pytest.mark.parametrize("encoding, line, byte", [("utf-16", 1, "0xff"), ("latin-1", 1, "0xd1")])
+def test_a_csv_file_not_in_utf8_says_so_with_the_line_and_byte(timeseries_campaign, encoding,
+                                                               line, byte):
+    # found probing: a spreadsheet's UTF-16 or Latin-1 export was refused with Python's
+    # "'utf-8' codec can't decode byte 0xff in position 0: invalid start byte"
+    path = timeseries_campaign.parent / "data" / "r1.csv"
+    text = path.read_text(encoding="utf-8").replace("Fz_kN", "Fz_kÑ")
+    path.write_bytes(text.encode(encoding))
+    edit_spec(timeseries_campaign, "column: Fz_kN", "column: Fz_kÑ")
+    refused("validate", timeseries_campaign, f"data/r1.csv:{line}: expected UTF-8 text, found "
+                                             f"byte {byte} on line {line}", "save the file as "
+                                                                            "UTF-8")
+
+
+@pytest.mark.parametrize("path", ["data\\\\r1.csv", "'C:\\\\data\\\\r1.csv'"])
+def test_a_windows_path_to_a_data_file_is_refused_saying_how_to_write_it(timeseries_campaign,
+                                                                         path):
+    # found probing: a path written with backslashes said only "not found"
+    edit_spec(timeseries_campaign, "file: data/r1.csv", f"file: {path}")
+    refused("validate", timeseries_campaign, "runs[0].data.file", "not found",
+            "relative to the spec's folder with '/'")
+
+
+def test_a_parquet_file_repeating_a_column_name_says_so(timeseries_campaign):
+    # found by the Parquet fuzzer: pyarrow's "Multiple matches for FieldRef.Name(Fz_kN) in
+    # t_s: double\nFz_kN: double\n…" (exit 2, but no word of what to change)
+    path = timeseries_campaign.parent / "data" / "r1.parquet"
+    path.write_bytes(hostile.ParquetMutation("name", 4, hostile.PARQUET_NAMES.index("Fz_kN"))
+                     .apply())
+    edit_spec(timeseries_campaign, "file: data/r1.csv", "file: data/r1.parquet")
+    refused("validate", timeseries_campaign,
+            "data/r1.parquet: column name(s) repeated in the header: Fz_kN")

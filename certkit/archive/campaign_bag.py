@@ -33,6 +33,7 @@ from certkit.evidence.pipeline import make_evidence, report_campaign
 from certkit.evidence.results_document import results_json
 from certkit.outputs import beside, rename_no_replace
 from certkit.results import RESULTS_FORMAT
+from certkit.spec.jsonsource import JsonSourceError, parse_json
 from certkit.spec.campaign import load_campaign
 from certkit.version import VERSION
 
@@ -243,9 +244,12 @@ def archived_results(folder: Path) -> tuple[bytes, dict]:
     path = folder / RESULTS / "results.json"
     try:
         data = path.read_bytes() if path.is_file() else None
-        document = json.loads(data) if data is not None else None
-    except (OSError, ValueError) as error:
-        raise BagError(f"{folder}: {RESULTS}/results.json cannot be read: {error}") from None
+        document = parse_json(data) if data is not None else None
+    except OSError as error:
+        raise BagError(f"{folder}: {RESULTS}/results.json cannot be read: "
+                       f"{error.strerror or error}") from None
+    except JsonSourceError as error:
+        raise BagError(f"{folder}: {RESULTS}/results.json: {error.message}") from None
     if not isinstance(document, dict) or document.get("format") != RESULTS_FORMAT:
         raise BagError(f"{folder}: not a certkit archive (no certkit results at "
                        f"{RESULTS}/results.json)")

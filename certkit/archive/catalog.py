@@ -10,13 +10,17 @@ transaction with a generous busy timeout: two processes adding at once both land
 
 from __future__ import annotations
 
+import contextlib
+import errno
+import os
 import sqlite3
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from certkit.archive.bag import BagError, bag_hash, check_bag, read_info
 from certkit.archive.campaign_bag import archived_results, opened_bag
-from certkit.errors import CertkitInputError
+from certkit.errors import CertkitInputError, EnvironmentFailure, shown
+from certkit.outputs import writing_failure
 
 SCHEMA_VERSION = 1
 SCHEMA = """
@@ -91,6 +95,37 @@ def _catalog_error(path: Path, message: str) -> CertkitInputError:
     return CertkitInputError.single(str(path), None, "--catalog", message)
 
 
+# SQLite's primary result codes (sqlite3.Error.sqlite_errorcode & 0xff) for what the machine
+# refuses, as the errno whose wording and remedy certkit.errors gives; SQLITE_READONLY and
+# SQLITE_CANTOPEN depend on the disk (see _sqlite_failure)
+_SQLITE_PERM, _SQLITE_BUSY, _SQLITE_LOCKED, _SQLITE_READONLY = 3, 5, 6, 8
+_SQLITE_IOERR, _SQLITE_FULL, _SQLITE_CANTOPEN = 10, 13, 14
+_SQLITE_ERRNO = {_SQLITE_PERM: errno.EPERM, _SQLITE_IOERR: errno.EIO,
+                 _SQLITE_FULL: errno.ENOSPC}
+
+
+def _sqlite_failure(path: Path, error: sqlite3.Error, doing: str) -> Exception:
+    """The one mapping of an SQLite error on the catalog at ``path``: what the machine
+    refuses (a full disk, a read-only file or disk, no permission, a failing disk, another
+    process holding the catalog past the timeout) is an EnvironmentFailure (exit 4); a
+    file that is not a certkit catalog (another database, a folder, damaged) is bad input
+    (exit 2)."""
+    code = (getattr(error, "sqlite_errorcode", None) or 0) & 0xFF
+    if code in (_SQLITE_BUSY, _SQLITE_LOCKED):
+        return EnvironmentFailure(path, f"{doing}: another process held it for {TIMEOUT_S:g} "
+                                        f"s; try again when it has finished")
+    number = _SQLITE_ERRNO.get(code)
+    if code == _SQLITE_READONLY or (code == _SQLITE_CANTOPEN and not path.is_dir()):
+        folder = path if path.is_dir() else path.parent
+        read_only = os.statvfs(folder).f_flag & os.ST_RDONLY if folder.exists() else False
+        number = errno.EROFS if read_only else errno.EACCES
+    if number is not None:
+        return EnvironmentFailure.from_os_error(OSError(number, str(error)), path, doing)
+    if path.is_dir():
+        return _catalog_error(path, f"{doing}: it is a folder; name the catalog's file")
+    return _catalog_error(path, f"{doing}: not a certkit catalog (SQLite says: {error})")
+
+
 def _connect(path: Path) -> sqlite3.Connection:
     try:
         connection = sqlite3.connect(path, timeout=TIMEOUT_S, isolation_level=None)
@@ -98,7 +133,7 @@ def _connect(path: Path) -> sqlite3.Connection:
         tables = {row[0] for row in connection.execute(
             "SELECT name FROM sqlite_master WHERE type = 'table'")}
     except sqlite3.Error as error:
-        raise _catalog_error(path, f"not a certkit catalog (SQLite says: {error})") from None
+        raise _sqlite_failure(path, error, "cannot open the catalog") from None
     if version not in (0, SCHEMA_VERSION) or not tables <= {"campaigns", "verdicts"}:
         connection.close()
         found = f"schema version {version}" if version else f"tables {sorted(tables)}"
@@ -143,17 +178,64 @@ def describe(bag: str | Path) -> tuple[Entry, list[tuple]]:
     except (KeyError, TypeError) as error:
         raise BagError(f"{bag}: its results.json lacks what the catalog indexes "
                        f"({error})") from None
+    _check_indexed(bag, entry, verdicts)
     return entry, verdicts
 
 
+_COUNTS = {"passed", "failed", "not_shown", "dq_errors", "dq_warnings"}
+_VERDICT_FIELDS = ("bag_hash", "id", "clause", "run", "gear", "verdict")
+
+
+def _check_indexed(bag: Path, entry: Entry, verdicts: list[tuple]) -> None:
+    """Raise BagError unless every value indexed is what its column holds: a count a
+    whole number from 0 to 2^63 - 1 (SQLite's integers), anything else text (a verdict's run and
+    gear may be null).  A results.json edited and re-hashed can hold anything."""
+    def refuse(name: str, value: object, expected: str):
+        raise BagError(f"{bag}: its results.json holds {shown(value)} where the catalog "
+                       f"indexes {name}: expected {expected}")
+
+    for name, value in entry.as_dict().items():
+        if name in _COUNTS:
+            if type(value) is not int or not 0 <= value < 2 ** 63:
+                refuse(name, value, "a count (a whole number from 0)")
+        elif not isinstance(value, str):
+            refuse(name, value, "text")
+    for row in verdicts:
+        for name, value in zip(_VERDICT_FIELDS, row):
+            if not isinstance(value, str) and not (name in ("run", "gear") and value is None):
+                refuse(f"verdicts[].{name}", value, "text")
+
+
 def add(catalog: str | Path, bag: str | Path) -> tuple[Entry, bool]:
-    """Verify the bag and index it; (entry, False) when it was already catalogued."""
+    """Verify the bag and index it; (entry, False) when it was already catalogued.
+
+    A catalog this call created is removed again (with the folders it made) when the
+    addition fails, so a full or read-only disk leaves nothing behind."""
     catalog = Path(catalog)
     entry, verdicts = describe(bag)
+    made = [folder for folder in [catalog.parent, *catalog.parent.parents]
+            if not folder.exists()]
+    new = not os.path.lexists(catalog)
+    try:
+        added = _insert(catalog, entry, verdicts, bag)
+    except BaseException:
+        if new:
+            for leftover in (catalog, catalog.with_name(catalog.name + "-journal")):
+                with contextlib.suppress(OSError):
+                    leftover.unlink()
+        for folder in made:
+            with contextlib.suppress(OSError):
+                folder.rmdir()
+        raise
+    return entry, added
+
+
+def _insert(catalog: Path, entry: Entry, verdicts: list[tuple], bag: str | Path) -> bool:
     try:
         catalog.parent.mkdir(parents=True, exist_ok=True)
     except OSError as error:
-        raise _catalog_error(catalog, f"cannot create its folder: {error.strerror}") from None
+        raise writing_failure(error, catalog, "cannot create its folder", key="--catalog") \
+            from None
     connection = _connect(catalog)
     try:
         connection.execute("BEGIN IMMEDIATE")
@@ -179,11 +261,12 @@ def add(catalog: str | Path, bag: str | Path) -> tuple[Entry, bool]:
         connection.execute("COMMIT")
     except sqlite3.Error as error:
         if connection.in_transaction:
-            connection.execute("ROLLBACK")
-        raise _catalog_error(catalog, f"cannot add to the catalog: {error}") from None
+            with contextlib.suppress(sqlite3.Error):
+                connection.execute("ROLLBACK")
+        raise _sqlite_failure(catalog, error, "cannot add to the catalog") from None
     finally:
         connection.close()
-    return entry, added
+    return added
 
 
 def search(catalog: str | Path, text: str | None = None, *, aircraft: str | None = None,
@@ -236,10 +319,10 @@ def search(catalog: str | Path, text: str | None = None, *, aircraft: str | None
     connection = _connect(catalog)
     try:
         rows = connection.execute(query, values).fetchall()
-    except sqlite3.OperationalError as error:
+    except sqlite3.Error as error:
         if "no such table" in str(error):
             return []
-        raise _catalog_error(catalog, f"cannot read the catalog: {error}") from None
+        raise _sqlite_failure(catalog, error, "cannot read the catalog") from None
     finally:
         connection.close()
     return [Entry(*row) for row in rows]

@@ -10,7 +10,11 @@ schema, sets), :mod:`~certkit.cli.model` (simulate, calibrate, identify, gap) an
 :mod:`~certkit.cli.archive` (archive, verify, catalog).
 """
 
-from certkit.cli import archive, campaign, model  # noqa: F401 - registers the commands
-from certkit.cli.app import app, run
+from certkit.cli import stop
+
+stop.install()   # first: a stop signal while the rest is imported ends the run quietly
+
+from certkit.cli import archive, campaign, model  # noqa: E402, F401 - registers the commands
+from certkit.cli.app import app, run  # noqa: E402
 
 __all__ = ["app", "run"]

@@ -16,7 +16,6 @@ from __future__ import annotations
 import functools
 import inspect
 import os
-import signal
 import sys
 from pathlib import Path
 from typing import Annotated, NoReturn
@@ -26,6 +25,7 @@ from rich.console import Console
 from rich.text import Text
 
 from certkit.archive.bag import BagError
+from certkit.cli import stop
 from certkit.errors import (CampaignError, CertkitInputError, EnvironmentFailure,
                             is_environmental)
 from certkit.version import VERSION
@@ -123,27 +123,30 @@ def _version(value: bool) -> None:
         raise typer.Exit()
 
 
-_STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP, signal.SIGINT)
-
-
-def _exit_on_signal(number, _frame):
-    # The first stop signal becomes an exception, so staged outputs are removed; further
-    # signals are ignored so they cannot interrupt that clean-up.
-    for other in _STOP_SIGNALS:
-        signal.signal(other, signal.SIG_IGN)
-    raise SystemExit(128 + number)
-
-
 @app.callback()
 def main(version: Annotated[bool, typer.Option("--version", callback=_version, is_eager=True,
                                                help="print the version and exit")] = False):
     """certkit: drop-test campaign -> compliance report, audit tables and evidence."""
-    for number in _STOP_SIGNALS:
-        signal.signal(number, _exit_on_signal)
+    stop.install()   # again: the application may be run without the package's import
+
+
+def _usable_streams() -> None:
+    """Standard output and error as certkit writes them: a closed one (``>&-``) discards
+    what is written, as /dev/null would; one whose encoding lacks a character (a locale
+    without UTF-8, PYTHONIOENCODING=ascii) gets it as an escape (``\\u2014``), not an
+    error.  (A reader that stops early, ``| head -1``, ends a run still writing quietly,
+    exit 1: click's handling of EPIPE.)"""
+    for name in ("stdout", "stderr"):
+        stream = getattr(sys, name)
+        if stream is None:
+            setattr(sys, name, open(os.devnull, "w", encoding="utf-8"))  # noqa: SIM115
+        elif hasattr(stream, "reconfigure"):
+            stream.reconfigure(errors="backslashreplace")
 
 
 def run() -> None:
     """Console entry point: an unexpected error is reported as a bug (exit 3)."""
+    _usable_streams()
     try:
         app()
     except (CertkitInputError, CampaignError, BagError) as problem:  # outside any command
@@ -154,6 +157,11 @@ def run() -> None:
     except EnvironmentFailure as problem:   # outside any command
         error(str(problem))
         sys.exit(4)
+    except stop.Stopped as stopped:
+        names = {"SIGINT": "SIGINT, Ctrl-C", "SIGTERM": "SIGTERM", "SIGHUP": "SIGHUP"}
+        error(f"stopped ({names[stopped.signal_name]}); what the run had not finished "
+              f"writing was removed")
+        sys.exit(stopped.code)
     except Exception as problem:  # noqa: BLE001 - last resort: no traceback for users
         if os.environ.get("CERTKIT_DEBUG"):
             raise

@@ -17,7 +17,7 @@ from certkit.evidence.audit import (audit_rows, baseline_rows, passed, to_csv, t
 from certkit.evidence.comparison import compare, read_baseline
 from certkit.evidence.pipeline import report_campaign
 from certkit.evidence.results_document import results_document
-from certkit.outputs import write_text_atomically, writing_failure
+from certkit.outputs import check_file_target, write_text_atomically, writing_failure
 from certkit.spec import requirement_sets
 from certkit.spec.campaign import load_campaign
 from certkit.spec.schema import json_schema
@@ -111,6 +111,12 @@ def audit(spec: SpecArgument,
     if format not in writers:
         bad_option("format", "md, csv or json", repr(format))
     campaign = load_campaign(spec)
+    inputs = [item.path for item in campaign.inputs] + ([baseline] if baseline else [])
+    for key, path in (("output", output), ("junit", junit)):
+        if path is not None:
+            check_file_target(path, inputs, f"--{key}")
+    if output is not None and junit is not None and output.resolve() == junit.resolve():
+        bad_option("junit", "another file than --output", str(junit))
     assessment = assess(campaign)
     rows = audit_rows(assessment)
     if baseline is not None:

@@ -21,7 +21,8 @@ from certkit.display import display
 from certkit.display import parameter as parameter_text
 from certkit.display import with_unit
 from certkit.evidence.gap_view import largest_disagreement
-from certkit.outputs import check_target, staged_folder, write_text_atomically, writing_failure
+from certkit.outputs import (check_file_target, check_target, staged_folder,
+                             write_text_atomically, writing_failure)
 from certkit.spec.campaign import load_campaign
 from certkit.spec.rundata import CHANNEL_LABELS
 
@@ -69,6 +70,13 @@ def _blind_check(spec: Path, gear: str | None, output: Path, workers, scheduler,
     out.print(f"written: {output}")
 
 
+def _check_json_target(path: Path | None, campaign) -> None:
+    """--json may not name a folder or one of the campaign's inputs (checked before the
+    fit, which takes minutes)."""
+    if path is not None:
+        check_file_target(path, [item.path for item in campaign.inputs], "--json")
+
+
 def _write_json(path: Path, document: dict) -> None:
     try:
         write_text_atomically(path, json.dumps(document, indent=2, ensure_ascii=False) + "\n")
@@ -114,6 +122,7 @@ def calibrate(spec: SpecArgument,
 
 
     campaign = load_campaign(spec)
+    _check_json_target(json_file, campaign)
     result = run_calibration(campaign, knobs=parameter or None, gears=gear or None)
     if not result.gears:
         fail(spec, "no run records a gear unit with time histories; nothing to fit")
@@ -165,6 +174,7 @@ def identify(spec: SpecArgument,
 
 
     campaign = load_campaign(spec)
+    _check_json_target(json_file, campaign)
     result = run_identification(campaign)
     if not result.gears:
         fail(spec, "no gear unit has two usable drops with time histories; nothing to "

@@ -230,7 +230,9 @@ def _resolve_data_path(root: Path, relative: str, display: str, location: tuple,
             raise fail(f"{what} {name} is not a regular file (a pipe, socket or device); "
                        f"certkit reads files it can hash and archive")
         if not candidate.is_file():
-            raise fail(f"{what} {name} not found (looked for {shown(str(candidate))})")
+            hint = ("; write the path relative to the spec's folder with '/' (the same spec "
+                    "is read on every system), as data/run1.csv" if "\\" in relative else "")
+            raise fail(f"{what} {name} not found (looked for {shown(str(candidate))}){hint}")
     except (OSError, RuntimeError, ValueError) as error:  # a name too long, a link loop, NUL
         reason = error.strerror if isinstance(error, OSError) and error.strerror else error
         raise fail(f"{what} {name} cannot be resolved: {reason}") from None

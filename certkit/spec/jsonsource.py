@@ -44,11 +44,19 @@ def load_json(path: str | Path) -> object:
         integer too long.
     """
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except UnicodeDecodeError as error:
-        raise JsonSourceError(f"not UTF-8 text ({error.reason})") from None
+        data = Path(path).read_bytes()
     except OSError as error:
         raise JsonSourceError(f"cannot be read: {error.strerror or error}") from None
+    return parse_json(data)
+
+
+def parse_json(data: bytes) -> object:
+    """The JSON document in ``data`` (a file's bytes); raises :class:`JsonSourceError` as
+    :func:`load_json` does."""
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as error:
+        raise JsonSourceError(f"not UTF-8 text ({error.reason})") from None
     try:
         return json.loads(text, parse_int=_integer)
     except json.JSONDecodeError as error:

@@ -210,32 +210,54 @@ def _read_table(path: Path, display: str):
             if suffix == ".csv":
                 frame = pd.read_csv(path, sep=separator, decimal=decimal, index_col=False)
                 first_line = 2
-            else:
-                frame, first_line = pd.read_parquet(path), 0
+                with path.open(newline="", encoding="utf-8-sig", errors="replace") as handle:
+                    header = next(csv.reader(handle, delimiter=separator), [])
+            else:   # the names first: pyarrow cannot read a file that repeats one
+                import pyarrow.parquet as pq
+
+                header, first_line = pq.read_schema(path).names, 0
+                frame = None if len(set(header)) < len(header) else pd.read_parquet(path)
     except (pd.errors.ParserWarning, pd.errors.ParserError) as exc:
         raise (_field_count_error(path, display, separator)
                or fail(f"cannot read data file: {exc}")) from None
     except pd.errors.EmptyDataError:
         raise fail("the data file is empty") from None
+    except UnicodeDecodeError:
+        raise _not_utf8(path, display) from None
     except Exception as exc:  # pandas and pyarrow raise many types for malformed files
         raise fail(f"cannot read data file: {exc}") from None
+    repeated = sorted({name for name in header if header.count(name) > 1})
+    if repeated:
+        raise fail(f"column name(s) repeated in the header: {_names(repeated)}",
+                   1 if suffix == ".csv" else None)
     if frame.columns.nlevels > 1:
         raise fail(f"column names must be one level of text; this file has "
                    f"{frame.columns.nlevels}-level column names such as "
                    f"{shown(frame.columns[0]) if len(frame.columns) else '()'}")
     frame.columns = [str(name) for name in frame.columns]
-    if suffix == ".csv":
-
-        with path.open(newline="", encoding="utf-8-sig", errors="replace") as handle:
-            header = next(csv.reader(handle, delimiter=separator), [])
-        repeated = sorted({name for name in header if header.count(name) > 1})
-        if repeated:
-            raise fail(f"column name(s) repeated in the header: {_names(repeated)}", 1)
     layout = None
     if separator != ",":
         layout = f"{SEPARATORS[separator]}-separated with decimal " + (
             "commas" if decimal == "," else "points")
     return frame, first_line, layout
+
+
+def _not_utf8(path: Path, display: str) -> CertkitInputError:
+    """A CSV file that is not UTF-8 (a spreadsheet's UTF-16 or Latin-1 export): the line
+    and byte of the first character that is not, and what to do."""
+    content = path.read_bytes()
+    try:
+        content.decode("utf-8")
+        start = 0
+    except UnicodeDecodeError as error:
+        start = error.start
+    line = content[:start].count(b"\n") + 1
+    utf16 = " (a UTF-16 file: it starts with a UTF-16 byte-order mark)" if content[:2] in (
+        b"\xff\xfe", b"\xfe\xff") else ""
+    return CertkitInputError.single(
+        display, line, "", f"expected UTF-8 text, found byte 0x{content[start]:02x} on line "
+                           f"{line}{utf16}; save the file as UTF-8 (in a spreadsheet: CSV "
+                           f"UTF-8)")
 
 
 def _names(names) -> str:

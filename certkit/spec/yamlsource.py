@@ -68,6 +68,10 @@ def _construct_number(loader, node):
 def _construct_mapping(loader, node, deep=False):
     seen: dict = {}
     for key_node, _ in node.value:
+        if key_node.tag == _YAML_TAG + "merge":
+            raise yaml.constructor.ConstructorError(
+                None, None, "YAML merge keys (<<) are not supported in a campaign; write the "
+                            "keys out", key_node.start_mark)
         key = loader.construct_object(key_node, deep=deep)
         if not isinstance(key, str):
             raise yaml.constructor.ConstructorError(
