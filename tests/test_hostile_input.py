@@ -454,3 +454,20 @@ def test_a_parquet_file_repeating_a_column_name_says_so(timeseries_campaign):
     edit_spec(timeseries_campaign, "file: data/r1.csv", "file: data/r1.parquet")
     refused("validate", timeseries_campaign,
             "data/r1.parquet: column name(s) repeated in the header: Fz_kN")
+
+
+@pytest.mark.parametrize("name", ["campaign.yaml", "data/r1.txt"])
+def test_a_data_file_of_a_format_certkit_does_not_read_is_named_at_its_key(
+        timeseries_campaign, name):
+    # found probing: the spec itself (or a .txt copy of the data) named as a run's data file
+    # was refused naming that file, but not the spec's line and key that named it
+    if name.endswith(".txt"):
+        (timeseries_campaign.parent / name).write_bytes(
+            (timeseries_campaign.parent / "data" / "r1.csv").read_bytes())
+    edit_spec(timeseries_campaign, "file: data/r1.csv", f"file: {name}")
+    output = refused("validate", timeseries_campaign, "runs[0].data.file",
+                     "not in a format certkit reads", ".csv, .parquet, .pq",
+                     f"found {Path(name).suffix!r}")
+    line = next(i for i, text in enumerate(
+        timeseries_campaign.read_text(encoding="utf-8").splitlines(), 1) if f"file: {name}" in text)
+    assert f"{timeseries_campaign.name}:{line} runs[0].data.file" in output

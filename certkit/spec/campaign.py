@@ -16,7 +16,7 @@ from pydantic import BaseModel, ValidationError
 from certkit.errors import CertkitInputError, Problem, key_path, shown
 from certkit.spec import requirement_sets
 from certkit.spec.blind_record import BlindCheckRecord, BlindRecordError, read_blind_check
-from certkit.spec.rundata import RunSeries, read_run
+from certkit.spec.rundata import DATA_SUFFIXES, RunSeries, read_run
 from certkit.spec.schema import CampaignSpec, GearUnit
 from certkit.spec.yamlsource import LineMap, line_of, load_yaml
 
@@ -211,7 +211,9 @@ def _cross_references(spec: CampaignSpec, display: str, lines: LineMap) -> list[
 
 
 def _resolve_data_path(root: Path, relative: str, display: str, location: tuple,
-                       lines: LineMap, what: str = "data file") -> Path:
+                       lines: LineMap, what: str = "data file", suffixes: tuple = ()) -> Path:
+    """The file ``relative`` names, inside the campaign folder, a regular file (and, when
+    ``suffixes`` are given, with one of them), else an input error at the spec's key."""
     def fail(message: str) -> CertkitInputError:
         return CertkitInputError.single(display, line_of(lines, location), key_path(location),
                                         message)
@@ -233,6 +235,10 @@ def _resolve_data_path(root: Path, relative: str, display: str, location: tuple,
             hint = ("; write the path relative to the spec's folder with '/' (the same spec "
                     "is read on every system), as data/run1.csv" if "\\" in relative else "")
             raise fail(f"{what} {name} not found (looked for {shown(str(candidate))}){hint}")
+        if suffixes and candidate.suffix.lower() not in suffixes:
+            raise fail(f"{what} {name} is not in a format certkit reads: expected a name "
+                       f"ending in {', '.join(suffixes)}, found "
+                       f"{repr(candidate.suffix) if candidate.suffix else 'no suffix'}")
     except (OSError, RuntimeError, ValueError) as error:  # a name too long, a link loop, NUL
         reason = error.strerror if isinstance(error, OSError) and error.strerror else error
         raise fail(f"{what} {name} cannot be resolved: {reason}") from None
@@ -313,7 +319,8 @@ def load_campaign(path: str | Path) -> Campaign:
             continue
         location = ("runs", index, "data", "file")
         try:
-            data_path = _resolve_data_path(root, run.data.file, display, location, lines)
+            data_path = _resolve_data_path(root, run.data.file, display, location, lines,
+                                           suffixes=DATA_SUFFIXES)
             series[run.id] = read_run(
                 data_path, run.data.file, display, index, run, gear_units, default_rate, lines,
                 spec.audit.sample_rate_tolerance.si)

@@ -190,6 +190,10 @@ def _field_count_error(path: Path, display: str, separator: str) -> CertkitInput
     return None
 
 
+#: The data-file formats certkit reads (by the file's suffix, any case)
+DATA_SUFFIXES = (".csv", ".parquet", ".pq")
+
+
 def _read_table(path: Path, display: str):
     """Read CSV or Parquet; returns the frame, the file line of its first data row and the
     CSV layout when it is not comma-separated with decimal points (else None)."""
@@ -201,7 +205,7 @@ def _read_table(path: Path, display: str):
         return CertkitInputError.single(display, line, "", message)
 
     suffix = path.suffix.lower()
-    if suffix not in (".csv", ".parquet", ".pq"):
+    if suffix not in DATA_SUFFIXES:
         raise fail(f"unsupported data format {suffix!r} (expected .csv or .parquet)")
     separator, decimal = _csv_layout(path, display) if suffix == ".csv" else (",", ".")
     try:
