@@ -24,8 +24,8 @@ import typer
 from rich.console import Console
 from rich.text import Text
 
+import certkit.cli.stop as stop
 from certkit.archive.bag import BagError
-from certkit.cli import stop
 from certkit.errors import (CampaignError, CertkitInputError, EnvironmentFailure,
                             is_environmental)
 from certkit.version import VERSION
