@@ -432,8 +432,9 @@ def test_a_report_killed_at_random_moments_leaves_a_complete_folder_and_no_litte
 
 
 @pytest.mark.slow
-def test_twenty_kills_at_random_moments(seed_copy, tmp_path):
-    _kill_trials(seed_copy, tmp_path, trials=20, seed=1616)
+def test_eight_kills_at_random_moments(seed_copy, tmp_path):
+    # eight, not twenty: CI's 20-minute limit; benchmarks/kill_trials.py runs more
+    _kill_trials(seed_copy, tmp_path, trials=8, seed=1616)
 
 
 # A run killed between the two renames of the fallback (no renameat2 here): the earlier
