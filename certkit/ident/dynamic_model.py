@@ -186,3 +186,30 @@ def lagged(x: np.ndarray, t: np.ndarray, lags) -> np.ndarray:
 def input_lags(nb: tuple[int, ...], delay: tuple[int, ...]) -> list[tuple[int, int]]:
     """(channel, lag) of every input regressor: lags delay_c … delay_c + nb_c − 1."""
     return [(c, delay[c] + j) for c in range(len(nb)) for j in range(nb[c])]
+
+
+def regressors(u: np.ndarray, y: np.ndarray, t: np.ndarray, na: int, nb: tuple[int, ...],
+               delay: tuple[int, ...]) -> np.ndarray:
+    """Rows x_t = [y_{t−1} … y_{t−na}, u_{1,t−d₁} … u_{1,t−d₁−nb₁+1}, u_{2,t−d₂} …] of one
+    experiment (u of shape (n, n_inputs)), for the samples t: the regressors of ARX and NARX
+    (Ljung, System Identification, 2nd ed., 1999, eqs. 4.11-4.12 and 5.51)."""
+    columns = [lagged(y, t, range(1, na + 1))]
+    columns += [u[t - lag, c][:, None] for c, lag in input_lags(nb, delay)]
+    return np.hstack(columns)
+
+
+def regression_rows(pairs, na: int, nb: tuple[int, ...], delay: tuple[int, ...]
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`regressors` and targets y_t of every (u, y) experiment, each from
+    t0 = max(na, d_c + nb_c − 1), so that no window reaches into another experiment."""
+    start = max([na] + [d + n - 1 for d, n in zip(delay, nb)])
+    blocks, targets = [], []
+    for k, (u, y) in enumerate(pairs):
+        if y.size <= start:
+            raise DataInputError(f"y[{k}]" if len(pairs) > 1 else "y",
+                                 f"expected at least {start + 1} samples for these lags, "
+                                 f"found {y.size} sample(s)")
+        t = np.arange(start, y.size)
+        blocks.append(regressors(u, y, t, na, nb, delay))
+        targets.append(y[t])
+    return np.vstack(blocks), np.concatenate(targets)

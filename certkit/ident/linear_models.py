@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.signal import lfilter, lfiltic
 
-from certkit.ident.dynamic_model import DynamicModel, input_lags, lagged
+from certkit.ident.dynamic_model import DynamicModel, input_lags, regression_rows, regressors
 from certkit.ident.experiments import DataInputError, order, per_channel
 
 
@@ -96,26 +96,16 @@ class ARX(DynamicModel):
         return max([self._na] + [d + n - 1 for d, n in zip(delay, nb)])
 
     def _regressors(self, u: np.ndarray, y: np.ndarray, t: np.ndarray) -> np.ndarray:
-        columns = [lagged(y, t, range(1, self._na + 1))]
-        columns += [u[t - lag, c][:, None] for c, lag in input_lags(self._nb, self._delay)]
-        if self.fit_intercept:
-            columns.append(np.ones((t.size, 1)))
-        return np.hstack(columns)
+        rows = regressors(u, y, t, self._na, self._nb, self._delay)
+        return np.hstack([rows, np.ones((t.size, 1))]) if self.fit_intercept else rows
 
     # ------------------------------------------------------------------ fitting
     def _fit(self, pairs) -> None:
         self._na, self._nb, self._delay = self._structure(pairs[0][0].shape[1])
-        start = self.init_length
-        rows, targets = [], []
-        for k, (u, y) in enumerate(pairs):
-            if y.size <= start:
-                raise DataInputError(f"y[{k}]" if len(pairs) > 1 else "y",
-                                     f"expected more than {start} samples for these orders, "
-                                     f"found {y.size} sample(s)")
-            t = np.arange(start, y.size)
-            rows.append(self._regressors(u, y, t))
-            targets.append(y[t])
-        theta, *_ = np.linalg.lstsq(np.vstack(rows), np.concatenate(targets), rcond=None)
+        rows, targets = regression_rows(pairs, self._na, self._nb, self._delay)
+        if self.fit_intercept:
+            rows = np.hstack([rows, np.ones((rows.shape[0], 1))])
+        theta, *_ = np.linalg.lstsq(rows, targets, rcond=None)
         self._set_coefficients(theta[:self._na], theta[self._na:self._na + sum(self._nb)],
                                float(theta[-1]) if self.fit_intercept else 0.0)
 

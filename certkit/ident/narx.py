@@ -9,7 +9,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from certkit.ident.dynamic_model import DynamicModel, input_lags, lagged
+from certkit.ident.dynamic_model import DynamicModel, input_lags, regression_rows
 from certkit.ident.experiments import (DataInputError, experiments, free_run_folds, order,
                                        per_channel, positive_number)
 from certkit.ident.fixed_size import FixedSizeLSSVM, renyi_bandwidth, select_prototypes
@@ -40,19 +40,7 @@ def narx_regressors(u, y, na: int, nb=2, delay=1) -> tuple[np.ndarray, np.ndarra
     pairs, _ = experiments(u, y)
     n_inputs = pairs[0][0].shape[1]
     nb, delay = per_channel("nb", nb, n_inputs), per_channel("delay", delay, n_inputs)
-    start = max([na] + [d + n - 1 for d, n in zip(delay, nb)])
-    blocks, targets = [], []
-    for k, (ue, ye) in enumerate(pairs):
-        if ye.size <= start:
-            raise DataInputError(f"y[{k}]" if len(pairs) > 1 else "y",
-                                 f"expected at least {start + 1} samples for these lags, "
-                                 f"found {ye.size} sample(s)")
-        t = np.arange(start, ye.size)
-        columns = [lagged(ye, t, range(1, na + 1))]
-        columns += [ue[t - lag, c][:, None] for c, lag in input_lags(nb, delay)]
-        blocks.append(np.hstack(columns))
-        targets.append(ye[start:])
-    return np.vstack(blocks), np.concatenate(targets)
+    return regression_rows(pairs, na, nb, delay)
 
 
 OUTPUT_BOUNDS = ("none", "upper", "range")
