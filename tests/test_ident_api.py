@@ -20,8 +20,8 @@ from sklearn.utils.estimator_checks import parametrize_with_checks
 from threadpoolctl import threadpool_limits
 
 from certkit.errors import CertkitInputError, DataInputError
-from certkit.ident import (ARX, NARX, CostSurface, FreeRunCV, HammersteinLSSVM, WienerLSSVM,
-                           nrmse, tune_free_run)
+from certkit.ident import (ARX, NARX, CostSurface, EnsembleModel, FreeRunCV,
+                           HammersteinLSSVM, WienerLSSVM, nrmse, tune_free_run)
 
 
 @pytest.fixture(autouse=True, scope="module")
@@ -63,7 +63,12 @@ def expected_failures(estimator):
      HammersteinLSSVM(2, 2, gamma=10.0, sigma2=1.0, normalisation="unit_norm"),
      HammersteinLSSVM(2, 2, gamma=10.0, sigma2=1.0, normalisation="unit_norm",
                       engine="fixed-size", prototypes=150),
-     WienerLSSVM(2, 2, gamma=10.0, sigma2=1.0)],
+     WienerLSSVM(2, 2, gamma=10.0, sigma2=1.0),
+     # the checks' data are not a dynamic system: a cubic recursion fed its own outputs
+     # diverges on some of them, so the bound that keeps a free run finite is set
+     NARX(2, 2, gamma=10.0, sigma2=5.0, engine="fixed-size", prototypes=150, linear=True,
+          cubic=2, cubic_terms="all", output_bound="range"),
+     EnsembleModel([ARX(2, 2), NARX(2, 2, gamma=10.0, sigma2=5.0)])],
     expected_failed_checks=expected_failures)
 def test_scikit_learn_checks(estimator, check):
     check(estimator)

@@ -7,11 +7,16 @@ scale application in electrical load forecasting", Computational Management Scie
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 from scipy import linalg
 
-from certkit.ident.experiments import positive_number, signal
-from certkit.ident.lssvm import CHUNK_ENTRIES, KernelModel, feature_matrix, rbf_kernel
+from certkit.ident.experiments import DataInputError, order, positive_number, signal
+from certkit.ident.lssvm import (CHUNK_ENTRIES, KernelModel, _kernel_expansion,
+                                 feature_matrix, rbf_kernel)
+
+CUBIC_TERMS = ("cubes", "all")
 
 
 # ------------------------------------------------------------------ fixed-size LS-SVM
@@ -150,6 +155,19 @@ class FixedSizeLSSVM(KernelModel):
         dropped (the Nyström map is numerically undefined there).
     random_state : int, default 0
         Seed of the prototype selection.
+    linear : bool, default False
+        Add an unpenalised linear part βᵀx: the partially linear LS-SVM
+        ŷ(x) = βᵀx + θᵀc(x) + wᵀφ̂(x) + b of Espinoza et al. (2005), where only the kernel
+        weights w carry the ridge 1/γ.  Outside the training data the RBF part fades and
+        the model extrapolates by its parametric part instead of falling back to b.
+    cubic : int, default 0
+        Add unpenalised cubic monomials c(x) of the first ``cubic`` columns of x (a NARX
+        row's first columns are its output lags y_{t−1}, y_{t−2}, …): the odd polynomial
+        of a stiffening or softening spring (Duffing), which the RBF part cannot carry
+        beyond the training amplitudes.  Requires ``linear=True``.
+    cubic_terms : {"cubes", "all"}, default "cubes"
+        The monomials: x_i³ for each of those columns, or every degree-3 monomial
+        x_i·x_j·x_k of them (i ≤ j ≤ k).
 
     Attributes
     ----------
@@ -163,6 +181,12 @@ class FixedSizeLSSVM(KernelModel):
         The same model as coefficients on K(x, prototype_j).
     b_ : float
         Bias.
+    linear_ : numpy.ndarray, shape (d,)
+        β (zeros without ``linear``).
+    cubic_ : numpy.ndarray, shape (k,)
+        θ, the weights of the cubic monomials (empty without ``cubic``).
+    monomials_ : numpy.ndarray of int, shape (k, 3)
+        Column indices of each cubic monomial (x_i·x_j·x_k).
 
     Notes
     -----
@@ -177,18 +201,29 @@ class FixedSizeLSSVM(KernelModel):
     symmetric positive definite, solved by Cholesky (``assume_a='pos'``).  ΦᵀΦ is
     accumulated over row blocks, so memory is O(M²) whatever N.  When the prototypes are
     all training points the model equals the dual LS-SVM (up to dropped eigenvalues).
+    With a parametric part, the columns x and c(x) join the bias column 1 in the second
+    block row and column: unpenalised, like b (Espinoza et al. 2005, eq. (10) in the
+    primal).  Without kernel features (γ → 0) the model is the least-squares fit of the
+    parametric part alone.  When those columns are linearly dependent (fewer rows than
+    parameters, a constant column) the system is singular and the minimum-norm solution
+    is taken (``scipy.linalg.lstsq``).
 
     References
     ----------
     Suykens et al. (2002), *Least Squares Support Vector Machines*, §6.5 (fixed-size
-    LS-SVM).  C.K.I. Williams, M. Seeger, "Using the Nyström method to speed up kernel
+    LS-SVM).  M. Espinoza, J.A.K. Suykens, B. De Moor, "Kernel based partially linear
+    models and nonlinear identification", IEEE Trans. Automatic Control 50(10) (2005)
+    1602–1606; M. Espinoza, K. Pelckmans, L. Hoegaerts, J.A.K. Suykens, B. De Moor, "A
+    comparative study of LS-SVM's applied to the Silver box identification problem",
+    IFAC NOLCOS 2004 (partially linear fixed-size LS-SVM NARX).  C.K.I. Williams, M. Seeger, "Using the Nyström method to speed up kernel
     machines", NIPS 13 (2001).  K. De Brabanter et al., "Fixed-size LS-SVM applied to the
     Wiener-Hammerstein benchmark", IFAC Proceedings Volumes 42(10) (2009) 826–831.
     """
 
     def __init__(self, gamma: float = 1.0, sigma2: float = 1.0, *, prototypes=200,
                  entropy_sigma2: float | None = None, n_swaps: int | None = None,
-                 eigen_tolerance: float = 1e-10, random_state: int = 0):
+                 eigen_tolerance: float = 1e-10, random_state: int = 0,
+                 linear: bool = False, cubic: int = 0, cubic_terms: str = "cubes"):
         self.gamma = gamma
         self.sigma2 = sigma2
         self.prototypes = prototypes
@@ -196,6 +231,36 @@ class FixedSizeLSSVM(KernelModel):
         self.n_swaps = n_swaps
         self.eigen_tolerance = eigen_tolerance
         self.random_state = random_state
+        self.linear = linear
+        self.cubic = cubic
+        self.cubic_terms = cubic_terms
+
+    def _monomials(self, n_features: int) -> np.ndarray:
+        """(k, 3) column indices of the cubic monomials (checks the options)."""
+        cubic = order("cubic", self.cubic)
+        if cubic and not self.linear:
+            raise DataInputError("cubic", "expected linear=True with cubic terms (the "
+                                          "parametric part is linear plus cubic), found "
+                                          "linear=False")
+        if cubic > n_features:
+            raise DataInputError("cubic", f"expected at most the {n_features} columns of "
+                                          f"X, found {cubic}")
+        if self.cubic_terms not in CUBIC_TERMS:
+            raise DataInputError("cubic_terms", f"expected one of {', '.join(CUBIC_TERMS)}, "
+                                                f"found {self.cubic_terms!r}")
+        if self.cubic_terms == "cubes":
+            combos = [(i, i, i) for i in range(cubic)]
+        else:
+            combos = list(itertools.combinations_with_replacement(range(cubic), 3))
+        return np.array(combos, dtype=int).reshape(-1, 3)
+
+    def _parametric(self, X: np.ndarray) -> np.ndarray:
+        """Unpenalised columns of the rows X: [x (with ``linear``), c(x), 1]."""
+        columns = [X] if self.linear else []
+        if self.monomials_.size:
+            columns.append(np.prod(X[:, self.monomials_], axis=2))
+        columns.append(np.ones((X.shape[0], 1)))
+        return np.hstack(columns)
 
     def fit(self, X, y) -> FixedSizeLSSVM:
         """Select the prototypes (unless given) and solve the primal ridge problem.
@@ -226,21 +291,53 @@ class FixedSizeLSSVM(KernelModel):
                 raise ValueError(f"prototypes have {centres.shape[1]} features, X has "
                                  f"{X.shape[1]}")
             self.prototype_indices_ = None
+        self.monomials_ = self._monomials(X.shape[1])
         projection = nystrom_map(centres, sigma2, self.eigen_tolerance)   # k_M(x) → φ̂(x)
         m = projection.shape[1]
-        normal = np.zeros((m + 1, m + 1))
-        rhs = np.zeros(m + 1)
+        q = self._parametric(X[:1]).shape[1]          # [x,] [c(x),] 1: unpenalised
+        normal = np.zeros((m + q, m + q))
+        rhs = np.zeros(m + q)
         rows = max(1, CHUNK_ENTRIES // max(centres.shape[0], m))
         for start in range(0, X.shape[0], rows):
-            features = np.empty((min(rows, X.shape[0] - start), m + 1))
-            features[:, :m] = rbf_kernel(X[start:start + rows], centres, sigma2) @ projection
-            features[:, m] = 1.0
+            block = X[start:start + rows]
+            features = np.empty((block.shape[0], m + q))
+            features[:, :m] = rbf_kernel(block, centres, sigma2) @ projection
+            features[:, m:] = self._parametric(block)
             normal += features.T @ features
             rhs += features.T @ y[start:start + rows]
         normal[np.arange(m), np.arange(m)] += 1.0 / gamma
-        solution = linalg.solve(normal, rhs, assume_a="pos", check_finite=False)
+        try:
+            solution = linalg.solve(normal, rhs, assume_a="pos", check_finite=False)
+        except linalg.LinAlgError:       # unpenalised columns linearly dependent (few
+            solution = linalg.lstsq(normal, rhs)[0]  # rows, a constant column): min. norm
         self.coef_ = solution[:m]
-        self.b_ = float(solution[m])
+        theta = solution[m:]
+        d = X.shape[1] if self.linear else 0
+        self.linear_ = theta[:d] if self.linear else np.zeros(X.shape[1])
+        self.cubic_ = theta[d:q - 1]
+        self.b_ = float(theta[q - 1])
         self.alpha_ = projection @ self.coef_
         self.support_ = centres.copy()
         return self
+
+    def predict(self, X) -> np.ndarray:
+        """Model output ŷ(x) = Σ_j α_j K(x, p_j) + βᵀx + θᵀc(x) + b for the rows of ``X``.
+
+        Parameters
+        ----------
+        X : array_like, shape (n, d) or (n,)
+            Points to evaluate, in the units used for ``fit``.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,)
+        """
+        if not hasattr(self, "alpha_"):
+            raise ValueError(f"{type(self).__name__} is not fitted: call fit(X, y) first")
+        X = feature_matrix("X", X)
+        if X.shape[1] != self.support_.shape[1]:
+            raise ValueError(f"X has {X.shape[1]} features, the model was fitted with "
+                             f"{self.support_.shape[1]}")
+        theta = np.concatenate([self.linear_ if self.linear else [], self.cubic_, [0.0]])
+        return (_kernel_expansion(X, self.support_, self.alpha_, self.b_, self.sigma2)
+                + self._parametric(X) @ theta)

@@ -123,6 +123,16 @@ class NARX(DynamicModel):
         the training range ("range"): a saturating output y_t = sat(f(·)) fed back in the
         recursion (an overflowing tank, a saturating sensor).  A structure choice to make
         on estimation data like the others; it also keeps a free run from diverging.
+    linear : bool, default False
+        With ``engine="fixed-size"``: f gets an unpenalised linear part in all regressors
+        (the partially linear LS-SVM, :class:`FixedSizeLSSVM` ``linear``).  Outside the
+        training amplitudes the kernel part fades and the model extrapolates linearly.
+    cubic : int, default 0
+        With ``linear``: unpenalised cubic monomials of the first ``cubic`` output lags
+        y_{t−1} … y_{t−cubic} (a Duffing spring's y³), so a stiffening or softening
+        nonlinearity extrapolates beyond the training amplitudes.  At most ``na``.
+    cubic_terms : {"cubes", "all"}, default "cubes"
+        y_{t−i}³ only, or every degree-3 monomial of those lags.
 
     Attributes
     ----------
@@ -180,7 +190,8 @@ class NARX(DynamicModel):
                  engine: str = "full", prototypes: int = 300, folds: int = 3,
                  n_init: int | None = None, tuning: dict | None = None,
                  random_state: int = 0, filter_pole: float | None = None,
-                 filter_cap: float | None = None, output_bound: str = "none"):
+                 filter_cap: float | None = None, output_bound: str = "none",
+                 linear: bool = False, cubic: int = 0, cubic_terms: str = "cubes"):
         self.na = na
         self.nb = nb
         self.delay = delay
@@ -195,6 +206,9 @@ class NARX(DynamicModel):
         self.filter_pole = filter_pole
         self.filter_cap = filter_cap
         self.output_bound = output_bound
+        self.linear = linear
+        self.cubic = cubic
+        self.cubic_terms = cubic_terms
 
     # -- structure
     @property
@@ -223,13 +237,20 @@ class NARX(DynamicModel):
         if self.output_bound not in OUTPUT_BOUNDS:
             raise DataInputError("output_bound", f"expected one of {', '.join(OUTPUT_BOUNDS)}"
                                                  f", found {self.output_bound!r}")
+        if (self.linear or self.cubic) and self.engine != "fixed-size":
+            raise DataInputError("linear, cubic", f"expected engine='fixed-size' for a "
+                                                  f"parametric part, found {self.engine!r}")
+        if order("cubic", self.cubic) > self._na:
+            raise DataInputError("cubic", f"expected at most na = {self._na} output lags, "
+                                          f"found {self.cubic}")
 
     def _make_regressor(self, gamma, sigma2, prototypes=None):
         if self.engine == "full":
             return LSSVMRegressor(gamma, sigma2)
         return FixedSizeLSSVM(gamma, sigma2, random_state=self.random_state,
                               prototypes=self.prototypes if prototypes is None
-                              else prototypes)
+                              else prototypes, linear=bool(self.linear), cubic=self.cubic,
+                              cubic_terms=self.cubic_terms)
 
     # -- standardisation
     @staticmethod
@@ -405,6 +426,12 @@ class NARX(DynamicModel):
             states = self._filter_columns(u, self._initial_filter_state(model, u, y_init))
         low, high = self._low, self._high
         bounded = math.isfinite(low) or math.isfinite(high)
+        # parametric part (fixed-size engine; zero otherwise): β_y on the output lags in
+        # time order, β_u on the input columns, θ on the cubic monomials of the lags
+        beta = getattr(model, "linear_", np.zeros(centres.shape[1]))
+        beta_y, beta_u = np.ascontiguousarray(beta[:na][::-1]), beta[na:]
+        theta = getattr(model, "cubic_", np.zeros(0))
+        monomials = na - 1 - getattr(model, "monomials_", np.zeros((0, 3), dtype=int))
         y = np.empty(n)
         y[:start] = y_init
         # −‖h − c_y‖²/σ² expanded; columns reversed so h = y[t−na:t] in time order
@@ -413,21 +440,25 @@ class NARX(DynamicModel):
         block = max(1, CHUNK_ENTRIES // (4 * centres.shape[0]))
         for first in range(start, n, block):
             t = np.arange(first, min(first + block, n))
+            shift = np.full(t.size, bias)
             if lags or states is not None:
                 columns = [u[t - lag, c] for c, lag in lags]
                 window = np.column_stack(columns + ([] if states is None else [states[t]]))
                 weights = rbf_kernel(window, c_u, s2) * coef
+                shift += window @ beta_u
             else:
                 weights = np.broadcast_to(coef, (t.size, coef.size))
             if na == 0:
-                y[t] = weights.sum(axis=1) + bias
+                y[t] = weights.sum(axis=1) + shift
                 if bounded:
                     y[t] = np.clip(y[t], low, high)
                 continue
             for row, step in enumerate(t):
                 history = y[step - na:step]                 # y_{t−na}, …, y_{t−1}
                 z = lin @ history + offset - (history @ history) / s2
-                y[step] = weights[row] @ np.exp(np.minimum(z, 0.0)) + bias
-                if bounded:
-                    y[step] = min(max(y[step], low), high)
+                value = weights[row] @ np.exp(np.minimum(z, 0.0)) + shift[row] \
+                    + beta_y @ history
+                if theta.size:
+                    value += theta @ np.prod(history[monomials], axis=1)
+                y[step] = min(max(value, low), high) if bounded else value
         return y
