@@ -8,6 +8,7 @@ import pytest
 from scipy.signal import lfilter, lfilter_zi
 from sklearn.base import clone
 
+from certkit.errors import DataInputError
 from certkit.ident import NARX, EnsembleModel, FreeRunCV, tune_free_run
 from certkit.ident.dynamic_model import DynamicModel
 
@@ -190,3 +191,53 @@ def test_output_bound_holds_in_free_run(bound):
     if bound == "range":
         assert sim[1:].min() >= y.min() - 1e-12
     assert model.output_bounds_[1] == pytest.approx(y.max())
+
+
+# ------------------------------------------------------------------ one-standard-error rule
+class ScriptedFolds(FreeRunCV):
+    """Fold errors written here by hand for each γ (NRMSE² per fold, 100 samples each)."""
+
+    TABLE = {1e1: [1.2, 1.2, 1.2, 1.2],
+             1e2: [1.0, 1.06, 1.02, 1.08],        # mean 1.04
+             1e3: [0.9, 1.1, 0.95, 1.05]}         # mean 1.00, SE 0.0456
+
+    def fold_errors(self, estimator, pairs):
+        variance = float(np.var(np.concatenate([y for _, y in pairs])))
+        gamma = min(self.TABLE, key=lambda g: abs(math.log10(g / estimator.gamma)))
+        return [(v * 100 * variance, 100) for v in self.TABLE[gamma]]
+
+
+def test_one_standard_error_rule_takes_the_most_regularised_candidate_within_one_se():
+    # best: γ = 1e3, cost 1.00; its SE = sqrt((0.1² + 0.1² + 0.05² + 0.05²)/3)/2 = 0.0456
+    # γ = 1e2 (cost 1.04) is within it, γ = 1e1 (1.20) is not: the rule takes γ = 1e2
+    u, y = switched_record(512)
+    options = dict(gamma=(1e1, 1e3), sigma2=5.0, grid=(3, 1), refine=False,
+                   cost=ScriptedFolds())
+    _, least = tune_free_run(NARX(na=1, nb=1), u, y, **options)
+    _, parsimonious = tune_free_run(NARX(na=1, nb=1), u, y, rule="one-se", **options)
+    assert least.best["gamma"] == pytest.approx(1e3)
+    assert parsimonious.best["gamma"] == pytest.approx(1e2)
+    assert [r["cost"] for r in parsimonious.rows] == pytest.approx([1.2, 1.04, 1.0])
+    _, pair = tune_free_run(NARX(na=1, nb=1), u, y, rule="one-se", ensemble=2, **options)
+    assert [m["gamma"] for m in pair.members] == pytest.approx([1e2, 1e3])
+
+
+def test_fold_errors_pool_to_the_cost():
+    u, y = switched_record(512)
+    cost = FreeRunCV(folds=4, n_init=1)
+    model = NARX(na=1, nb=1, gamma=10.0, sigma2=2.0)
+    errors = cost.fold_errors(model, [(u[:, None], y)])
+    assert len(errors) == 4 and all(n == 127 for _, n in errors)
+    by_hand = sum(q for q, _ in errors) / (4 * 127 * np.var(y))
+    assert cost(model, [(u[:, None], y)]) == pytest.approx(by_hand, rel=1e-12)
+
+
+@pytest.mark.parametrize("options, message", [
+    (dict(rule="best"), "min, one-se"),
+    (dict(rule="one-se", cost=lambda e, p: 1.0), "FreeRunCV"),
+    (dict(rule="one-se", smoothing="median"), "no smoothing"),
+])
+def test_bad_rules_get_certkit_input_errors(options, message):
+    u, y = switched_record(512)
+    with pytest.raises(DataInputError, match=message):
+        tune_free_run(NARX(na=1, nb=1), u, y, gamma=10.0, sigma2=5.0, **options)

@@ -48,6 +48,10 @@ L. Ljung, *System Identification: Theory for the User*, 2nd ed., Prentice Hall, 
 J.A.K. Suykens, T. Van Gestel, J. De Brabanter, B. De Moor, J. Vandewalle, *Least Squares
 Support Vector Machines*, World Scientific, 2002.
 J.W. Tukey, *Exploratory Data Analysis*, Addison-Wesley, 1977 (running medians).
+L. Breiman, J.H. Friedman, R.A. Olshen, C.J. Stone, *Classification and Regression Trees*,
+Wadsworth, 1984 (the one-standard-error rule).
+T. Hastie, R. Tibshirani, J. Friedman, *The Elements of Statistical Learning*, 2nd ed.,
+Springer, 2009.
 """
 
 from __future__ import annotations
@@ -68,6 +72,7 @@ from certkit.ident.narx import NARX
 from certkit.ident.wiener import WienerLSSVM
 
 MODES = ("free-run", "one-step")
+RULES = ("min", "one-se")
 
 
 @dataclass(frozen=True)
@@ -103,18 +108,32 @@ class FreeRunCV:
     divergence: float | None = 1.0
 
     def __call__(self, estimator, pairs) -> float:
+        return self.pooled(self.fold_errors(estimator, pairs), pairs)
+
+    @staticmethod
+    def pooled(errors: list[tuple[float, int]], pairs) -> float:
+        """Σ squared errors / (Σ counts · var(y)) of :meth:`fold_errors` (+inf if any fold
+        is +inf)."""
+        if any(math.isinf(squared) for squared, _ in errors):
+            return math.inf
+        variance = float(np.var(np.concatenate([y for _, y in pairs]))) or 1.0
+        return sum(q for q, _ in errors) / (sum(n for _, n in errors) * variance)
+
+    def fold_errors(self, estimator, pairs) -> list[tuple[float, int]]:
+        """(sum of squared errors, scored samples) of each fold; a fold whose fit fails or
+        whose estimate diverges gives (+inf, 0) and ends the evaluation."""
         if self.mode not in MODES:
             raise DataInputError("mode", f"expected one of {', '.join(MODES)}, found "
                                          f"{self.mode!r}")
         lengths = [y.size for _, y in pairs]
-        variance = float(np.var(np.concatenate([y for _, y in pairs]))) or 1.0
-        squared, count = 0.0, 0
+        out = []
         for train, held in free_run_folds(lengths, self.folds, 2):
+            squared, count = 0.0, 0
             model = clone(estimator)
             try:
                 model.fit([pairs[e][0][s] for e, s in train], [pairs[e][1][s] for e, s in train])
             except (ValueError, np.linalg.LinAlgError):
-                return math.inf
+                return out + [(math.inf, 0)]
             trained = np.concatenate([pairs[e][1][s] for e, s in train])
             low, high = float(trained.min()), float(trained.max())
             band = math.inf if self.divergence is None else self.divergence * (high - low)
@@ -131,13 +150,14 @@ class FreeRunCV:
                             else model.predict(u, y))
                 error = y[n_init:] - estimate[n_init:]
                 if not np.all(np.isfinite(error)):
-                    return math.inf
+                    return out + [(math.inf, 0)]
                 if band < math.inf and (estimate[n_init:].min() < low - band
                                         or estimate[n_init:].max() > high + band):
-                    return math.inf
+                    return out + [(math.inf, 0)]
                 squared += float(error @ error)
                 count += error.size
-        return squared / (count * variance)
+            out.append((squared, count))
+        return out
 
 
 @dataclass(frozen=True)
@@ -247,6 +267,20 @@ def _median_smoothed(rows: list[dict]) -> list[float]:
     return out
 
 
+def _one_standard_error(rows: list[dict], ranked: list[int], folds: dict) -> list[int]:
+    """``ranked`` (least cost first) reordered by the one-standard-error rule: the rows
+    within one standard error of the best first, most regularised first (least γ, then
+    largest σ², then least cost), then the others as they were."""
+    best = rows[ranked[0]]
+    per_fold = np.array(folds[(best["orders"], best.get("gamma"), best.get("sigma2"))])
+    error = float(np.std(per_fold, ddof=1) / math.sqrt(per_fold.size)) \
+        if per_fold.size > 1 else 0.0
+    near = [i for i in ranked if rows[i]["cost"] <= best["cost"] + error]
+    near.sort(key=lambda i: (rows[i].get("gamma") or 0.0, -(rows[i].get("sigma2") or 0.0),
+                             rows[i]["cost"]))
+    return near + [i for i in ranked if i not in near]
+
+
 def _resolve(spec, estimator):
     return spec(estimator) if callable(spec) else spec
 
@@ -254,7 +288,7 @@ def _resolve(spec, estimator):
 def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | None = None,
                   cost: Callable | None = None, grid: int | tuple[int, int] = 5,
                   refine: bool = True, max_refine: int = 20,
-                  smoothing: float | str = 0.0, ensemble: int = 1):
+                  smoothing: float | str = 0.0, ensemble: int = 1, rule: str = "min"):
     """Tune a model's hyper-parameters (and orders) on its cross-validated free run.
 
     Parameters
@@ -290,6 +324,17 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
         Return the mean of the ``ensemble`` best candidates (by the same ranking, unstable
         ones excluded), each refitted on all the data, as an
         :class:`~certkit.ident.ensemble.EnsembleModel`.
+    rule : {"min", "one-se"}, default "min"
+        "min": the least (raw or smoothed) cost wins.  "one-se": the one-standard-error
+        rule (Breiman et al. 1984, §3.4.3; Hastie, Tibshirani & Friedman 2009, §7.10):
+        among the candidates whose cost is within one standard error of the least cost,
+        the most regularised wins — least γ, then largest σ², then least cost.  The
+        standard error is that of the best candidate's per-fold NRMSE² (standard deviation
+        over the folds / √folds); the cost must be a :class:`FreeRunCV`.  A long record
+        gives a flat cost surface in γ where any tie-break is arbitrary; this one prefers
+        the kernel part most penalised, so the parametric part of a partially linear NARX
+        (or the bias) carries the model where data are sparse.  Not used with
+        ``smoothing``.  The ensemble takes the next candidates in the same order.
 
     Returns
     -------
@@ -306,6 +351,21 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
     """
     pairs, _ = experiments(u, y)
     cost = FreeRunCV() if cost is None else cost
+    if rule not in RULES:
+        raise DataInputError("rule", f"expected one of {', '.join(RULES)}, found {rule!r}")
+    if rule == "one-se" and (not isinstance(cost, FreeRunCV) or smoothing != 0.0):
+        raise DataInputError("rule", "expected a FreeRunCV cost and no smoothing with the "
+                                     "one-standard-error rule (it needs the fold errors), "
+                                     f"found cost {cost!r}, smoothing {smoothing!r}")
+    folds: dict = {}                     # (orders, γ, σ²) -> per-fold NRMSE² ("one-se")
+
+    def evaluate(candidate, key) -> float:
+        if rule == "min":
+            return cost(candidate, pairs)
+        errors = cost.fold_errors(candidate, pairs)
+        variance = float(np.var(np.concatenate([y for _, y in pairs]))) or 1.0
+        folds[key] = [q / (n * variance) if n else math.inf for q, n in errors]
+        return cost.pooled(errors, pairs)
     orders = dict(orders or {})
     for name in orders:
         if name not in estimator.get_params():
@@ -318,14 +378,14 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
         chosen = dict(zip(names, combination))
         base = clone(estimator).set_params(**chosen)
         if not hyper:
-            rows.append({**chosen, "cost": cost(base, pairs), "stage": "grid",
-                         "orders": combination})
+            rows.append({**chosen, "cost": evaluate(base, (combination, None, None)),
+                         "stage": "grid", "orders": combination})
             continue
         ranges = default_ranges(base, pairs[0][0].shape[1])
         ranges.update({k: _resolve(v, base) for k, v in (("gamma", gamma), ("sigma2", sigma2))
                        if v is not None})
-        result = tune(lambda g, s, base=base: cost(clone(base).set_params(gamma=g, sigma2=s),
-                                                   pairs),
+        result = tune(lambda g, s, base=base, c=combination: evaluate(
+                          clone(base).set_params(gamma=g, sigma2=s), (c, g, s)),
                       grid=grid, refine=refine and smoothing == 0.0,
                       max_refine=max_refine, **ranges)
         points = (grid, grid) if np.ndim(grid) == 0 else tuple(grid)
@@ -349,6 +409,8 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
     if not ranked:
         raise DataInputError("u, y", "expected at least one candidate with a finite free-run "
                                      "cost, found none (every fit failed or diverged)")
+    if rule == "one-se":
+        ranked = _one_standard_error(rows, ranked, folds)
     if isinstance(ensemble, bool) or not isinstance(ensemble, (int, np.integer)) \
             or ensemble < 1:
         raise DataInputError("ensemble", f"expected a positive integer, found {ensemble!r}")
