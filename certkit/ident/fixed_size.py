@@ -320,24 +320,8 @@ class FixedSizeLSSVM(KernelModel):
         self.support_ = centres.copy()
         return self
 
-    def predict(self, X) -> np.ndarray:
-        """Model output ŷ(x) = Σ_j α_j K(x, p_j) + βᵀx + θᵀc(x) + b for the rows of ``X``.
-
-        Parameters
-        ----------
-        X : array_like, shape (n, d) or (n,)
-            Points to evaluate, in the units used for ``fit``.
-
-        Returns
-        -------
-        numpy.ndarray, shape (n,)
-        """
-        if not hasattr(self, "alpha_"):
-            raise ValueError(f"{type(self).__name__} is not fitted: call fit(X, y) first")
-        X = feature_matrix("X", X)
-        if X.shape[1] != self.support_.shape[1]:
-            raise ValueError(f"X has {X.shape[1]} features, the model was fitted with "
-                             f"{self.support_.shape[1]}")
+    def _predict_rows(self, X: np.ndarray) -> np.ndarray:
+        """ŷ(x) = Σ_j α_j K(x, p_j) + βᵀx + θᵀc(x) + b for checked rows X."""
         theta = np.concatenate([self.linear_ if self.linear else [], self.cubic_, [0.0]])
         return (_kernel_expansion(X, self.support_, self.alpha_, self.b_, self.sigma2)
                 + self._parametric(X) @ theta)

@@ -71,7 +71,8 @@ class KernelModel:
     """Shared predict of the kernel-expansion estimators."""
 
     def predict(self, X) -> np.ndarray:
-        """Model output ŷ(x) = Σ_j α_j K(x, c_j) + b for the rows of ``X``.
+        """Model output ŷ(x) = Σ_j α_j K(x, c_j) + b for the rows of ``X`` (plus βᵀx + θᵀc(x)
+        for a partially linear :class:`~certkit.ident.fixed_size.FixedSizeLSSVM`).
 
         Parameters
         ----------
@@ -88,6 +89,10 @@ class KernelModel:
         if X.shape[1] != self.support_.shape[1]:
             raise ValueError(f"X has {X.shape[1]} features, the model was fitted with "
                              f"{self.support_.shape[1]}")
+        return self._predict_rows(X)
+
+    def _predict_rows(self, X: np.ndarray) -> np.ndarray:
+        """The model on checked rows (a model with more terms adds them here)."""
         return _kernel_expansion(X, self.support_, self.alpha_, self.b_, self.sigma2)
 
 
