@@ -241,3 +241,24 @@ def test_bad_rules_get_certkit_input_errors(options, message):
     u, y = switched_record(512)
     with pytest.raises(DataInputError, match=message):
         tune_free_run(NARX(na=1, nb=1), u, y, gamma=10.0, sigma2=5.0, **options)
+
+
+def test_a_wrong_structure_in_the_search_gets_its_own_message():
+    # every fold's fit fails on cubic > na; the user must read why, not "diverged"
+    u, y = switched_record(512)
+    with pytest.raises(DataInputError, match="at most na = 1 output lags, found 2"):
+        tune_free_run(NARX(na=1, nb=1, engine="fixed-size", prototypes=20, linear=True), u, y,
+                      orders={"cubic": [2]}, gamma=10.0, sigma2=5.0)
+
+
+def test_a_structure_unstable_everywhere_does_not_stop_the_search_of_the_others():
+    # na = 1 with cubic = 2 fails every fit; na = 2 with cubic = 2 is a valid structure
+    u, y = switched_record(512)
+    model, surface = tune_free_run(
+        NARX(na=1, nb=1, engine="fixed-size", prototypes=20, linear=True, cubic=0), u, y,
+        orders={"na": [1, 2], "cubic": [0, 2]}, gamma=10.0, sigma2=5.0,
+        cost=FreeRunCV(folds=4, n_init=2))
+    costs = {(r["na"], r["cubic"]): r["cost"] for r in surface.rows}
+    assert math.isinf(costs[(1, 2)])
+    assert all(math.isfinite(costs[k]) for k in [(1, 0), (2, 0), (2, 2)])
+    assert (surface.best["na"], surface.best["cubic"]) != (1, 2)

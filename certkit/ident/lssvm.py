@@ -198,7 +198,7 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
          sigma2=(1e-2, 1e3), grid: int | tuple[int, int] = 7,
          start: tuple[float, float] | None = None,
          refine: bool = True, max_refine: int = 40,
-         tolerance: float = 0.02) -> TuningResult:
+         tolerance: float = 0.02, allow_infinite: bool = False) -> TuningResult:
     """Minimise a cross-validation cost over (γ, σ²): log grid, then Nelder–Mead.
 
     Parameters
@@ -220,6 +220,9 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
         Cost evaluations allowed to the refinement.
     tolerance : float
         Simplex size [decades] at which the refinement stops.
+    allow_infinite : bool
+        Return a result of cost +inf when no evaluation is finite, instead of raising
+        (a caller that searches several structures and ranks them itself).
 
     Returns
     -------
@@ -303,7 +306,7 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
                                    "maxfev": max_refine})
 
     best = min(record, key=record.get)
-    if not math.isfinite(record[best]):
+    if not math.isfinite(record[best]) and not allow_infinite:
         raise ValueError("the cost was not finite at any evaluated (gamma, sigma2)")
     values = point(best)
     return TuningResult(values["gamma"], values["sigma2"], record[best], tuple(order))

@@ -387,7 +387,7 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
         result = tune(lambda g, s, base=base, c=combination: evaluate(
                           clone(base).set_params(gamma=g, sigma2=s), (c, g, s)),
                       grid=grid, refine=refine and smoothing == 0.0,
-                      max_refine=max_refine, **ranges)
+                      max_refine=max_refine, allow_infinite=True, **ranges)
         points = (grid, grid) if np.ndim(grid) == 0 else tuple(grid)
         n_grid = int(np.prod([n for n, k in zip(points, ("gamma", "sigma2"))
                               if np.ndim(ranges[k]) > 0]))
@@ -407,6 +407,10 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
                      if math.isfinite(rows[i]["cost"]) and math.isfinite(score[i])),
                     key=lambda i: (score[i], rows[i]["cost"]))
     if not ranked:
+        # a wrong structure setting fails every fold's fit, and the cost scores it +inf:
+        # fit the first candidate on all the data so that its own message reaches the user
+        first = {k: v for k, v in rows[0].items() if k not in ("cost", "stage", "orders")}
+        clone(estimator).set_params(**first).fit(u, y)
         raise DataInputError("u, y", "expected at least one candidate with a finite free-run "
                                      "cost, found none (every fit failed or diverged)")
     if rule == "one-se":
