@@ -586,3 +586,16 @@ def test_a_closed_standard_output_or_one_without_unicode_is_no_certkit_bug(seed_
                                 env=dict(os.environ, PYTHONIOENCODING="ascii"))
     assert ascii_only.returncode == 1, ascii_only.stderr
     assert b"\\u2014" in ascii_only.stdout and ascii_only.stdout.isascii()
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full on this system "
+                                                            "(a Linux device)")
+@pytest.mark.parametrize("command", [["sets"], ["schema"]])
+def test_standard_output_on_a_full_device_is_named_and_exits_4(command):
+    with open("/dev/full", "w") as full:
+        completed = subprocess.run([sys.executable, "-m", "certkit.cli", *command],
+                                   stdout=full, stderr=subprocess.PIPE, text=True, timeout=120)
+    assert completed.returncode == 4
+    assert completed.stderr.startswith("error: standard output: ")
+    assert "no space left on the device" in completed.stderr
+    assert "Traceback" not in completed.stderr

@@ -142,6 +142,38 @@ def _usable_streams() -> None:
             setattr(sys, name, open(os.devnull, "w", encoding="utf-8"))  # noqa: SIM115
         elif hasattr(stream, "reconfigure"):
             stream.reconfigure(errors="backslashreplace")
+    sys.stdout = _NamedOutput(sys.stdout)
+
+
+class _NamedOutput:
+    """Standard output whose failures name it: a write or flush that the machine refuses
+    (``> file`` on a full disk, a failing disk) raises that OSError with the file name
+    "standard output", so the exit-4 message says where certkit could not write.  Every
+    other attribute, and every other error (a closed pipe), is the stream's own."""
+
+    def __init__(self, stream):
+        self._stream = stream
+
+    def write(self, text):
+        try:
+            return self._stream.write(text)
+        except OSError as problem:
+            raise _named(problem) from None
+
+    def flush(self):
+        try:
+            return self._stream.flush()
+        except OSError as problem:
+            raise _named(problem) from None
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
+def _named(problem: OSError) -> OSError:
+    if not is_environmental(problem) or problem.filename is not None:
+        return problem
+    return OSError(problem.errno, problem.strerror, "standard output")
 
 
 def run() -> None:
