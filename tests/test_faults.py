@@ -598,4 +598,5 @@ def test_standard_output_on_a_full_device_is_named_and_exits_4(command):
     assert completed.returncode == 4
     assert completed.stderr.startswith("error: standard output: ")
     assert "no space left on the device" in completed.stderr
+    assert "redirect it to a file on another disk" in completed.stderr
     assert "Traceback" not in completed.stderr

@@ -26,8 +26,8 @@ from rich.text import Text
 
 import certkit.cli.stop as stop
 from certkit.archive.bag import BagError
-from certkit.errors import (CampaignError, CertkitInputError, EnvironmentFailure,
-                            is_environmental)
+from certkit.errors import (STANDARD_OUTPUT, CampaignError, CertkitInputError,
+                            EnvironmentFailure, is_environmental)
 from certkit.version import VERSION
 
 EXIT_CODES = ("Exit codes: 0 success; 1 a check does not pass; 2 bad input; 3 an internal "
@@ -173,7 +173,7 @@ class _NamedOutput:
 def _named(problem: OSError) -> OSError:
     if not is_environmental(problem) or problem.filename is not None:
         return problem
-    return OSError(problem.errno, problem.strerror, "standard output")
+    return OSError(problem.errno, problem.strerror, STANDARD_OUTPUT)
 
 
 def run() -> None:
