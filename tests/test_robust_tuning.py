@@ -262,3 +262,13 @@ def test_a_structure_unstable_everywhere_does_not_stop_the_search_of_the_others(
     assert math.isinf(costs[(1, 2)])
     assert all(math.isfinite(costs[k]) for k in [(1, 0), (2, 0), (2, 2)])
     assert (surface.best["na"], surface.best["cubic"]) != (1, 2)
+
+
+@pytest.mark.parametrize("ensemble", [0, 2.5, True])
+def test_a_bad_ensemble_size_is_refused_before_any_candidate_is_fitted(ensemble):
+    u, y = switched_record(512)
+    calls = []
+    with pytest.raises(DataInputError, match="ensemble"):
+        tune_free_run(NARX(na=1, nb=1), u, y, gamma=10.0, sigma2=5.0, ensemble=ensemble,
+                      cost=lambda estimator, pairs: calls.append(estimator) or 1.0)
+    assert calls == []

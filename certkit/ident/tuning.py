@@ -75,6 +75,12 @@ MODES = ("free-run", "one-step")
 RULES = ("min", "one-se")
 
 
+def output_variance(pairs) -> float:
+    """var(y) over all experiments, the normaliser of the NRMSE² costs (1 for a constant
+    output)."""
+    return float(np.var(np.concatenate([y for _, y in pairs]))) or 1.0
+
+
 @dataclass(frozen=True)
 class FreeRunCV:
     """Cross-validated simulation error of a model, the cost :func:`tune_free_run` minimises.
@@ -116,8 +122,7 @@ class FreeRunCV:
         is +inf)."""
         if any(math.isinf(squared) for squared, _ in errors):
             return math.inf
-        variance = float(np.var(np.concatenate([y for _, y in pairs]))) or 1.0
-        return sum(q for q, _ in errors) / (sum(n for _, n in errors) * variance)
+        return sum(q for q, _ in errors) / (sum(n for _, n in errors) * output_variance(pairs))
 
     def fold_errors(self, estimator, pairs) -> list[tuple[float, int]]:
         """(sum of squared errors, scored samples) of each fold; a fold whose fit fails or
@@ -357,13 +362,16 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
         raise DataInputError("rule", "expected a FreeRunCV cost and no smoothing with the "
                                      "one-standard-error rule (it needs the fold errors), "
                                      f"found cost {cost!r}, smoothing {smoothing!r}")
+    if isinstance(ensemble, bool) or not isinstance(ensemble, (int, np.integer)) \
+            or ensemble < 1:
+        raise DataInputError("ensemble", f"expected a positive integer, found {ensemble!r}")
     folds: dict = {}                     # (orders, γ, σ²) -> per-fold NRMSE² ("one-se")
+    variance = output_variance(pairs)
 
     def evaluate(candidate, key) -> float:
         if rule == "min":
             return cost(candidate, pairs)
         errors = cost.fold_errors(candidate, pairs)
-        variance = float(np.var(np.concatenate([y for _, y in pairs]))) or 1.0
         folds[key] = [q / (n * variance) if n else math.inf for q, n in errors]
         return cost.pooled(errors, pairs)
     orders = dict(orders or {})
@@ -410,14 +418,16 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
         # a wrong structure setting fails every fold's fit, and the cost scores it +inf:
         # fit the first candidate on all the data so that its own message reaches the user
         first = {k: v for k, v in rows[0].items() if k not in ("cost", "stage", "orders")}
-        clone(estimator).set_params(**first).fit(u, y)
+        try:
+            clone(estimator).set_params(**first).fit(u, y)
+        except DataInputError:
+            raise
+        except (ValueError, np.linalg.LinAlgError):
+            pass                         # a numerical failure: the message below says so
         raise DataInputError("u, y", "expected at least one candidate with a finite free-run "
                                      "cost, found none (every fit failed or diverged)")
     if rule == "one-se":
         ranked = _one_standard_error(rows, ranked, folds)
-    if isinstance(ensemble, bool) or not isinstance(ensemble, (int, np.integer)) \
-            or ensemble < 1:
-        raise DataInputError("ensemble", f"expected a positive integer, found {ensemble!r}")
     members = tuple({k: v for k, v in rows[i].items() if k not in ("cost", "stage", "orders")}
                     for i in ranked[:int(ensemble)])
     best = members[0]
