@@ -56,14 +56,13 @@ import hashlib
 import itertools
 import math
 import time
-import warnings
 from pathlib import Path
 
 import numpy as np
 from scipy.stats import spearmanr
-from sklearn.base import BaseEstimator
 
 from certkit.ident import NARX, FreeRunCV, tune_free_run
+from frols import INSTALL_HINT, FROLSNARX
 
 REPO = Path(__file__).resolve().parent.parent
 DATA = REPO.parent / "shared" / "data" / "cascaded-tanks"
@@ -112,49 +111,11 @@ def describe(p: dict) -> str:
 
 
 # ------------------------------------------------------------------ SysIdentPy (optional)
-class FROLSNARX(BaseEstimator):
-    """SysIdentPy FROLS polynomial NARX behind certkit's estimator protocol (fit on a list
-    of experiments, simulate(u, y_init), init_length), so that FreeRunCV scores it on the
-    same folds.  SysIdentPy fits one record: experiments are concatenated (the few rows
-    that straddle a junction are kept)."""
-
-    def __init__(self, ylag=1, xlag=1, degree=2):
-        self.ylag, self.xlag, self.degree = ylag, xlag, degree
-
-    @property
-    def init_length(self) -> int:
-        return max(self.ylag, self.xlag)
-
-    def fit(self, u, y):
-        from sysidentpy.basis_function import Polynomial
-        from sysidentpy.model_structure_selection import FROLS
-        from sysidentpy.parameter_estimation import LeastSquares
-        u = np.concatenate(u) if isinstance(u, list) else np.asarray(u)
-        y = np.concatenate(y) if isinstance(y, list) else np.asarray(y)
-        self.model_ = FROLS(order_selection=True, n_info_values=20, ylag=self.ylag,
-                            xlag=self.xlag, info_criteria="aic", estimator=LeastSquares(),
-                            basis_function=Polynomial(degree=self.degree))
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            self.model_.fit(X=u.reshape(len(y), -1), y=y[:, None])
-        return self
-
-    def simulate(self, u, y_init):
-        u = np.asarray(u, dtype=float)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            out = self.model_.predict(X=u.reshape(u.shape[0], -1),
-                                      y=np.asarray(y_init)[:, None])[:, 0].copy()
-        out[:len(y_init)] = y_init
-        return out
-
-
 def sysidentpy_column(u_est, y_est, u_val, y_val):
     try:
         import sysidentpy
     except ImportError:
-        print("\nSysIdentPy is not installed: its column is skipped (optional: pip install "
-              "--target /tmp/sip sysidentpy==0.9 --no-deps, then PYTHONPATH=/tmp/sip)")
+        print(f"\nSysIdentPy is not installed: its column is skipped ({INSTALL_HINT})")
         return None
     print(f"\nSysIdentPy {getattr(sysidentpy, '__version__', '?')}: FROLS polynomial NARX "
           f"degree 2, AIC; (ylag, xlag) by the same {FOLDS} blocked free-run folds")

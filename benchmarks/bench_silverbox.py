@@ -74,7 +74,6 @@ import resource
 import statistics
 import time
 import tracemalloc
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -83,6 +82,7 @@ from certkit.ident import FreeRunCV, tune_free_run
 from certkit.ident.lssvm import tune
 from certkit.ident.narx import NARX
 from certkit.ident.validation import rmse
+from frols import INSTALL_HINT, FROLSNARX
 
 REPO = Path(__file__).resolve().parent.parent
 DATA = REPO.parent / "shared" / "data" / "silverbox"
@@ -194,39 +194,13 @@ def partially_linear(u_train: np.ndarray, y_train: np.ndarray):
     return tuned, fit
 
 
-class _FROLS:
-    """SysIdentPy FROLS polynomial NARX with simulate(u, y_init) (optional dependency)."""
-
-    def __init__(self, lag: int):
-        from sysidentpy.basis_function import Polynomial
-        from sysidentpy.model_structure_selection import FROLS
-        from sysidentpy.parameter_estimation import LeastSquares
-        self.model = FROLS(order_selection=True, n_info_values=40, ylag=lag, xlag=lag,
-                           info_criteria="aic", estimator=LeastSquares(),
-                           basis_function=Polynomial(degree=3))
-
-    def fit(self, u, y):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            self.model.fit(X=u[:, None], y=y[:, None])
-        return self
-
-    def simulate(self, u, y_init):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            out = self.model.predict(X=u[:, None], y=y_init[:, None])[:, 0].copy()
-        out[:y_init.size] = y_init
-        return out
-
-
 def sysidentpy(u_train: np.ndarray, y_train: np.ndarray):
     """SysIdentPy's FROLS model (lags chosen on the last training quarter) and its fit
     time, or None when SysIdentPy is not installed."""
     try:
         import sysidentpy as package
     except ImportError:
-        print("\nSysIdentPy is not installed: its row is skipped (optional: pip install "
-              "--target /tmp/sip sysidentpy==0.9 --no-deps, then PYTHONPATH=/tmp/sip)")
+        print(f"\nSysIdentPy is not installed: its row is skipped ({INSTALL_HINT})")
         return None
     print(f"\nSysIdentPy {getattr(package, '__version__', '?')}: FROLS polynomial NARX degree "
           f"3, AIC over 40 terms; ylag = xlag chosen on the last training quarter", flush=True)
@@ -234,7 +208,8 @@ def sysidentpy(u_train: np.ndarray, y_train: np.ndarray):
     scores = {}
     for lag in SYSIDENTPY_LAGS:
         start = time.perf_counter()
-        candidate = _FROLS(lag).fit(u_train[:split], y_train[:split])
+        candidate = FROLSNARX(lag, lag, degree=3, n_info_values=40).fit(u_train[:split],
+                                                                        y_train[:split])
         simulated = candidate.simulate(u_train[split:], y_train[split:split + N_INIT])
         error = simulated[N_INIT:] - y_train[split + N_INIT:]
         scores[lag] = 1e3 * float(np.sqrt(np.mean(error ** 2))) if np.all(
@@ -243,9 +218,9 @@ def sysidentpy(u_train: np.ndarray, y_train: np.ndarray):
               f"({time.perf_counter() - start:.0f} s)", flush=True)
     lag = min(scores, key=scores.get)
     start = time.perf_counter()
-    chosen = _FROLS(lag).fit(u_train, y_train)
+    chosen = FROLSNARX(lag, lag, degree=3, n_info_values=40).fit(u_train, y_train)
     fit = time.perf_counter() - start
-    print(f"  chosen lags {lag} ({len(chosen.model.final_model)} terms), fitted in {fit:.0f} s")
+    print(f"  chosen lags {lag} ({len(chosen.model_.final_model)} terms), fitted in {fit:.0f} s")
     return chosen, fit, lag
 
 
