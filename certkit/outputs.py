@@ -110,7 +110,7 @@ def check_file_target(target: Path, inputs: list[Path], key: str) -> None:
                                                                "name for it")
     for item in inputs:
         same = target.resolve() == Path(item).resolve() or (
-            target.exists() and os.path.samefile(target, item))
+            target.exists() and Path(item).exists() and os.path.samefile(target, item))
         if same:
             raise CertkitInputError.single(
                 str(target), None, key, f"is the input {item}; writing there would replace "

@@ -168,6 +168,19 @@ def test_a_baseline_that_is_not_a_results_file_exits_2(tmp_path):
     assert result.exit_code == 2 and "certkit-results/1" in result.output
 
 
+def test_a_missing_baseline_beside_an_existing_output_file_is_bad_input(tmp_path):
+    # the check that -o is not an input compared the output with a baseline that does not
+    # exist, and that crashed as a certkit bug (exit 3)
+    table = tmp_path / "audit.md"
+    table.write_text("an earlier table\n", encoding="utf-8")
+    missing = tmp_path / "missing.json"
+    result = runner.invoke(app, ["audit", str(SEED), "-o", str(table), "--baseline",
+                                 str(missing)])
+    assert result.exit_code == 2
+    assert "missing.json" in result.output and "cannot be read" in result.output
+    assert table.read_text(encoding="utf-8") == "an earlier table\n"
+
+
 def test_a_failed_write_leaves_no_partial_output(tmp_path):
     table = tmp_path / "audit.md"
     junit = tmp_path / "missing-folder" / "audit.xml"      # cannot be written
