@@ -89,13 +89,13 @@ class EnvironmentFailure(Exception):
 
     @classmethod
     def from_os_error(cls, error: OSError, path: str | Path | None = None,
-                      doing: str = "cannot write the outputs"):
+                      doing: str = "cannot write the outputs", remedy: str | None = None):
         """The failure ``error`` as one line: ``path`` (the folder or file the user named;
-        the error's own file name when not given), what failed, why and what to do."""
+        the error's own file name when not given), what failed, why and what to do (the
+        errno's usual remedy unless ``remedy`` is given)."""
         path = path if path is not None else os.fsdecode(error.filename or "certkit")
-        why, remedy = _ENVIRONMENT.get(error.errno, (None, "check the folder and try again"))
-        if str(path) == STANDARD_OUTPUT:
-            remedy = "redirect it to a file on another disk, or let it print to the terminal"
+        why, usual = _ENVIRONMENT.get(error.errno, (None, "check the folder and try again"))
+        remedy = usual if remedy is None else remedy
         why = why or error.strerror or str(error)
         return cls(path, f"{doing}: {why}{named_file(error, path)}; {remedy}")
 
@@ -106,9 +106,6 @@ def named_file(error: OSError, path: str | Path) -> str:
         return ""
     return f" ({os.fsdecode(error.filename)})"
 
-
-#: The name a refused write to standard output is reported under (certkit.cli.app).
-STANDARD_OUTPUT = "standard output"
 
 # errno -> (what happened, what to do): the failures that come from the machine, not from
 # the campaign or from certkit.  Any OSError met while writing outputs is reported as an

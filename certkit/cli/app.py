@@ -26,8 +26,8 @@ from rich.text import Text
 
 import certkit.cli.stop as stop
 from certkit.archive.bag import BagError
-from certkit.errors import (STANDARD_OUTPUT, CampaignError, CertkitInputError,
-                            EnvironmentFailure, is_environmental)
+from certkit.errors import (CampaignError, CertkitInputError, EnvironmentFailure,
+                            is_environmental)
 from certkit.version import VERSION
 
 EXIT_CODES = ("Exit codes: 0 success; 1 a check does not pass; 2 bad input; 3 an internal "
@@ -147,9 +147,10 @@ def _usable_streams() -> None:
 
 class _NamedOutput:
     """Standard output whose failures name it: a write or flush that the machine refuses
-    (``> file`` on a full disk, a failing disk) raises that OSError with the file name
-    "standard output", so the exit-4 message says where certkit could not write.  Every
-    other attribute, and every other error (a closed pipe), is the stream's own."""
+    (``> file`` on a full disk, a failing disk) raises an EnvironmentFailure naming
+    "standard output" with what to do, so the exit-4 message says where certkit could not
+    write.  Every other attribute, and every other error (a closed pipe), is the stream's
+    own."""
 
     def __init__(self, stream):
         self._stream = stream
@@ -170,10 +171,12 @@ class _NamedOutput:
         return getattr(self._stream, name)
 
 
-def _named(problem: OSError) -> OSError:
+def _named(problem: OSError) -> Exception:
     if not is_environmental(problem) or problem.filename is not None:
         return problem
-    return OSError(problem.errno, problem.strerror, STANDARD_OUTPUT)
+    return EnvironmentFailure.from_os_error(
+        problem, "standard output", doing="cannot write",
+        remedy="redirect it to a file on another disk, or let it print to the terminal")
 
 
 def run() -> None:
