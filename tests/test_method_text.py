@@ -58,4 +58,8 @@ def test_the_gap_method_states_the_timing_rule_the_diagnosis_applies(monkeypatch
     monkeypatch.setattr(residuals, "TIMING_LAG", 0.045)
     units = load_campaign(SEED).spec.report.units
     text = " ".join(str(v) for v in gap_method(units).values())
-    assert "shifted by up to ±45 ms, would remove 17 % or more" in text
+    assert "shifted by up to ±45.00 ms, would remove 17 % or more" in text
+    # in the campaign's time unit, like the other durations of the method
+    seconds = units.model_copy(update={"time": "s"})
+    text = " ".join(str(v) for v in gap_method(seconds).values())
+    assert "shifted by up to ±0.04500 s, would remove" in text     # 4 significant digits
