@@ -471,3 +471,24 @@ def test_a_data_file_of_a_format_certkit_does_not_read_is_named_at_its_key(
     line = next(i for i, text in enumerate(
         timeseries_campaign.read_text(encoding="utf-8").splitlines(), 1) if f"file: {name}" in text)
     assert f"{timeseries_campaign.name}:{line} runs[0].data.file" in output
+
+
+def test_a_parquet_file_with_a_column_name_that_is_not_utf8_gets_a_parquet_message(tmp_path):
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from certkit.errors import CertkitInputError
+    from certkit.spec.rundata import _read_table
+
+    good = tmp_path / "good.parquet"
+    pq.write_table(pa.table({"time_\u00e9": [0.0, 0.001], "load": [1.0, 2.0]}), good,
+                   store_schema=False)
+    raw = good.read_bytes()
+    assert raw.count("\u00e9".encode()) >= 1
+    bad = tmp_path / "bad.parquet"
+    bad.write_bytes(raw.replace("\u00e9".encode(), b"\xfc\xfc"))    # 2 bytes, not UTF-8
+    with pytest.raises(CertkitInputError) as caught:
+        _read_table(bad, "data/bad.parquet")
+    message = str(caught.value)
+    assert "not UTF-8 text" in message and "data/bad.parquet" in message
+    assert "line" not in message and "spreadsheet" not in message     # not the CSV advice

@@ -206,7 +206,8 @@ def _read_table(path: Path, display: str):
 
     suffix = path.suffix.lower()
     if suffix not in DATA_SUFFIXES:
-        raise fail(f"unsupported data format {suffix!r} (expected .csv or .parquet)")
+        raise fail(f"unsupported data format {suffix!r} (expected one of "
+                   f"{', '.join(DATA_SUFFIXES)})")
     separator, decimal = _csv_layout(path, display) if suffix == ".csv" else (",", ".")
     try:
         with warnings.catch_warnings():
@@ -227,7 +228,10 @@ def _read_table(path: Path, display: str):
     except pd.errors.EmptyDataError:
         raise fail("the data file is empty") from None
     except UnicodeDecodeError:
-        raise _not_utf8(path, display) from None
+        if suffix == ".csv":
+            raise _not_utf8(path, display) from None
+        raise fail("a column name or text value is not UTF-8 text; write the file again "
+                   "with UTF-8 strings") from None
     except Exception as exc:  # pandas and pyarrow raise many types for malformed files
         raise fail(f"cannot read data file: {exc}") from None
     repeated = sorted({name for name in header if header.count(name) > 1})
