@@ -306,3 +306,65 @@ def test_a_catalog_path_through_a_file_or_at_a_folder_is_an_input_error(bags, tm
                                      str(catalog)])
         assert result.exit_code == 2, (result.output, result.exception)
         assert str(catalog) in result.output and words in result.output, result.output
+
+
+# ------------------------------------------------------------------ a failed addition
+def test_a_failed_addition_keeps_a_new_catalog_another_process_filled(bags, tmp_path,
+                                                                     monkeypatch):
+    # this call found no catalog; while it waited, another process created it and added
+    # its campaign; this call then fails: the other's catalog must stay
+    import certkit.archive.catalog as catalog_module
+
+    catalog = tmp_path / "new.sqlite"
+    real_insert = catalog_module._insert
+
+    def other_process_first(path, entry, verdicts, bag):
+        real_insert(path, *catalog_module.describe(bags["C"]), bags["C"])
+        raise sqlite3.OperationalError("database is locked")
+
+    monkeypatch.setattr(catalog_module, "_insert", other_process_first)
+    with pytest.raises(sqlite3.OperationalError):
+        add(catalog, bags["A"])
+    assert [e.campaign_id for e in search(catalog)] == ["AMPH-1"]
+
+
+def test_a_failed_addition_keeps_a_new_catalog_another_process_is_writing(bags, tmp_path,
+                                                                         monkeypatch):
+    import certkit.archive.catalog as catalog_module
+
+    catalog = tmp_path / "new.sqlite"
+    others = []
+
+    def locked_out(path, entry, verdicts, bag):
+        # after this call found no catalog, the other process creates it and writes
+        holder = sqlite3.connect(path, isolation_level=None)
+        holder.execute("BEGIN IMMEDIATE")
+        holder.execute("CREATE TABLE campaigns (bag_hash TEXT)")
+        others.append(holder)
+        raise sqlite3.OperationalError("database is locked")
+
+    monkeypatch.setattr(catalog_module, "_insert", locked_out)
+    with pytest.raises(sqlite3.OperationalError):
+        add(catalog, bags["A"])
+    assert catalog.exists() and catalog.with_name("new.sqlite-journal").exists()
+    others[0].execute("COMMIT")                     # its transaction still completes
+    others[0].close()
+    assert sqlite3.connect(catalog).execute("SELECT count(*) FROM sqlite_master WHERE name = "
+                                            "'campaigns'").fetchone()[0] == 1
+
+
+def test_a_failed_addition_removes_the_empty_catalog_it_created(bags, tmp_path, monkeypatch):
+    import certkit.archive.catalog as catalog_module
+
+    catalog = tmp_path / "sub" / "new.sqlite"
+
+    def fails_after_creating(path, entry, verdicts, bag):
+        path.parent.mkdir(parents=True, exist_ok=True)
+        sqlite3.connect(path).execute("CREATE TABLE campaigns (bag_hash TEXT)").connection \
+            .close()
+        raise sqlite3.OperationalError("disk I/O error")
+
+    monkeypatch.setattr(catalog_module, "_insert", fails_after_creating)
+    with pytest.raises(sqlite3.OperationalError):
+        add(catalog, bags["A"])
+    assert not (tmp_path / "sub").exists()

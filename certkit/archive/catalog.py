@@ -219,7 +219,7 @@ def add(catalog: str | Path, bag: str | Path) -> tuple[Entry, bool]:
     try:
         added = _insert(catalog, entry, verdicts, bag)
     except BaseException:
-        if new:
+        if new and _unused(catalog):
             for leftover in (catalog, catalog.with_name(catalog.name + "-journal")):
                 with contextlib.suppress(OSError):
                     leftover.unlink()
@@ -228,6 +228,32 @@ def add(catalog: str | Path, bag: str | Path) -> tuple[Entry, bool]:
                 folder.rmdir()
         raise
     return entry, added
+
+
+def _unused(catalog: Path) -> bool:
+    """Whether a catalog this call set out to create may be removed after its failure: no
+    other process is writing it (its write lock is free at once) and it holds no campaign.
+    Two additions to a new catalog can run together; the one that fails must not take the
+    other's entries, or its open transaction, with it."""
+    if not os.path.lexists(catalog):
+        return True
+    try:
+        probe = sqlite3.connect(catalog, timeout=0, isolation_level=None)
+    except sqlite3.Error:
+        return True
+    try:
+        probe.execute("BEGIN IMMEDIATE")
+        tables = probe.execute("SELECT count(*) FROM sqlite_master WHERE name = "
+                               "'campaigns'").fetchone()[0]
+        rows = probe.execute("SELECT count(*) FROM campaigns").fetchone()[0] if tables else 0
+        probe.execute("ROLLBACK")
+    except sqlite3.OperationalError:       # locked by another writer
+        return False
+    except sqlite3.Error:                  # not (yet) a database: what this call left
+        return True
+    finally:
+        probe.close()
+    return rows == 0
 
 
 def _insert(catalog: Path, entry: Entry, verdicts: list[tuple], bag: str | Path) -> bool:
