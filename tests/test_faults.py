@@ -600,3 +600,26 @@ def test_standard_output_on_a_full_device_is_named_and_exits_4(command):
     assert "no space left on the device" in completed.stderr
     assert "redirect it to a file on another disk" in completed.stderr
     assert "Traceback" not in completed.stderr
+
+
+def test_the_command_line_imported_from_another_thread_leaves_signal_handlers_alone():
+    # Python sets signal handlers only from the main thread; importing the command line
+    # from a worker thread used to raise "signal only works in main thread"
+    script = textwrap.dedent("""
+        import signal, threading
+        before = signal.getsignal(signal.SIGTERM)
+        errors = []
+        def worker():
+            try:
+                import certkit.cli
+            except Exception as error:
+                errors.append(repr(error))
+        thread = threading.Thread(target=worker)
+        thread.start()
+        thread.join()
+        print(errors, signal.getsignal(signal.SIGTERM) is before)
+    """)
+    completed = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                               timeout=120)
+    assert completed.returncode == 0, completed.stderr
+    assert completed.stdout.strip() == "[] True"

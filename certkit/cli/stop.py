@@ -5,6 +5,7 @@ number, through the clean-up of whatever was being written, and never with a tra
 from __future__ import annotations
 
 import signal
+import threading
 
 STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP, signal.SIGINT)
 
@@ -26,6 +27,10 @@ def _stop(number, _frame):
 
 
 def install() -> None:
-    """Turn the stop signals into :class:`Stopped` (main thread only, as Python requires)."""
+    """Turn the stop signals into :class:`Stopped`.  Python lets only the main thread set
+    signal handlers: imported from another thread (a notebook's worker, a GUI), the
+    command line is used as a library and the process's handlers are left as they are."""
+    if threading.current_thread() is not threading.main_thread():
+        return
     for number in STOP_SIGNALS:
         signal.signal(number, _stop)
