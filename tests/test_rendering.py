@@ -469,7 +469,7 @@ def test_a_page_break_strands_no_caption_and_no_single_row():
     from certkit.evidence.render import templates_dir
 
     css = (templates_dir() / "report.css").read_text(encoding="utf-8")
-    # the same table pushed down the page 1 mm at a time, through every place a break can
+    # the same table pushed down the page 1.5 mm at a time, through every place a break can
     # fall: with the report's rules nothing is stranded; without them (every break allowed)
     # the check sees the caption and the single rows left at the page's foot and head
     heights = [225 + 1.5 * k for k in range(30)]
