@@ -37,7 +37,7 @@ import numpy as np
 from certkit.errors import (ECHO_LIMIT, CertkitInputError, Problem, escaped, key_path,
                             shown)
 from certkit.spec.schema import Column, GearUnit, Run, TimeColumn
-from certkit.spec.yamlsource import line_of
+from certkit.spec.yamlsource import first_non_utf8, line_of
 from certkit.units import SI_RANGE, STANDARD_GRAVITY, convert, scale_to_si
 
 # Plausibility limits (not regulatory): values outside are almost surely a unit,
@@ -254,16 +254,11 @@ def _not_utf8(path: Path, display: str) -> CertkitInputError:
     """A CSV file that is not UTF-8 (a spreadsheet's UTF-16 or Latin-1 export): the line
     and byte of the first character that is not, and what to do."""
     content = path.read_bytes()
-    try:
-        content.decode("utf-8")
-        start = 0
-    except UnicodeDecodeError as error:
-        start = error.start
-    line = content[:start].count(b"\n") + 1
+    line, byte = first_non_utf8(content) or (1, content[0])
     utf16 = " (a UTF-16 file: it starts with a UTF-16 byte-order mark)" if content[:2] in (
         b"\xff\xfe", b"\xfe\xff") else ""
     return CertkitInputError.single(
-        display, line, "", f"expected UTF-8 text, found byte 0x{content[start]:02x} on line "
+        display, line, "", f"expected UTF-8 text, found byte 0x{byte:02x} on line "
                            f"{line}{utf16}; save the file as UTF-8 (in a spreadsheet: CSV "
                            f"UTF-8)")
 

@@ -115,6 +115,16 @@ class _ComplexKey(Exception):
         self.line = line
 
 
+def first_non_utf8(content: bytes) -> tuple[int, int] | None:
+    """(line, byte value) of the first byte of ``content`` that is not UTF-8, or None when
+    all of it is."""
+    try:
+        content.decode("utf-8")
+    except UnicodeDecodeError as error:
+        return content[:error.start].count(b"\n") + 1, content[error.start]
+    return None
+
+
 def load_yaml(path: Path, display_name: str) -> tuple[object, LineMap]:
     """Load ``path`` as YAML, returning the data and its key-path -> line map."""
     try:
@@ -133,13 +143,13 @@ def load_yaml(path: Path, display_name: str) -> tuple[object, LineMap]:
                                                                "file") from None
     except OSError as exc:
         raise CertkitInputError.single(display_name, None, "", f"cannot read: {exc}") from None
-    try:
-        text = content.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        line = content[: exc.start].count(b"\n") + 1
-        raise CertkitInputError.single(display_name, line, "", "not UTF-8 text (byte "
-                                       f"0x{content[exc.start]:02x}); save the file as UTF-8") \
-            from None
+    first = first_non_utf8(content)
+    if first is not None:
+        line, byte = first
+        raise CertkitInputError.single(display_name, line, "", f"not UTF-8 text (byte "
+                                                               f"0x{byte:02x}); save the file "
+                                                               f"as UTF-8")
+    text = content.decode("utf-8")
     lines: LineMap = {}
     try:
         node = yaml.compose(text, Loader=_UniqueKeyLoader)
