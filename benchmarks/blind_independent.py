@@ -429,7 +429,7 @@ def record(template: str, gear_id: str, plan: Plan, settings, cases: list[Case],
                                      "of every run (touchdowns aligned), in units of the load "
                                      "noise",
                      "scored_from": blind_check.SCORED_FROM, "cases": len(cases),
-                     "targets": "issue 14's, on cases with effect/noise of at least "
+                     "targets": "those of the metrics, on cases with effect/noise of at least "
                                 f"{blind_check.SCORED_FROM:g} (harm: of those that named an "
                                 "effect, and the no-effect cases)"},
     }

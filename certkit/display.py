@@ -107,14 +107,37 @@ def typed(text: str | None, value: float | None, kind: str, units,
     return display(value, kind, units, digits)
 
 
+#: SI symbols of a compound unit that are shown in the campaign's display unit of their kind
+#: (seconds stay seconds inside a compound: N·s/m, s/m).
+_COMPOUND_KINDS = {"N": "force", "m": "length", "Pa": "pressure", "J": "energy", "kg": "mass"}
+
+
+def compound_unit(si_unit: str, units) -> str:
+    """A compound SI unit (``N*s^2/m^2``, ``N/m``) with each of its SI symbols replaced by
+    the campaign's display unit of that kind (``kgf*s^2/mm^2``)."""
+    def replaced(match):
+        display_unit = getattr(units, _COMPOUND_KINDS[match.group(0)])
+        return f"({display_unit})" if re.search(r"[*/^ ]", display_unit) else display_unit
+    return re.sub(r"(?<![A-Za-z])(N|m|Pa|J|kg)(?![A-Za-z])", replaced, si_unit)
+
+
 def parameter(value: float, si_unit: str, units, digits: int = SIGNIFICANT
               ) -> tuple[str, str]:
     """(number, unit) of a model parameter held in ``si_unit``: in the display unit of its
-    kind where the unit names one, else in the SI unit itself ("" for a ratio)."""
+    kind where the unit names one, a compound unit in the display units of its parts
+    (N·s²/m² in kgf·s²/mm² for a campaign in kgf and mm), "" for a ratio."""
     kind = KIND_OF_SI_UNIT.get(si_unit)
     if kind is not None:
         return display(value, kind, units, digits)
-    return number(value, digits), "" if si_unit == "1" else pretty(si_unit)
+    if si_unit in ("1", ""):
+        return number(value, digits), ""
+    target = compound_unit(si_unit.replace("·", "*").replace("²", "^2").replace("³", "^3"),
+                           units)
+    try:
+        return number(convert(value, si_unit.replace("·", "*").replace("²", "^2")
+                              .replace("³", "^3"), target), digits), pretty(target)
+    except Exception:   # noqa: BLE001 - a unit pint cannot convert is shown in SI
+        return number(value, digits), pretty(si_unit)
 
 
 def _decimals(reference: float, digits: int = SIGNIFICANT) -> int:

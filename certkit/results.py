@@ -90,6 +90,10 @@ class Verdict:
     comparison: str = "≥"
     reason: str = ""
     to_confirm: bool = False
+    #: for a verdict other than PASS: what is missing or short, in a few words shared by
+    #: every verdict it holds back (the cover page lists each once), and what would show it
+    shortfall: str = ""
+    remedy: str = ""
 
     def as_dict(self) -> dict:
         return asdict(self)

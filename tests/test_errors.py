@@ -159,7 +159,7 @@ DATA_CASES = [
     # so is the message
     ("implausible load", lambda c: c["Fz_kN"].__imul__(5.0),
      "value 52.08 kN (after scale, sign and offset) is outside the plausible range "
-     "[-0.26, 52] kN", 130),
+     "[-0.2600, 52.00] kN", 130),
 ]
 
 

@@ -1,5 +1,5 @@
 """A campaign's archive: one BagIt bag holding what was tested and what certkit concluded,
-so that years later anyone can prove which data gave which verdicts (issue 6).
+so that years later anyone can prove which data gave which verdicts.
 
 Payload (under ``data/``)::
 

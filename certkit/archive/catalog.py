@@ -1,5 +1,5 @@
 """An SQLite index of archived campaigns, so that a lab finds every campaign of an
-aircraft type, a date range or a failed clause without opening the bags (issue 6).
+aircraft type, a date range or a failed clause without opening the bags.
 
 A bag is catalogued only after it verifies intact; what is indexed comes from its
 bag-info.txt and its archived results.json (a row per criterion).  A bag is keyed by its

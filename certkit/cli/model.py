@@ -251,7 +251,7 @@ def gap(spec: SpecArgument,
                   f"{', '.join(result.held_out)}"
                   f" ({'declared in model.gap.held_out' if result.declared else 'default'})")
         units = campaign.spec.report.units
-        out.print(largest_disagreement(result.before.largest, units))
+        out.print(largest_disagreement(result.before.largest, units, "on the training runs"))
         table = Table(title="candidate effects, first step (score test on the training runs)")
         for column in ("effect", "LM statistic", "explained RMS [noise]"):
             table.add_column(column, justify="left" if column == "effect" else "right")

@@ -40,6 +40,9 @@ class GearResult(_Values):
     basis: str
     values: dict[str, Value]
     measures: GearMeasures | None = None
+    #: optional spec inputs this unit's values were computed with although the spec leaves
+    #: them out: symbol -> the assumption in words (printed beside every value it affects)
+    assumptions: dict = field(default_factory=dict)
 
 
 @dataclass

@@ -32,6 +32,28 @@ class _Context:
                        **fields)
 
 
+#: What holds back a verdict that needs the design limit inertia load factor, and what
+#: would show it (one cover line for every such verdict).
+NO_DESIGN_LOAD_FACTOR = {
+    "shortfall": "the design limit inertia load factor is not declared",
+    "remedy": "declare aircraft.design_limit_inertia_load_factor (from the loads report)"}
+LOAD_FACTOR_EXCEEDED = {
+    "shortfall": "the load factor exceeds the design limit inertia load factor",
+    "remedy": "the airframe is loaded beyond its design: revisit the design load factor or "
+              "the shock absorber"}
+#: The drop each test type needs, as the cover page asks for it.
+_NEEDED_DROP = {"limit": ("limit", "from at least h_req (23.725(a))"),
+                "reserve": ("reserve energy", "from at least 1.44·h_req (23.727(a))"),
+                "dynamic": ("ground load dynamic", "from at least 2.25·h_req (23.726(a))")}
+
+
+def _no_drop(test_type: str) -> dict:
+    """Shortfall and remedy of a verdict that has no drop of ``test_type`` to look at."""
+    what, height = _NEEDED_DROP[test_type]
+    return {"shortfall": f"no {what} drop in the test matrix",
+            "remedy": f"add a {what} drop (runs[].test_type: {test_type}) {height}"}
+
+
 def _runs_of(assessment: Assessment, test_type: str) -> list[RunResult]:
     return [run for run in assessment.runs if run.run.test_type == test_type]
 
@@ -68,7 +90,8 @@ def _height_check(ctx: _Context, criterion: Criterion, test_type: str, required_
     runs = _runs_of(ctx.assessment, test_type)
     if not runs:
         return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=required.value, unit="m",
-                            kind="length", reason=f"no {what} drop in the test matrix")]
+                            kind="length", reason=f"no {what} drop in the test matrix",
+                            **_no_drop(test_type))]
     verdicts = []
     for run in runs:
         h = run.get("h")
@@ -76,7 +99,9 @@ def _height_check(ctx: _Context, criterion: Criterion, test_type: str, required_
             criterion, run.run.id, None,
             at_least(h, required.value, run.run.drop_height.stated_resolution_si), value=h,
             limit=required.value, margin=h - required.value, unit="m", kind="length",
-            reason=f"{what} drop from {run.run.drop_height.text}"))
+            reason=f"{what} drop from {run.run.drop_height.text}",
+            shortfall=f"the {what} drop height is below the required height",
+            remedy="repeat the drop from at least the required height"))
     return verdicts
 
 
@@ -94,7 +119,8 @@ def check_dynamic_drop_height(ctx, criterion):
     runs = _runs_of(ctx.assessment, "dynamic")
     if not runs:
         return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=required.value, unit="m",
-                            kind="length", reason="no ground load dynamic drop in the test matrix")]
+                            kind="length", reason="no ground load dynamic drop in the test matrix",
+                            **_no_drop("dynamic"))]
     n_limit = ctx.assessment.design["n_limit"].value
     n_limit_typed = ctx.assessment.campaign.spec.aircraft.design_limit_inertia_load_factor
     verdicts = []
@@ -110,14 +136,20 @@ def check_dynamic_drop_height(ctx, criterion):
             verdicts.append(ctx.verdict(
                 criterion, run.run.id, None, NOT_SHOWN, value=h, limit=required.value,
                 margin=h - required.value, unit="m", kind="length",
-                reason="below 2.25·h_req; option (2) needs n measured and n_limit declared"))
+                reason="below 2.25·h_req; option (2) needs n measured and n_limit declared",
+                shortfall="the dynamic drop is below 2.25·h_req and option (2) lacks the "
+                          "measured n or the declared n_limit",
+                remedy="record the drop-mass acceleration and declare "
+                       "aircraft.design_limit_inertia_load_factor, or drop from 2.25·h_req"))
             continue
         n = max(factors)
         verdicts.append(ctx.verdict(
             criterion, run.run.id, None,
             at_least(n, 1.5 * n_limit, _typed_resolution(n_limit_typed, 1.5 * n_limit)), value=n,
             limit=1.5 * n_limit, margin=n - 1.5 * n_limit,
-            reason="option (2): height developing 1.5 times the limit load factor"))
+            reason="option (2): height developing 1.5 times the limit load factor",
+            shortfall="the dynamic drop develops less than 1.5 times the limit load factor",
+            remedy="drop from 2.25·h_req, or from a height developing 1.5·n_limit"))
     return verdicts
 
 
@@ -125,7 +157,8 @@ def check_reserve_no_failure(ctx, criterion):
     runs = _runs_of(ctx.assessment, "reserve")
     if not runs:
         return [ctx.verdict(criterion, None, None, NOT_SHOWN,
-                            reason="no reserve energy drop in the test matrix")]
+                            reason="no reserve energy drop in the test matrix",
+                            **_no_drop("reserve"))]
     verdicts = []
     for run in runs:
         inspection = run.run.inspection
@@ -133,16 +166,26 @@ def check_reserve_no_failure(ctx, criterion):
             verdicts.append(ctx.verdict(criterion, run.run.id, None, NOT_SHOWN,
                                         reason="a planning campaign: whether the gear fails is "
                                                "found by inspecting it after the drop, which no "
-                                               "simulation predicts"))
+                                               "simulation predicts",
+                                        shortfall="a planning campaign cannot show that the "
+                                                  "gear does not fail",
+                                        remedy="inspect the gear after the real reserve drop "
+                                               "(runs[].inspection.failure)"))
         elif inspection is None or inspection.failure is None:
             verdicts.append(ctx.verdict(criterion, run.run.id, None, NOT_SHOWN,
-                                        reason="post-test inspection result not recorded"))
+                                        reason="post-test inspection result not recorded",
+                                        shortfall="the post-test inspection of the reserve "
+                                                  "drop is not recorded",
+                                        remedy="record runs[].inspection.failure (and "
+                                               "yielding) of the reserve drop"))
         else:
             verdicts.append(ctx.verdict(
                 criterion, run.run.id, None, FAIL if inspection.failure else PASS,
                 reason=("failure reported" if inspection.failure else "no failure reported")
                 + (f"; yielding: {'yes' if inspection.yielding else 'no'}"
-                   if inspection.yielding is not None else "")))
+                   if inspection.yielding is not None else ""),
+                shortfall="the gear failed in the reserve drop",
+                remedy="repair or redesign the gear and repeat the reserve drop"))
     return verdicts
 
 
@@ -153,7 +196,8 @@ def _effective_weight_check(ctx, criterion, test_type: str, what: str) -> list[V
     runs = _runs_of(ctx.assessment, test_type)
     if not runs:
         return [ctx.verdict(criterion, None, None, NOT_SHOWN, unit="N", kind="force",
-                            reason=f"no {what} drop in the test matrix")]
+                            reason=f"no {what} drop in the test matrix",
+                            **_no_drop(test_type))]
     verdicts = []
     for run in runs:
         lift = run.get("L")
@@ -163,7 +207,9 @@ def _effective_weight_check(ctx, criterion, test_type: str, what: str) -> list[V
                 criterion, run.run.id, None,
                 at_most(lift, maximum, _typed_resolution(run.run.lift.ratio, lift)), value=lift,
                 limit=maximum, margin=maximum - lift, comparison="≤",
-                reason=f"wing-lift ratio L represented in the drop ({method})"))
+                reason=f"wing-lift ratio L represented in the drop ({method})",
+                shortfall="the wing lift represented in the drop exceeds the maximum",
+                remedy="represent no more wing lift than the maximum and repeat the drop"))
         reason = {"none": "no lift simulated: W_e = W",
                   "lift_device": "lift by a device: the full weight W is dropped",
                   "reduced_mass": ("reserve drop, W_e = W·h/(h + d), d as recorded"
@@ -175,14 +221,20 @@ def _effective_weight_check(ctx, criterion, test_type: str, what: str) -> list[V
             if w_e is None:
                 verdicts.append(ctx.verdict(criterion, run.run.id, gear.gear_id, NOT_SHOWN,
                                             unit="N", kind="force",
-                                            reason="d (tyre deflection + axle travel) unknown"))
+                                            reason="d (tyre deflection + axle travel) unknown",
+                                            shortfall="d (tyre deflection + axle travel) is "
+                                                      "not known, so W_e cannot be computed",
+                                            remedy="record or report the strut stroke and the "
+                                                   "tyre deflection of the drop"))
                 continue
             verdicts.append(ctx.verdict(
                 criterion, run.run.id, gear.gear_id,
                 at_least(w_drop, w_e, min(_typed_resolution(run.run.drop_mass, w_drop),
                                           _typed_resolution(static_weight, w_e))),
                 value=w_drop,
-                limit=w_e, margin=w_drop - w_e, unit="N", kind="force", reason=reason))
+                limit=w_e, margin=w_drop - w_e, unit="N", kind="force", reason=reason,
+                shortfall="the weight dropped is below the effective weight W_e",
+                remedy="ballast the drop to at least W_e and repeat it"))
     return verdicts
 
 
@@ -202,7 +254,7 @@ def check_inertia_load_factor(ctx, criterion):
     runs = _runs_of(ctx.assessment, "limit")
     if not runs:
         return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=n_limit,
-                            reason="no limit drop in the test matrix")]
+                            reason="no limit drop in the test matrix", **_no_drop("limit"))]
     verdicts = []
     for run in runs:
         for gear in run.gears:
@@ -211,17 +263,23 @@ def check_inertia_load_factor(ctx, criterion):
                 verdicts.append(ctx.verdict(criterion, run.run.id, gear.gear_id, NOT_SHOWN,
                                             limit=n_limit, comparison="≤",
                                             reason="drop-mass acceleration not recorded, so n_j "
-                                                   "(23.725(e)) is unknown"))
+                                                   "(23.725(e)) is unknown",
+                                            shortfall="the drop-mass acceleration is not "
+                                                      "recorded, so n_j (23.725(e)) is unknown",
+                                            remedy="record the drop-mass acceleration in the "
+                                                   "limit drops (runs[].data."
+                                                   "drop_mass_acceleration)"))
             elif n_limit is None:
                 verdicts.append(ctx.verdict(criterion, run.run.id, gear.gear_id, NOT_SHOWN,
                                             value=n, comparison="≤",
-                                            reason="design limit inertia load factor not declared"))
+                                            reason="design limit inertia load factor not declared",
+                                            **NO_DESIGN_LOAD_FACTOR))
             else:
                 verdicts.append(ctx.verdict(
                     criterion, run.run.id, gear.gear_id,
                     at_most(n, n_limit, _typed_resolution(n_limit_typed, n_limit)),
                     value=n, limit=n_limit, margin=n_limit - n, comparison="≤",
-                    reason=gear.values["n"].formula))
+                    reason=gear.values["n"].formula, **LOAD_FACTOR_EXCEEDED))
     return verdicts
 
 
@@ -234,7 +292,7 @@ def check_energy_method_load_factor(ctx, criterion):
     runs = _runs_of(ctx.assessment, "limit")
     if not runs:
         return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=n_limit, comparison="≤",
-                            reason="no limit drop in the test matrix")]
+                            reason="no limit drop in the test matrix", **_no_drop("limit"))]
     verdicts = []
     for run in runs:
         for gear in run.gears:
@@ -242,18 +300,25 @@ def check_energy_method_load_factor(ctx, criterion):
             if n is None:
                 verdicts.append(ctx.verdict(criterion, run.run.id, gear.gear_id, NOT_SHOWN,
                                             limit=n_limit, comparison="≤",
-                                            reason="strut and tyre travel needed"))
+                                            reason="strut and tyre travel needed",
+                                            shortfall="the strut stroke and the tyre "
+                                                      "deflection of the limit drop are not "
+                                                      "known",
+                                            remedy="record or report the strut stroke and the "
+                                                   "tyre deflection of the limit drop"))
             elif n_limit is None:
                 verdicts.append(ctx.verdict(
                     criterion, run.run.id, gear.gear_id, NOT_SHOWN, value=n, comparison="≤",
                     reason=f"design limit inertia load factor not declared "
-                           f"(n = n_j + L with L = {lift:.4g}, η_t = {eta_t}, η_s = {eta_s})"))
+                           f"(n = n_j + L with L = {lift:.4g}, η_t = {eta_t}, η_s = {eta_s})",
+                    **NO_DESIGN_LOAD_FACTOR))
             else:
                 verdicts.append(ctx.verdict(
                     criterion, run.run.id, gear.gear_id,
                     at_most(n, n_limit, _typed_resolution(n_limit_typed, n_limit)),
                     value=n, limit=n_limit, margin=n_limit - n, comparison="≤",
-                    reason=f"n = n_j + L, L = {lift:.4g}, η_t = {eta_t}, η_s = {eta_s}"))
+                    reason=f"n = n_j + L, L = {lift:.4g}, η_t = {eta_t}, η_s = {eta_s}",
+                    **LOAD_FACTOR_EXCEEDED))
     return verdicts
 
 
@@ -265,12 +330,17 @@ def check_design_load_factor_minimum(ctx, criterion):
                   ctx.rules.number("ground_reaction_factor_minimum") + lift)
     if n_limit is None:
         return [ctx.verdict(criterion, None, None, NOT_SHOWN, limit=minimum,
-                            reason="design limit inertia load factor not declared")]
+                            reason="design limit inertia load factor not declared",
+                            **NO_DESIGN_LOAD_FACTOR)]
     return [ctx.verdict(criterion, None, None,
                         at_least(n_limit, minimum, _typed_resolution(n_limit_typed, n_limit)),
                         value=n_limit,
                         limit=minimum, margin=n_limit - minimum,
-                        reason=f"minimum = max(2.67, 2.0 + L) with L = {lift:g}")]
+                        reason=f"minimum = max(2.67, 2.0 + L) with L = {lift:g}",
+                        shortfall="the declared design limit inertia load factor is below "
+                                  "the minimum of 23.473(g)",
+                        remedy="design the landing cases for at least the minimum load "
+                               "factor")]
 
 
 def check_attitude_and_drag(ctx, criterion):
@@ -286,7 +356,11 @@ def check_attitude_and_drag(ctx, criterion):
               ("the spec states " + "; ".join(stated) if stated else
                "the spec states neither (setup.attitude, setup.drag_loads)") +
               ". To be shown by the applicant and judged by the reviewer.")
-    return [ctx.verdict(criterion, None, None, NOT_SHOWN, reason=reason)]
+    return [ctx.verdict(criterion, None, None, NOT_SHOWN, reason=reason,
+                        shortfall="certkit does not assess the gear attitude and the drag "
+                                  "(spin-up) loads of the drops",
+                        remedy="the applicant shows them and the reviewer judges them "
+                               "(setup.attitude, setup.drag_loads)")]
 
 
 CHECKS = {

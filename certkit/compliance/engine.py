@@ -10,6 +10,7 @@ data-quality audit.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from certkit.compliance import clauses
 from certkit.compliance.assessment import (Assessment, BasisResult, GearResult, RunResult,
@@ -135,6 +136,10 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
     strut = unit.strut
     inclination = strut.inclination.si if strut and strut.inclination else 0.0
     cos_theta = math.cos(inclination)
+    assumptions = {}
+    if not (strut and strut.inclination):
+        assumptions["θ"] = (f"θ = 0 assumed (strut vertical): "
+                            f"gear_units[{gear_id}].strut.inclination not declared")
     reported = run.reported.gears.get(gear_id) if run.reported else None
     prefix = f"runs[{index}]"
     collected = _Collector()
@@ -156,15 +161,48 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
     if gear_series is not None:
         basis = f"time series ({series.file})"
         measures = _measured_values(put, series, gear_series, unit, weight, inclination)
+        if not (strut and strut.unsprung_mass):
+            assumptions["m2"] = (f"m2 = 0 assumed (F_s = F_V·cos θ): "
+                                 f"gear_units[{gear_id}].strut.unsprung_mass not declared")
     elif reported is not None:
         basis = "reported values"
         _reported_values(put, reported, f"{prefix}.reported.gears.{gear_id}", cos_theta)
     else:
         basis = "no data"
         _no_data_values(put)
-    result = GearResult(run.id, gear_id, basis, collected.values, measures)
+    result = GearResult(run.id, gear_id, basis, collected.values, measures, assumptions)
     _derived_gear_values(result, run, unit, cos_theta)
     return result
+
+
+#: How an assumed input shows in a value's formula (the values that use it directly).
+_ASSUMED_SYMBOLS = {"θ": "θ", "m2": "m2"}
+
+
+def mark_assumptions(gear: GearResult) -> None:
+    """Print each of ``gear``'s assumptions beside every value it affects: the values whose
+    formula uses the assumed symbol, and every value computed from one of those (through
+    its inputs).  A value not computed (None) keeps its own note."""
+    for symbol, words in gear.assumptions.items():
+        affected: set[str] = set()
+        changed = True
+        while changed:
+            changed = False
+            for key, value in gear.values.items():
+                if key in affected:
+                    continue
+                uses = (_ASSUMED_SYMBOLS[symbol] in value.formula
+                        or any(name in affected for name in (*value.inputs, *value.inputs.values())))
+                if uses:
+                    affected.add(key)
+                    changed = True
+        for key in affected:
+            value = gear.values[key]
+            if value.value is None:
+                continue
+            note = f"{value.note}; {words}" if value.note else words
+            gear.values[key] = replace(value, note=note,
+                                       inputs={**value.inputs, symbol: words.split(":")[0]})
 
 
 def _measured_values(put, series: RunSeries, gear_series, unit: GearUnit, weight: float,
@@ -192,16 +230,25 @@ def _measured_values(put, series: RunSeries, gear_series, unit: GearUnit, weight
         None if measures.max_total_travel is not None else "needs stroke and tyre channels")
     put("E_s", "Energy absorbed by the strut", "E_s", measures.strut_energy, "J", "energy",
         "certkit E1", "E_s = ∫ F_s ds, F_s/cos θ = F_V − m2·(g − δ̈), loading stroke",
-        source_file | {"m2": _spec_input(f"gear_units[{unit.id}].strut.unsprung_mass",
-                                         strut.unsprung_mass.text if unsprung else "not declared")},
-        None if unsprung else "unsprung mass not declared: F_s = F_V·cos θ")
+        source_file | ({"m2": _spec_input(f"gear_units[{unit.id}].strut.unsprung_mass",
+                                          strut.unsprung_mass.text)} if unsprung else {}))
     put("E_t", "Energy absorbed by the tyre", "E_t", measures.tyre_energy, "J", "energy",
         "certkit E1", "E_t = ∫ F_V dδ, loading stroke", source_file)
-    put("E_d", "Energy absorbed at maximum total travel", "E_d",
-        measures.energy_at_max_travel, "J", "energy", "certkit E5",
-        "E_d = E_s(t_d) + E_t(t_d), t_d the instant of maximum δ + s·cos θ", source_file,
-        None if measures.energy_at_max_travel is not None
-        else "needs stroke and tyre channels")
+    if unsprung or measures.energy_at_max_travel is None:
+        put("E_d", "Energy absorbed at maximum total travel", "E_d",
+            measures.energy_at_max_travel, "J", "energy", "certkit E5",
+            "E_d = E_s(t_d) + E_t(t_d), t_d the instant of maximum δ + s·cos θ",
+            source_file | {"m2": "m2"},
+            None if measures.energy_at_max_travel is not None
+            else "needs stroke and tyre channels")
+    else:
+        # with m2 = 0 the force decelerating the wheel counts as strut work: E_d would exceed
+        # what the drop supplied by about m2·g·h, which is what E5 against E3 checks
+        put("E_d", "Energy absorbed at maximum total travel", "E_d", None, "J", "energy",
+            "certkit E5", "E_d = E_s(t_d) + E_t(t_d), t_d the instant of maximum δ + s·cos θ",
+            source_file,
+            f"needs the unsprung mass m2 (gear_units[{unit.id}].strut.unsprung_mass): with "
+            f"m2 = 0 the force that decelerates the wheel would count as absorbed work")
     return measures
 
 
@@ -276,7 +323,8 @@ def _derived_gear_values(result: GearResult, run: Run, unit: GearUnit, cos_theta
     put("E_avail", "Energy available to absorb", "E_avail", available, "J", "energy",
         "certkit E3", "E_avail = W_drop·(h + d) − L_dev·W_drop·d",
         {"W_drop": "W_drop", "h": f"drop height {run.drop_height.text}", "d": "d",
-         "L_dev": f"{lift_force:g} (lift force applied by a device)"})
+         "L_dev": f"{lift_force:g} (share of the weight a lift device carries; 0 without "
+                  f"a device)"})
     e_d = get("E_d")
     implied = None
     if None not in (e_d, d):
@@ -284,7 +332,8 @@ def _derived_gear_values(result: GearResult, run: Run, unit: GearUnit, cos_theta
     put("W_implied", "Drop weight implied by the absorbed energy", "W_implied", implied, "N",
         "force", "certkit E4", "W_implied = E_d/(h + (1 − L_dev)·d)",
         {"E_d": "E_d", "h": run.drop_height.text, "d": "d", "L_dev": f"{lift_force:g}"},
-        None if implied is not None else "needs E_d (E5), which reported values do not give")
+        None if implied is not None else
+        f"needs E_d (E5): {values['E_d'].note or 'not known'}")
 
     if run.lift.method == "reduced_mass" and run.test_type == "reserve":
         w_e = None if d is None else clauses.reserve_effective_weight(weight, h, d)
@@ -442,6 +491,9 @@ def assess(campaign: Campaign) -> Assessment:
     runs = [_run_result(campaign, run, index) for index, run in enumerate(campaign.spec.runs)]
     assessment = Assessment(campaign, design, basis, runs)
     _energy_method_values(assessment)
+    for run in runs:
+        for gear in run.gears:
+            mark_assumptions(gear)
     for item in basis:
         assessment.verdicts.extend(evaluate(assessment, item))
     audit(assessment)

@@ -1,5 +1,5 @@
 """Audit tables for CI: one row per criterion verdict and per data-quality finding, with a
-stable id, as JUnit XML, Markdown, CSV or JSON (issue 6, first part).
+stable id, as JUnit XML, Markdown, CSV or JSON.
 
 A row's id is the verdict's (requirement clause, run and gear: ``CFR23.725a-limit-drop-
 height/D300``) or the finding's (``QA/<check>/<run>/<gear>``), so the same criterion keeps

@@ -57,6 +57,11 @@ def kept(*curves: np.ndarray) -> np.ndarray:
     return np.unique(np.concatenate([np.asarray(c, dtype=int) for c in chosen]))
 
 
+def _time_axis(units) -> tuple[float, str]:
+    """(seconds -> the campaign's display time unit, the axis label)."""
+    return convert(1.0, "s", units.time), f"time from touchdown [{units.time}]"
+
+
 def record_label(origin: str) -> str:
     """What a run's recorded channels are called in a legend: by their declared origin."""
     return "measured" if origin == "measured" else "synthetic record"
@@ -102,7 +107,8 @@ def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | N
     length_unit, force_unit = units.length, units.force
     start = (touchdown - _LEAD) if touchdown is not None else float(time[0])
     window = time >= start
-    t_ms = (time[window] - (touchdown if touchdown is not None else time[0])) * 1e3
+    to_time, time_label = _time_axis(units)
+    t_ms = (time[window] - (touchdown if touchdown is not None else time[0])) * to_time
     figures = []
     with _style():
         figure, axes = plt.subplots(figsize=(_WIDTH, _HEIGHT))
@@ -110,7 +116,7 @@ def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | N
             load = series.load[window]
             shown = kept(load)
             axes.plot(t_ms[shown], convert(1.0, "N", force_unit) * load[shown], label=gear_id)
-        axes.set_xlabel("time from touchdown [ms]")
+        axes.set_xlabel(time_label)
         axes.set_ylabel(f"vertical load [{force_unit}]")
         axes.legend(loc="upper right", frameon=False)
         figures.append({"title": f"Run {run_id}: platform vertical load",
@@ -131,7 +137,7 @@ def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | N
                     shown = kept(tyre)
                     axes.plot(t_ms[shown], scale * tyre[shown], linestyle="--",
                               label=f"{gear_id} tyre deflection")
-            axes.set_xlabel("time from touchdown [ms]")
+            axes.set_xlabel(time_label)
             axes.set_ylabel(f"travel [{length_unit}]")
             axes.legend(loc="upper right", frameon=False, ncol=2)
             figures.append({"title": f"Run {run_id}: strut stroke and tyre deflection",
@@ -170,12 +176,19 @@ def run_figures(run_id: str, time: np.ndarray, gears: dict, touchdown: float | N
 
 
 def model_figure(gear_id: str, run_id: str, traces: list, units, window: float = 1.0,
-                 origin: str = "measured") -> dict:
+                 origin: str = "measured", held_out: bool = False,
+                 tabulated: dict | None = None) -> dict:
     """The run's record against nominal and calibrated model, one panel per channel (0 to
-    ``window`` s after touchdown); ``origin`` is the run's declared data origin."""
+    ``window`` s after touchdown); ``origin`` is the run's declared data origin,
+    ``held_out`` whether the calibration left the run out.  ``tabulated``: channel -> the
+    value (SI) the results table gives for this run when that does not come from this
+    record (the source's reported values), drawn as a dotted level so the two are seen side
+    by side."""
     recorded = record_label(origin)
+    tabulated = tabulated or {}
+    to_time, time_label = _time_axis(units)
     with _style():
-        figure, all_axes = plt.subplots(len(traces), 1, figsize=(_WIDTH, 1.1 * len(traces) + 0.4),
+        figure, all_axes = plt.subplots(len(traces), 1, figsize=(_WIDTH, 1.1 * len(traces) + 0.6),
                                         sharex=True)
         all_axes = np.atleast_1d(all_axes)
         for axes, trace in zip(all_axes, traces):
@@ -185,19 +198,38 @@ def model_figure(gear_id: str, run_id: str, traces: list, units, window: float =
             within = np.flatnonzero(trace.time <= window)
             shown = within[kept(trace.measured[within], trace.nominal[within],
                                 trace.calibrated[within])]
-            t_ms = trace.time[shown] * 1e3
+            t_ms = trace.time[shown] * to_time
             axes.plot(t_ms, scale * trace.measured[shown], color="0.55", linewidth=1.6,
                       label=recorded)
             axes.plot(t_ms, scale * trace.nominal[shown], linestyle="--", label="nominal model")
             axes.plot(t_ms, scale * trace.calibrated[shown], label="calibrated model")
+            if trace.channel in tabulated:
+                axes.axhline(scale * tabulated[trace.channel], color="black", linestyle=":",
+                             linewidth=1.0, label="results table (reported)")
             axes.set_ylabel(f"{CHANNEL_LABELS[trace.channel]}\n[{unit}]")
-        all_axes[0].legend(loc="upper right", frameon=False, ncol=3)
-        all_axes[-1].set_xlabel("time from touchdown [ms]")
+        handles, labels = [], []
+        for axes in all_axes:
+            for handle, label in zip(*axes.get_legend_handles_labels()):
+                if label not in labels:
+                    handles.append(handle)
+                    labels.append(label)
+        # above the panels, never over a curve
+        all_axes[0].legend(handles, labels, loc="lower left", bbox_to_anchor=(0.0, 1.02),
+                           ncol=len(labels), frameon=False, borderaxespad=0.0)
+        all_axes[-1].set_xlabel(time_label)
         figure.tight_layout()
+        role = "held out: not fitted" if held_out else "a training run"
+        caption = (f"Grey: the run's channels; dashed: the drop model with the spec's "
+                   f"nominal parameters; solid: after calibration on the training runs "
+                   f"(this run is {role}).")
+        if tabulated:
+            caption += (" Dotted: the peak values the results table (section 5) gives for "
+                        "this run, which are the source's reported values, not this "
+                        f"{recorded}'s: the {recorded} was simulated from one gear "
+                        "configuration and does not reproduce them, and no verdict rests "
+                        "on it.")
         return {"title": f"Run {run_id}, {gear_id}: {recorded} and governing-equation model",
-                "caption": "Grey: the run's channels; dashed: the drop model with the spec's "
-                           "nominal parameters; solid: after calibration on all runs of this "
-                           "gear unit.", "svg": _to_svg(figure)}
+                "caption": caption, "svg": _to_svg(figure)}
 
 
 
@@ -238,36 +270,34 @@ def identification_figures(gear, units, origin: str = "measured") -> list[dict]:
                                    "static gain, up to its offset. Fitted on the training runs "
                                    f"({', '.join(gear.training)})." + left_out,
                         "svg": _to_svg(figure)})
-        t_ms = held.time * 1e3
-        for kind in ("response", "error"):
-            figure, all_axes = plt.subplots(2, 1, figsize=(_WIDTH, 4.2), sharex=True)
-            for axes, output in zip(all_axes, outputs):
-                measured = held.outputs[output]
-                if kind == "response":
-                    shown = kept(measured)
-                    axes.plot(t_ms[shown], length * measured[shown], color="0.55",
-                              linewidth=1.6, label=recorded)
-                for score in gear.scores:
-                    if (score.protocol == "held-out" and score.output == output
-                            and score.run == gear.held_out[0]):
-                        values = score.simulated if kind == "response" else \
-                            score.simulated - measured
-                        shown = kept(values)
-                        axes.plot(t_ms[shown], length * values[shown], linewidth=0.9,
-                                  label=score.model)
-                axes.set_ylabel(f"{CHANNEL_LABELS[output]}{' error' if kind == 'error' else ''}"
-                                f"\n[{units.length}]")
-            all_axes[0].legend(loc="upper right", frameon=False, fontsize=6.0, ncol=2)
-            all_axes[-1].set_xlabel("time from touchdown [ms]")
-            figure.tight_layout()
-            figures.append({
-                "title": (f"{gear.gear_id}, held-out run {gear.held_out[0]}: "
-                          + (f"{recorded} and free-run simulated" if kind == "response"
-                             else "free-run simulation error")),
-                "caption": "Every model simulated in free run from the load alone (the "
-                           "Hammerstein and NARX models take their first samples from the "
-                           "record); none was fitted or tuned on this run.",
-                "svg": _to_svg(figure)})
+        to_time, time_label = _time_axis(units)
+        t_ms = held.time * to_time
+        figure, all_axes = plt.subplots(2, 1, figsize=(_WIDTH, 4.2), sharex=True)
+        for axes, output in zip(all_axes, outputs):
+            measured = held.outputs[output]
+            shown = kept(measured)
+            axes.plot(t_ms[shown], length * measured[shown], color="0.55", linewidth=1.6,
+                      label=recorded)
+            for score in gear.scores:
+                if (score.protocol == "held-out" and score.output == output
+                        and score.run == gear.held_out[0]):
+                    shown = kept(score.simulated)
+                    axes.plot(t_ms[shown], length * score.simulated[shown], linewidth=0.9,
+                              label=score.model)
+            axes.set_ylabel(f"{CHANNEL_LABELS[output]}\n[{units.length}]")
+        # above the panels, never over a curve
+        all_axes[0].legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False,
+                           fontsize=6.5, ncol=4, borderaxespad=0.0)
+        all_axes[-1].set_xlabel(time_label)
+        figure.tight_layout()
+        figures.append({
+            "title": (f"{gear.gear_id}, held-out run {gear.held_out[0]}: {recorded} and "
+                      f"free-run simulated"),
+            "caption": "Every model simulated in free run from the load alone (the "
+                       "Hammerstein and NARX models take their first samples from the "
+                       "record); none was fitted or tuned on this run. Each model's error "
+                       "over the run is in the table above.",
+            "svg": _to_svg(figure)})
     return figures
 
 
@@ -287,14 +317,14 @@ def gap_heatmap(gap, title: str, caption: str, vmax: float | None = None) -> dic
     top = vmax if vmax is not None else (float(finite.max()) if finite.size else 1.0)
     top = top if top > 0 else 1.0
     with _style({"axes.grid": False}):
-        figure, axes = plt.subplots(figsize=(_WIDTH, 0.2 * len(rows) + 1.1))
+        figure, axes = plt.subplots(figsize=(_WIDTH, 0.15 * len(rows) + 1.0))
         mesh = axes.pcolormesh(np.ma.masked_invalid(100.0 * values), cmap="Blues", vmin=0.0,
                                vmax=100.0 * top, edgecolors="white", linewidth=0.5)
         for i in range(len(rows)):
             for j in range(len(runs)):
                 value = values[i, j]
-                text = "—" if not np.isfinite(value) else f"{100.0 * value:.3g}"
-                axes.text(j + 0.5, i + 0.5, text, ha="center", va="center", fontsize=6.5,
+                text = "—" if not np.isfinite(value) else number(100.0 * value)
+                axes.text(j + 0.5, i + 0.5, text, ha="center", va="center", fontsize=6.0,
                           color="white" if np.isfinite(value) and value > 0.6 * top else "black")
         axes.set_xticks(np.arange(len(runs)) + 0.5,
                         [f"{run}\n(held out)" if run in gap.held_out else f"{run}\n(training)"
@@ -311,67 +341,75 @@ def gap_heatmap(gap, title: str, caption: str, vmax: float | None = None) -> dic
 
 def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: str | None,
                 units, window: float, origin: str = "measured") -> dict:
-    """A held-out run's channels against the calibrated nominal model and (``after``) the
-    model with the named effects, from just before touchdown to ``window`` s after it, with
-    the recorded run's phase boundaries drawn and named.
+    """A held-out run's channels against the calibrated bare model and (``after``) the
+    model with the named effects, with the recorded run's phase boundaries drawn and
+    numbered: on the left the impact (touchdown to a few times the end of the compression,
+    where the first phases lie a few milliseconds apart), on the right the whole window to
+    ``window`` s after touchdown.
 
     ``before``, ``after``: :class:`certkit.physics.calibration.AlignedRecord`; ``phases``: the
     measured run's :class:`certkit.gap.phases.Phase` list."""
     touchdown = float(before.time[before.after][0])
     t = before.time - touchdown
-    within = np.flatnonzero((t >= -_LEAD) & (t <= window))
-    channels = list(before.measured)
-    shown = within[kept(*(record[channel][within] for channel in channels
-                          for record in ((before.measured, before.simulated)
-                                         + ((after.simulated,) if after is not None else ()))))]
-    t_ms = t[shown] * 1e3
-    boundaries = [(p.name, float(t[p.start]) * 1e3) for p in phases[1:]
+    to_time, time_label = _time_axis(units)
+    boundaries = [(p.name, float(t[p.start])) for p in phases[1:]
                   if -_LEAD <= t[p.start] <= window]
+    rebound = next((at for name, at in boundaries if name == "rebound"), None)
+    impact = max(0.06, min(window / 3.0, 2.0 * (rebound or 0.03)))
+    spans = ((-0.005, impact), (-_LEAD, window))
+    channels = list(before.measured)
+    records = (before.measured, before.simulated) + ((after.simulated,) if after else ())
     with _style():
-        figure, all_axes = plt.subplots(len(channels), 1,
-                                        figsize=(_WIDTH, 1.15 * len(channels) + 0.9), sharex=True)
-        all_axes = np.atleast_1d(all_axes)
-        for axes, channel in zip(all_axes, channels):
-            kind, si = ("force", "N") if channel == "load" else ("length", "m")
-            unit = getattr(units, kind)
-            scale = convert(1.0, si, unit)
-            axes.plot(t_ms, scale * before.measured[channel][shown], color="0.55",
-                      linewidth=1.6, label=record_label(origin))
-            axes.plot(t_ms, scale * before.simulated[channel][shown], linestyle="--",
-                      label="calibrated nominal model")
-            if after is not None:
-                axes.plot(t_ms, scale * after.simulated[channel][shown],
-                          label=f"with {label_after}")
-            for _, at in boundaries:
-                axes.axvline(at, color="0.3", linestyle=":", linewidth=0.7)
-            axes.set_ylabel(f"{CHANNEL_LABELS[channel]}\n[{unit}]")
-        # numbered above the plot (the names are in the caption): boundaries a few ms apart
-        # would print their names over each other; a number too close to the one before
-        # it on a row goes up a row
-        span = (t_ms[-1] - t_ms[0]) or 1.0
-        last_on_row: list[float] = []
-        for number_, (_, at) in enumerate(boundaries, start=1):
-            row = next((r for r, x in enumerate(last_on_row) if at - x >= 0.025 * span),
-                       len(last_on_row))
-            last_on_row[row:row + 1] = [at]
-            all_axes[0].text(at, 1.02 + 0.13 * row, str(number_), ha="center", va="bottom",
-                             transform=all_axes[0].get_xaxis_transform(), fontsize=6.0)
-        all_axes[0].legend(loc="upper right", frameon=False, fontsize=6.5)
-        all_axes[-1].set_xlabel("time from touchdown [ms]")
+        figure, all_axes = plt.subplots(len(channels), 2,
+                                        figsize=(_WIDTH, 1.15 * len(channels) + 0.9),
+                                        sharex="col", gridspec_kw={"width_ratios": (1, 2)})
+        all_axes = np.atleast_2d(all_axes)
+        for column, (start, stop) in enumerate(spans):
+            within = np.flatnonzero((t >= start) & (t <= stop))
+            shown = within[kept(*(record[channel][within] for channel in channels
+                                  for record in records))]
+            t_ms = t[shown] * to_time
+            for axes, channel in zip(all_axes[:, column], channels):
+                kind, si = ("force", "N") if channel == "load" else ("length", "m")
+                unit = getattr(units, kind)
+                scale = convert(1.0, si, unit)
+                axes.plot(t_ms, scale * before.measured[channel][shown], color="0.55",
+                          linewidth=1.6, label=record_label(origin))
+                axes.plot(t_ms, scale * before.simulated[channel][shown], linestyle="--",
+                          label="calibrated bare model")
+                if after is not None:
+                    axes.plot(t_ms, scale * after.simulated[channel][shown],
+                              label=f"with {label_after}")
+                for _, at in boundaries:
+                    if start <= at <= stop:
+                        axes.axvline(at * to_time, color="0.3", linestyle=":", linewidth=0.7)
+                if column == 0:
+                    axes.set_ylabel(f"{CHANNEL_LABELS[channel]}\n[{unit}]")
+            # each boundary numbered once, above the column where it stands apart
+            for number_, (_, at) in enumerate(boundaries, start=1):
+                inside = start <= at <= stop if column == 0 else at > impact
+                if inside:
+                    all_axes[0, column].text(at * to_time, 1.02, str(number_), ha="center",
+                                             va="bottom", fontsize=6.0,
+                                             transform=all_axes[0, column].get_xaxis_transform())
+            all_axes[-1, column].set_xlabel(time_label)
+        all_axes[0, 1].legend(loc="lower right", bbox_to_anchor=(1.0, 1.12), frameon=False,
+                              fontsize=6.5, ncol=3, borderaxespad=0.0)
         figure.tight_layout()
-        phases_words = ("Dotted lines: the recorded run's phase boundaries (certkit.gap.phases), "
-                        "numbered above the plot with the phase each starts: "
-                        + "; ".join(f"{n} {name} at {number(at)} ms"
+        phases_words = ("Dotted lines: the recorded run's phase boundaries, numbered above the "
+                        "plot with the phase each starts: "
+                        + "; ".join(f"{n} {name} at {with_unit(at, 'time', units)}"
                                     for n, (name, at) in enumerate(boundaries, start=1)) + "."
                         if boundaries else "No phase boundary of the recorded run falls within "
                                            "the plotted window.")
         return {"title": f"{gear_id}, held-out run {run_id}: {record_label(origin)} and model, "
-                         f"with the "
-                         f"drop's phases",
-                "caption": "Grey: the run's channels; dashed: the nominal model calibrated on "
-                           "the training runs; solid: refitted with the named effect(s), when "
-                           "one was named. " + phases_words + " Neither model was fitted or tuned "
-                           "on this run.",
+                         f"with the drop's phases",
+                "caption": f"Left: the impact, to {with_unit(impact, 'time', units)} after "
+                           f"touchdown; right: the whole record to "
+                           f"{with_unit(window, 'time', units)}. Grey: the "
+                           "run's channels; dashed: the bare model calibrated on the training "
+                           "runs; solid: refitted with the named effect(s), when one was named. "
+                           + phases_words + " Neither model was fitted or tuned on this run.",
                 "svg": _to_svg(figure)}
 
 
@@ -426,20 +464,24 @@ def blind_curve(points, target_top1: float | None, target_shrink: float | None,
             values = [getattr(p, key) for p in points]
             axes.plot(ratios, [100.0 * v if v is not None else np.nan for v in values],
                       marker=marker, label=label)
-        for target, style in ((target_top1, "--"), (target_shrink, ":")):
+        drawn = []
+        for target, style, words in ((target_top1, "--", "the top-1 target"),
+                                     (target_shrink, ":", "the shrink target")):
             if target is not None:
                 axes.axhline(100.0 * target, color="grey", linestyle=style, linewidth=0.8)
+                drawn.append(f"{'dashed' if style == '--' else 'dotted'}: {words}")
         axes.set_xscale("log")
         axes.set_xticks(ratios, [f"{r:g}" for r in ratios])
         axes.minorticks_off()
         axes.set_ylim(0, 105)
         axes.set_xlabel("effect size / load noise RMS")
-        axes.set_ylabel("[%]")
+        axes.set_ylabel("top-1 accuracy, median shrink [%]")
         axes.legend(loc="lower right", fontsize=7)
         figure.tight_layout()
+        judged = (f", judged at sizes of {scored_from:g} and more" if scored_from is not None
+                  else "")
+        lines = ("; ".join(drawn) + f" (the record's targets{judged})." if drawn
+                 else "The record sets no target for these two measures.")
         return {"title": "Blind check: what the diagnosis gets right against effect size",
-                "caption": "Single-effect cases at each size; dashed: the top-1 target, "
-                           "dotted: the shrink target (the record's targets"
-                           + (f", judged at sizes of {scored_from:g} and more)."
-                              if scored_from is not None else ")."),
+                "caption": "Single-effect cases at each size. " + lines[:1].upper() + lines[1:],
                 "svg": _to_svg(figure)}

@@ -13,7 +13,7 @@ import math
 
 from markupsafe import Markup
 
-from certkit.display import magnitude, number, percent, pretty, to_display, with_unit
+from certkit.display import magnitude, number, parameter, percent, with_unit
 from certkit.evidence.methods import gap_method
 from certkit.evidence.model_view import origins
 from certkit.evidence.sections import BlindSection, GapSection
@@ -27,50 +27,41 @@ def _channel_kind(channel: str) -> str:
     return "force" if channel == "load" else "length"
 
 
-def _gap_cells(before, after, units) -> list[dict]:
-
-    later = {(c.run, c.channel, c.phase): c for c in after.cells} if after else {}
-    rows = []
-    for cell in before.cells:
-        kind = _channel_kind(cell.channel)
-        remaining = later.get((cell.run, cell.channel, cell.phase))
-        rows.append({
-            "run": cell.run, "role": "held out" if cell.run in before.held_out else "training",
-            "channel": CHANNEL_LABELS[cell.channel], "phase": cell.phase,
-            "samples": str(cell.samples), "unit": getattr(units, kind),
-            "rms": magnitude(cell.rms, kind, units), "bias": magnitude(cell.bias, kind, units),
-            "lag": magnitude(cell.lag, "time", units, 3),
-            "normalised": percent(cell.normalised),
-            "rms_after": magnitude(remaining.rms, kind, units) if remaining else "—",
-            "normalised_after": percent(remaining.normalised) if remaining else "—"})
-    return rows
-
-
-def largest_disagreement(cell, units) -> str:
-    """A residual map's largest cell in words, in the display units (report and terminal)."""
-    from certkit.gap.residuals import describe
-
+def largest_disagreement(cell, units, scope: str = "") -> str:
+    """A residual map's largest cell in words, in the display units (report and terminal);
+    ``scope`` says which runs it is the largest of ("on the training runs")."""
     if cell is None:
         return "No residual to map."
     kind = _channel_kind(cell.channel)
-    return describe(cell, to_display(1.0, kind, units), pretty(getattr(units, kind)))
+    lag = (f", the model {'late' if cell.lag > 0 else 'early'} by "
+           f"{with_unit(abs(cell.lag), 'time', units)}" if abs(cell.lag) >= 0.5e-3 else "")
+    where = f" {scope}" if scope else ""
+    return (f"The largest disagreement{where} is in the {CHANNEL_LABELS[cell.channel]} "
+            f"during {cell.phase} of run {cell.run}: RMS {with_unit(cell.rms, kind, units)} "
+            f"({percent(cell.normalised)} of the channel's RMS), bias "
+            f"{'+' if cell.bias > 0 else ''}{with_unit(cell.bias, kind, units)}{lag}.")
 
 
 def _gap_largest(gap_map, units) -> str:
-    """The largest disagreement (training runs) in words, in display units, with its bands."""
-    from certkit.gap.residuals import BANDS
+    """The largest disagreement of the training runs and that of the held-out runs, in
+    words, in display units, with the bands of the first: every run the map beside it
+    shows is covered."""
+    from certkit.gap.residuals import BANDS, largest
 
-    cell = gap_map.largest
-    if cell is None:
+    if gap_map.largest is None:
         return "No residual to map."
-    text = largest_disagreement(cell, units)
+    cell = gap_map.largest
+    text = largest_disagreement(cell, units, "on the training runs (fitted)")
+    held = largest([c for c in gap_map.cells if c.run in gap_map.held_out])
+    if held is not None:
+        text += " " + largest_disagreement(held, units, "on the held-out runs (not fitted)")
     shares = gap_map.bands.get((cell.run, cell.channel))
     if shares:
         parts = [f"{percent(shares[name], 0)} in the {name} band"
                  + (f" ({low:g}-{high:g} Hz)" if math.isfinite(high) else "")
                  for name, low, high in BANDS]
-        text += (f" Of the {cell.channel} residual's energy in run {cell.run} from touchdown, "
-                 + ", ".join(parts[:-1]) + " and " + parts[-1] + ".")
+        text += (f" Of the {CHANNEL_LABELS[cell.channel]} residual's energy in run {cell.run} "
+                 f"from touchdown, " + ", ".join(parts[:-1]) + " and " + parts[-1] + ".")
     return text
 
 
@@ -83,13 +74,30 @@ def _gap_steps(gap, units) -> list[dict]:
     for index, (attribution, fits) in enumerate(diagnosis.steps):
         beat = diagnosis.step_costs[index]
         profiles = attribution.profiles or {}
-        scores = []
+        scores, alike = [], {}
         for score, decision in zip(attribution.scores, attribution.decisions):
+            if score.name not in attribution.relevant:
+                # forms not relevant for the same reason share a row (every form's numbers
+                # are in results.json)
+                alike.setdefault(decision.status, []).append(score)
+                continue
             profile = profiles.get(score.name)
             scores.append({"effect": score.name, "statistic": number(score.statistic),
-                           "explained": f"{score.explained:.3g}", "status": decision.status,
+                           "explained": number(score.explained, 3), "status": decision.status,
                            "profile": "—" if not profile else
-                           f"{number(profile[1])} at strength {profile[0]:g}"})
+                           f"{number(profile[1])} at strength {number(profile[0], 3)}"})
+        for status, group in alike.items():
+            bound = "" if len(group) == 1 else "≤ "
+            profile = profiles.get(group[0].name) if len(group) == 1 else None
+            scores.append({"effect": "; ".join(g.name for g in group),
+                           "statistic": bound + number(max(g.statistic for g in group)),
+                           "explained": bound + number(max(g.explained for g in group), 3),
+                           "profile": "—" if not profile else
+                           f"{number(profile[1])} at strength {number(profile[0], 3)}",
+                           "status": status})
+        scores += [{"effect": skipped.name, "statistic": "—", "explained": "—",
+                    "profile": "—", "status": skipped.status}
+                   for skipped in attribution.skipped]
         pair = ""
         if len(attribution.scores) >= 2:
             a, b = attribution.scores[0].name, attribution.scores[1].name
@@ -103,8 +111,8 @@ def _gap_steps(gap, units) -> list[dict]:
         refits = []
         for fit, decision in zip(fits, diagnosis.refit_decisions[index]):
             strengths = "; ".join(
-                f"{name}: {value:.4g} ± "
-                f"{(f'{error:.2g}' if math.isfinite(error) else 'not determined')} "
+                f"{name}: {number(value)} ± "
+                f"{(number(error, 2) if math.isfinite(error) else 'not determined')} "
                 f"(strength 1: {sizes.get(name, 'as defined by the candidate')})"
                 for name, value, error in zip(fit.effects, fit.strengths, fit.strength_errors))
             checks = gap.refit_held_out.get((index, fit.effects), {})
@@ -113,14 +121,14 @@ def _gap_steps(gap, units) -> list[dict]:
                              f"{getattr(units, _channel_kind(channel))}"
                              for (run, channel), value in checks.items())
             refits.append({"effects": " + ".join(fit.effects), "strengths": strengths,
-                           "cost": f"{fit.training_cost:.4g}",
+                           "cost": number(fit.training_cost),
                            "change": percent(fit.training_cost / beat - 1, signed=True)
                            if beat else "—",
                            "outcome": decision.status, "held_out": held or "—"})
-        title = ("Step 1: candidates against the calibrated nominal model" if index == 0 else
+        title = ("Step 1: candidates against the calibrated bare model" if index == 0 else
                  f"Step {index + 1}: candidates against the model with "
                  f"{' and '.join(diagnosis.answer[:index])}")
-        steps.append({"title": title, "beat": f"{beat:.4g}", "scores": scores, "pair": pair,
+        steps.append({"title": title, "beat": number(beat), "scores": scores, "pair": pair,
                       "refits": refits,
                       "no_refit": attribution.no_refit})
     return steps
@@ -128,8 +136,12 @@ def _gap_steps(gap, units) -> list[dict]:
 
 def _gap_shrink(gap, units) -> list[dict]:
 
+    from certkit.gap.diagnosis import WHOLE
+
     rows = []
     for error in gap.held_out_errors:
+        if error.phase != WHOLE:
+            continue
         kind = _channel_kind(error.channel)
         shrink = error.shrink
         rows.append({"run": error.run, "channel": CHANNEL_LABELS[error.channel],
@@ -194,7 +206,9 @@ def _blind_view(campaign, units) -> dict:
             return (" + " if depth else ", ").join(plain(v, depth + 1) for v in value)
         return f"{value:g}" if isinstance(value, float) else str(value)
 
-    settings = [(key.replace("_", " "), plain(value)) for key, value in record.settings.items()]
+    # each metric's target is in the metrics table: a record's words for them are not repeated
+    settings = [(key.replace("_", " "), plain(value)) for key, value in record.settings.items()
+                if key != "targets"]
     confusion = record.confusion
     curve_figure = None
     if record.curve:
@@ -245,17 +259,47 @@ def _form_row(row, units) -> dict:
             "scored": f"{row.right_scored} of {row.scored}", "peak": peak}
 
 
+def _declared_words(answer: tuple, declared: list[str]) -> str:
+    """How the diagnosis's answer stands to the effects the spec's model declares."""
+    from certkit.physics.effects import BY_NAME
+
+    labels = [BY_NAME[name].label for name in declared if name in BY_NAME]
+    if not labels:
+        return ("The spec's model declares no optional effect"
+                + (f"; {' and '.join(answer)} would be worth adding to it (model.effects)."
+                   if answer else "."))
+    named = [a for a in answer if a in labels]
+    new = [a for a in answer if a not in labels]
+    words = f"The spec's model declares {' and '.join(labels)}. "
+    if not answer:
+        return words + ("Starting without them, the diagnosis named no effect: the drops do "
+                        "not single out one of the library's effects.")
+    if named:
+        words += (f"Starting without them, the diagnosis named {' and '.join(named)} from the "
+                  f"drops alone: the data support {'them' if len(named) > 1 else 'it'}. ")
+    if new:
+        words += (f"It also named {' and '.join(new)}, which the spec's model does not "
+                  f"include: worth adding (model.effects).")
+    return words.strip()
+
+
 def gap_view(evidence, campaign, units) -> GapSection:
-    """The sim-to-real gap section: per gear unit where, which and how far; the blind check."""
+    """The gap appendix: per gear unit where, which and how far; the blind check."""
+    from certkit.evidence.figures import gap_heatmap, gap_overlay, missing_force_figure
+    from certkit.evidence.model_evidence import GAP
+    from certkit.evidence.model_view import failures_view
+
     method = gap_method(units)
     blind = _blind_view(campaign, units)
-    if evidence is None or evidence.calibration is None:
-        note = ("The gap diagnosis was not run for this report (the drop model was not run)."
-                if evidence is None else evidence.note)
-        return GapSection(**{"available": False, "note": note, "notes": [], "gears": [],
-                             "blind": blind, "time_unit": units.time, **method})
-    from certkit.evidence.figures import gap_heatmap, gap_overlay, missing_force_figure
-
+    declared = list(campaign.spec.model.effects)
+    intro = ("This appendix is not compliance evidence: no verdict rests on it. It asks where "
+             "the drop model disagrees with the drops, which unmodelled effect of a library "
+             "explains the disagreement, and how far the error on held-out drops shrinks once "
+             "that effect is added; its last part says how far the diagnosis can be trusted. "
+             "It starts from the bare model (the gear's drop model without any optional "
+             "effect, also those the spec declares), calibrated on the same training runs as "
+             "appendix A: so every effect, the declared ones too, has to earn its place from "
+             "the data.")
     gears = []
     for gear_id, gap in evidence.gap.items():
         diagnosis = gap.diagnosis
@@ -263,7 +307,7 @@ def gap_view(evidence, campaign, units) -> GapSection:
         finite = [c.normalised for c in gap.before.cells if math.isfinite(c.normalised)]
         top = max(finite) if finite else None
         figures = [gap_heatmap(
-            gap.before, f"{gear_id}: residual map of the calibrated nominal model",
+            gap.before, f"{gear_id}: residual map of the calibrated bare model",
             "Residual RMS over the channel's RMS over the whole run, per channel and phase "
             "(rows) and run (columns), in %. Training runs were fitted; held-out runs were "
             "not.", top)]
@@ -290,12 +334,12 @@ def gap_view(evidence, campaign, units) -> GapSection:
             "split": ("declared in the spec (model.gap.held_out)" if gap.declared else
                       f"the default (every drop at the highest drop height held out, and at "
                       f"the middle one from {MIDDLE_FROM} heights up)"),
-            "calibration_cost": f"{gap.before.calibration.fit.cost:.4g}",
+            "calibration_cost": number(gap.before.calibration.fit.cost),
             "largest": _gap_largest(gap.before, units),
             "heatmap": figures[0], "overlays": figures[1:],
-            "cells": _gap_cells(gap.before, gap.after, units),
             "steps": _gap_steps(gap, units), "statement": diagnosis.statement,
-            "missing": missing, "signatures": _signatures(diagnosis),
+            "declared": _declared_words(diagnosis.answer, declared),
+            "missing": missing, "signatures": _signatures(diagnosis, units),
             "shrink": _gap_shrink(gap, units),
             "remaining": dict(remaining, svg=Markup(remaining["svg"])) if remaining else None,
             "remaining_largest": _lower_first(f"With {answer} refitted, ",
@@ -304,19 +348,24 @@ def gap_view(evidence, campaign, units) -> GapSection:
             "remaining_note": "" if gap.after else
             "No effect was named, so nothing was added and the residual map above is what "
             "remains."})
-    notes = list(evidence.gap_notes) or ([] if gears else ["No gear unit was diagnosed."])
-    return GapSection(**{"available": True, "note": evidence.note, "notes": notes,
-                         "gears": gears, "blind": blind, "time_unit": units.time, **method})
+    notes = list(evidence.gap_notes)
+    failures = failures_view(evidence, GAP)
+    if not gears and not notes and not failures:
+        notes = ["No gear unit was diagnosed."]
+    return GapSection(**{"intro": intro, "available": True, "note": evidence.note,
+                         "notes": notes, "failures": failures, "gears": gears, "blind": blind,
+                         "time_unit": units.time, **method})
 
 
-def _signatures(diagnosis) -> list[dict]:
+def _signatures(diagnosis, units) -> list[dict]:
     """The missing force's shapes at each step, as the diagnosis recorded them."""
     out = []
     for index, step in enumerate(diagnosis.evidence):
         for found in step:
             out.append({"step": index + 1, "force": found.force, "shape": found.shape,
                         "marks": found.effect or "— (absorbed by re-tuning)",
-                        "coefficient": f"{found.coefficient:.4g} {found.unit}",
+                        "coefficient": " ".join(filter(None, parameter(
+                            found.coefficient, found.unit, units))),
                         "share": percent(found.share, 1), "seen": "yes" if found.seen else ""})
     return out
 

@@ -13,14 +13,15 @@ import math
 from certkit.display import percent, with_unit
 from certkit.physics.drops import MIDDLE_FROM
 
-#: Section 9: the governing-equation model and its calibration.
+#: Appendix A: the governing-equation model and its calibration.
 MODEL_METHOD = ("The two-mass governing equations of a gear drop (airframe mass above the "
                 "strut, unsprung mass between strut and tyre), with the usual errors of their "
                 "published form corrected (hydraulic force ∝ ṡ|ṡ|, absolute gas pressures, "
                 "strut force F_s/cos θ between the masses, tyre force clipped at zero, end "
-                "stops), simulated for each gear unit and calibrated against all its runs "
+                "stops), simulated for each gear unit and calibrated against its training runs "
                 "jointly by bounded least squares on residuals normalised by each channel's "
-                "range.")
+                "range; the held-out runs are simulated with the calibrated parameters and "
+                "play no part in the fit.")
 
 
 def held_out_drops(held_at_middle: bool, declared: bool) -> str:
@@ -38,7 +39,7 @@ def held_out_drops(held_at_middle: bool, declared: bool) -> str:
 
 def identification_method(window: str, paper_samples: str, force_unit: str, length_unit: str,
                           held_out: str) -> str:
-    """Section 10: the identification's inputs, outputs and protocols."""
+    """Appendix B: the identification's inputs, outputs and protocols."""
     return (f"Input: the platform's vertical load; outputs: strut stroke and tyre deflection, "
             f"one SISO model each, from touchdown over {window} (models are fitted in kN and "
             f"mm; every number and figure here is in {force_unit} and {length_unit}). Two "
@@ -51,7 +52,7 @@ def identification_method(window: str, paper_samples: str, force_unit: str, leng
 
 
 def gap_method(units) -> dict:
-    """Section 11: the method in words, every threshold taken from the code that applies it
+    """Appendix C: the method in words, every threshold taken from the code that applies it
     (the gap stage is imported here, not at the top: a report without the drop model does
     not load it, about 0.66 s of start-up)."""
     from certkit.compliance.measures import AXLE_WINDOW
@@ -65,7 +66,7 @@ def gap_method(units) -> dict:
     bands = ", ".join(f"{name} ({low:g}-{high:g} Hz)" if math.isfinite(high)
                       else f"{name}" for name, low, high in BANDS)
     return {
-        "split": (f"The nominal drop model (no optional effects) is calibrated on the training "
+        "split": (f"The bare drop model (no optional effects) is calibrated on the training "
                   f"runs only. The held-out runs are used for nothing but the errors reported "
                   f"as held out: by default every drop at the highest drop height (the "
                   f"certification case is extrapolation), and the middle height's drops too "

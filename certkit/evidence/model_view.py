@@ -9,10 +9,12 @@ a report without the drop model never loads them (about 0.66 s and 0.26 s of sta
 from __future__ import annotations
 
 import math
+import re
 
 from markupsafe import Markup
 
-from certkit.display import display, magnitude, number, parameter, percent, pretty, typed, with_unit
+from certkit.display import (display, magnitude, number, parameter, percent, pretty, typed,
+                             with_unit)
 from certkit.evidence.methods import MODEL_METHOD, held_out_drops, identification_method
 from certkit.evidence.sections import IdentificationSection, ModelSection
 from certkit.units import convert
@@ -39,32 +41,43 @@ def _reference_view(reference, units) -> dict | None:
             "note": (reference.note or "").strip()}
 
 
-#: What the model sections say when the report was made without the drop model.
-NO_MODEL = ("The drop model was not run for this report (certkit report --no-model, or "
-            "render_report without a model evidence): the governing-equation, identification "
-            "and gap sections are left out of it.")
+def failures_view(evidence, stage: str) -> list[str]:
+    """The gear units a stage could not be computed for, one sentence each: why, and what
+    to change."""
+    return [f"{f.gear}: not computed. {f.reason[:1].upper() + f.reason[1:].rstrip('.')}. "
+            f"To change: {f.remedy}." for f in evidence.failed(stage)]
 
 
-def model_view(evidence, units, reference=None, origins=None, effects=()) -> ModelSection:
-    """The governing-equation model section: calibration per gear unit, or why none."""
-    if evidence is None:
-        return ModelSection(method=MODEL_METHOD, available=False, note=NO_MODEL, synthetic="", gears=[],
-                            effects=", ".join(effects) or "none", reference_rows=[],
-                            reference=None)
-    synthetic = ""
-    if evidence.synthetic_runs:
-        synthetic = (f"The time histories of run(s) {', '.join(evidence.synthetic_runs)} are "
-                     f"SYNTHETIC (simulated, declared origin: synthetic), not measured: the "
-                     f"model is compared here with simulated data, which shows the method, "
-                     f"not the real gear's behaviour.")
-    calibration = evidence.calibration
-    if calibration is None:
-        return ModelSection(method=MODEL_METHOD, available=False, note=evidence.note, synthetic=synthetic,
-                            gears=[],
-                            effects="—", reference_rows=[], reference=None)
+def synthetic_warning(evidence) -> str:
+    """The warning every model appendix carries when the campaign's histories are synthetic."""
+    if not evidence.synthetic_runs:
+        return ""
+    return (f"The time histories of run(s) {', '.join(evidence.synthetic_runs)} are SYNTHETIC "
+            f"(simulated, declared origin: synthetic), not measured: the model is compared "
+            f"here with simulated data, which shows the method, not the real gear's behaviour.")
+
+
+def _tabulated_marks(tabulated: dict, gear_id: str, run: str) -> dict:
+    """What the results table (section 5) gives for this run and gear, in SI, when its
+    basis is not the record drawn (the source's reported values): channel -> value."""
+    shown = (tabulated or {}).get((run, gear_id))
+    if not shown or shown["basis"] != "reported values":
+        return {}
+    return {channel: shown[key] for channel, key in (("load", "F_peak"), ("stroke", "d_s"),
+                                                     ("tyre", "d_t"))
+            if shown.get(key) is not None}
+
+
+def model_view(evidence, units, reference=None, origins=None, effects=(),
+               tabulated=None) -> ModelSection:
+    """The calibration appendix: per gear unit the calibrated parameters, the fit on the
+    training runs and the prediction of the held-out ones, or why not computed."""
     from certkit.evidence.figures import model_figure
+    from certkit.evidence.model_evidence import CALIBRATION
     from certkit.spec.rundata import CHANNEL_LABELS
 
+    calibration = evidence.calibration
+    declared = ", ".join(effects) or "none"
     gears, reference_rows = [], []
     for gear in calibration.gears:
         fit = gear.fit
@@ -79,19 +92,15 @@ def model_view(evidence, units, reference=None, origins=None, effects=()) -> Mod
                       f"{parameter(p.upper, p.unit, units)[0]}")
             parameters.append({"name": knob.label, "unit": unit, "nominal": nominal,
                                "estimate": value, "error": se, "bounds": bounds})
-        names = [p.name for p in fit.parameters]
-        correlation = [{"name": f"({i}) {name}",
-                        "cells": ["—" if not math.isfinite(c) else f"{c:+.2f}" for c in row]}
-                       for i, (name, row) in enumerate(zip(names, fit.correlation), start=1)]
         rmse = []
         for e in gear.errors:
             kind = "force" if e.channel == "load" else "length"
             before, unit = display(e.nominal, kind, units)
             after, _ = display(e.calibrated, kind, units)
             change = (e.calibrated / e.nominal - 1) if e.nominal else float("nan")
-            rmse.append({"run": e.run, "channel": CHANNEL_LABELS[e.channel], "unit": unit,
-                         "nominal": before, "calibrated": after,
-                         "change": f"{change:+.1%}" if math.isfinite(change) else "—"})
+            rmse.append({"run": e.run, "role": e.role, "channel": CHANNEL_LABELS[e.channel],
+                         "unit": unit, "nominal": before, "calibrated": after,
+                         "change": percent(change, 1, signed=True)})
         for trace in gear.traces:
             published = _reference_error(reference, gear.gear_id, trace.channel,
                                          "governing_equation", trace.run)
@@ -106,23 +115,50 @@ def model_view(evidence, units, reference=None, origins=None, effects=()) -> Mod
                 "reference": " ".join(typed(published.text, published.si, "length", units)),
                 "nominal": with_unit(nominal, "length", units),
                 "calibrated": with_unit(fitted, "length", units)})
-        figures = [model_figure(gear.gear_id, run, [t for t in gear.traces if t.run == run], units,
-                                origin=(origins or {}).get(run, "measured"))
-                   for run in gear.runs]
+        # the drops the model did not see: where a reader judges it
+        shown_runs = list(gear.held_out) or list(gear.runs[-1:])
+        figures = [model_figure(gear.gear_id, run, [t for t in gear.traces if t.run == run],
+                                units, origin=(origins or {}).get(run, "measured"),
+                                held_out=run in gear.held_out,
+                                tabulated=_tabulated_marks(tabulated, gear.gear_id, run))
+                   for run in shown_runs]
         figures = [dict(f, svg=Markup(f["svg"])) for f in figures]
         velocities = "; ".join(f"{run}: {with_unit(v, 'velocity', units)} ({source})"
                                for run, (v, source) in gear.contact_velocities.items())
         gears.append({
-            "id": gear.gear_id, "runs": ", ".join(gear.runs), "parameters": parameters,
-            "correlation_header": [f"({i})" for i in range(1, len(names) + 1)],
-            "correlation": correlation, "warnings": list(fit.warnings),
-            "converged": fit.success, "message": fit.message, "evaluations": fit.evaluations,
-            "cost": f"{fit.cost_nominal:.4g} → {fit.cost:.4g}", "rmse": rmse,
-            "figures": figures, "velocities": velocities, "step": with_unit(gear.step, "time", units)})
-    return ModelSection(method=MODEL_METHOD, available=True, note=evidence.note, synthetic=synthetic,
-                        gears=gears,
-                        effects=", ".join(calibration.effects) or "none",
-                        reference_rows=reference_rows, reference=_reference_view(reference, units))
+            "id": gear.gear_id, "runs": ", ".join(gear.runs),
+            "held_out": ", ".join(gear.held_out) or "none",
+            "parameters": parameters, "warnings": [_bound_words(w, gear, units)
+                                                   for w in fit.warnings],
+            "message": fit.message, "evaluations": fit.evaluations,
+            "cost": f"{number(fit.cost_nominal)} → {number(fit.cost)}", "rmse": rmse,
+            "figures": figures, "velocities": velocities,
+            "step": with_unit(gear.step, "time", units)})
+    intro = (f"This appendix is not compliance evidence: no verdict rests on it. It compares "
+             f"each gear unit's drop model with its drops. The model is the two-mass governing "
+             f"equations of a gear drop with the spec's nominal parameters and the optional "
+             f"effects the spec declares ({declared}); it is calibrated on the training runs "
+             f"and then simulated on the held-out runs, which it has not seen, so their errors "
+             f"show how well it predicts. This is the calibrated model of the whole report: "
+             f"the identification's 'governing equation, calibrated' is the same model.")
+    return ModelSection(method=MODEL_METHOD, intro=intro, synthetic=synthetic_warning(evidence),
+                        note=evidence.note, failures=failures_view(evidence, CALIBRATION),
+                        gears=gears, effects=declared, reference_rows=reference_rows,
+                        reference=_reference_view(reference, units))
+
+
+def _bound_words(warning: str, gear, units) -> str:
+    """A fit's warning in the display units: "x ended on its lower bound (1e-05 m): …" quotes
+    the value in SI (:func:`certkit.physics.fitting.fit`)."""
+    found = re.match(r"(\S+) ended on its (lower|upper) bound \(([^ )]+) ?([^)]*)\)(.*)",
+                     warning, re.S)
+    if not found:
+        return warning
+    name, side, value, unit, rest = found.groups()
+    labels = {p.name: knob.label for knob, p in zip(gear.knobs, gear.fit.parameters)}
+    shown, shown_unit = parameter(float(value), unit or "1", units)
+    return (f"{labels.get(name, name)} ended on its {side} bound "
+            f"({' '.join(filter(None, (shown, shown_unit)))}){rest}")
 
 
 _MODEL_ORDER = ("governing equation, nominal", "governing equation, calibrated", "Hammerstein",
@@ -202,7 +238,16 @@ def identification_view(evidence, settings, units, reference=None, origins=None,
               "whiteness": f"{WHITENESS_CONFIDENCE:.0%} bounds, {WHITENESS_LAGS} lags",
               "force_unit": pretty(units.force), "length_unit": pretty(units.length),
               "reference": _reference_view(reference, units)}
+    from certkit.evidence.model_evidence import IDENTIFICATION
+
     identification = getattr(evidence, "identification", None)
+    method["intro"] = (
+        "This appendix is not compliance evidence: no verdict rests on it. From each gear "
+        "unit's drops it identifies models that predict the strut stroke and the tyre "
+        "deflection from the vertical load alone (Hammerstein, Wiener and NARX models with "
+        "LS-SVM nonlinearities, beside the calibrated drop model of appendix A), fits and "
+        "tunes them on the training runs and simulates the held-out runs in free run.")
+    method["failures"] = failures_view(evidence, IDENTIFICATION)
     heights = heights or {}
     at_middle = any(len({heights.get(run) for run in gear.held_out}) > 1
                     for gear in getattr(identification, "gears", None) or [])
@@ -212,7 +257,7 @@ def identification_view(evidence, settings, units, reference=None, origins=None,
     if identification is None or not identification.gears:
         skipped = list(getattr(identification, "skipped", []) or [])
         return IdentificationSection(**{"available": False, "gears": [], "plant_note": "",
-                "note": NO_MODEL if evidence is None else
+                "note":
                 "Not run: it needs time histories of at least two drops of a gear unit "
                 "whose drop model can be built from the spec, each recorded for "
                 f"{with_unit(WINDOW_DURATION, 'time', units)} after touchdown."
@@ -246,12 +291,6 @@ def identification_view(evidence, settings, units, reference=None, origins=None,
                     cells.append("—" if quantity is None
                                  else typed(quantity.text, quantity.si, "length", units)[0])
             table.append({"model": model, "cells": cells})
-        details = [{"model": x.model, "protocol": PROTOCOL_NAMES[x.protocol],
-                    "output": OUTPUT_LABELS[x.output], "run": x.run,
-                    "rmse": magnitude(x.rmse * 1e-3, "length", units), "nrmse": f"{x.nrmse:.4g}",
-                    "fit": f"{x.fit:.1f}", "max": magnitude(x.max_error * 1e-3, "length", units)}
-                   for x in sorted(gear.scores, key=lambda x: (x.output, x.protocol,
-                                                               _MODEL_ORDER.index(x.model)))]
         blocks = []
         for (route, output), arx in gear.linear_blocks.items():
             blocks.append({"route": route, "output": OUTPUT_LABELS[output],
@@ -266,9 +305,9 @@ def identification_view(evidence, settings, units, reference=None, origins=None,
                   "mismatch": percent(step.mismatch[output]),
                   "accepted": "accepted" if step.accepted else "not linear: shrink"}
                  for output, recorded in gear.small_signal.items() for step in recorded]
-        one_step = [{"model": m, "output": OUTPUT_LABELS[o], "run": r,
-                     "rmse": _mm(v, units)} for m, o, r, v in gear.one_step]
+        one_step = {(m, o): _mm(v, units) for m, o, r, v in gear.one_step}
         whiteness = [{"model": m, "output": OUTPUT_LABELS[o],
+                      "one_step": one_step.get((m, o), "—"),
                       "auto": f"{int(a.autocorrelation_ok.sum())}/{a.autocorrelation_ok.size}",
                       "cross": (f"{int(a.cross_correlation_ok.sum())}/{a.cross_correlation_ok.size}"
                                 if a.cross_correlation_ok is not None else "—"),
@@ -281,15 +320,17 @@ def identification_view(evidence, settings, units, reference=None, origins=None,
                    for f in identification_figures(gear, units, origin)]
         gears.append({"id": gear.gear_id, "training": ", ".join(gear.training),
                       "held_out": ", ".join(gear.held_out), "table": table,
-                      "with_reference": with_reference, "details": details,
-                      "blocks": blocks, "steps": steps, "one_step": one_step,
+                      "with_reference": with_reference,
+                      "blocks": blocks, "steps": steps,
                       "whiteness": whiteness, "rankings": rankings, "figures": figures,
                       "discussion": _discussion(gear, reference, units),
                       "ratios": ", ".join(f"{OUTPUT_LABELS[o]} {r:.3g}"
                                           for o, r in gear.hammerstein_ratio.items()),
                       "notes": list(gear.notes)})
     return IdentificationSection(**{"available": True, "gears": gears,
-                                    "plant_note": identification.plant_note, "note": "", **method})
+                                    "plant_note": identification.plant_note,
+                                    "note": "".join(f"{why}. " for why in identification.skipped),
+                                    **method})
 
 
 def origins(spec) -> dict[str, str]:

@@ -44,12 +44,13 @@ class InstrumentationSection:
 
 @dataclass(frozen=True)
 class ModelSection:
-    """Section 9: the governing-equation model, calibrated against the runs."""
+    """Appendix A: the drop model, calibrated on the training runs, validated on the others."""
 
     method: str
-    available: bool
-    note: str
+    intro: str                   # what the appendix is, what data, not compliance evidence
     synthetic: str
+    note: str
+    failures: list[str]          # gear units not computed: why, what to change
     gears: list[dict]
     effects: str
     reference_rows: list[dict]
@@ -58,12 +59,14 @@ class ModelSection:
 
 @dataclass(frozen=True)
 class IdentificationSection:
-    """Section 10: Hammerstein, Wiener and NARX models, and the protocol they follow."""
+    """Appendix B: Hammerstein, Wiener and NARX models, and the protocol they follow."""
 
+    intro: str
     available: bool
     gears: list[dict]
     plant_note: str
     note: str
+    failures: list[str]
     window: str
     paper_samples: str
     tolerance: str
@@ -98,11 +101,13 @@ class BlindSection:
 
 @dataclass(frozen=True)
 class GapSection:
-    """Section 11: where the model disagrees, which effect explains it, how far it shrinks."""
+    """Appendix C: where the model disagrees, which effect explains it, how far it shrinks."""
 
+    intro: str
     available: bool
     note: str
     notes: list[str]
+    failures: list[str]
     gears: list[dict]
     blind: BlindSection
     time_unit: str
@@ -125,11 +130,14 @@ class ReportView:
     outcome: str
     outcome_css: str
     planning: bool
-    headings: dict                  # section anchor -> numbered heading
+    headings: dict                  # section anchor -> numbered or lettered heading
     contents: list                  # (anchor, numbered heading) in order
     conclusions: dict               # what is shown, not shown, open (lists of sentences)
     references: list
     outcome_reasons: list[str]
+    cover_reasons: list[str]        # page 1: each reason a criterion is not PASS, one line
+    cover_reasons_title: str
+    model_left_out: str             # one line when the report has no model appendices
     counts: dict[str, int]
     finding_counts: dict[str, int]
     aircraft: AircraftSection
@@ -157,6 +165,6 @@ class ReportView:
     audit: dict[str, str]
     provenance: dict
     version: str
-    model: ModelSection
-    identification: IdentificationSection
-    gap: GapSection
+    model: ModelSection | None           # the appendices (None: left out, model_left_out)
+    identification: IdentificationSection | None
+    gap: GapSection | None

@@ -18,7 +18,7 @@ from certkit.evidence.model_view import identification_view, model_view, origins
 from certkit.evidence.sections import (AircraftSection, CampaignSection, DocumentSection,
                                        InstrumentationSection, ReportView)
 from certkit.physics.drops import drop_heights
-from certkit.results import PASS, Value
+from certkit.results import FAIL, PASS, Value
 from certkit.version import VERSION
 
 
@@ -69,6 +69,9 @@ def build_view(assessment: Assessment, record: dict, model=None) -> ReportView:
 
     counts = assessment.counts()
     finding_counts = assessment.finding_counts()
+    appendices = model is not None and model.calibration is not None
+    left_out = "" if appendices else (
+        NO_MODEL_LINE if model is None else f"No drop-model appendices: {model.note}")
     signatories = [{"role": s.role, "name": s.name, "organisation": s.organisation or "",
                     "date": s.date.isoformat() if s.date else ""} for s in doc.signatories]
     # the sign-off blocks a reviewer expects are there even when the spec names nobody
@@ -92,8 +95,12 @@ def build_view(assessment: Assessment, record: dict, model=None) -> ReportView:
         "outcome_css": ("planning" if assessment.planning
                         else assessment.outcome.replace(" ", "-").lower()),
         "planning": assessment.planning,
-        "headings": _headings(assessment.planning),
-        "contents": list(_headings(assessment.planning).items()),
+        "headings": _headings(assessment.planning, appendices),
+        "contents": list(_headings(assessment.planning, appendices).items()),
+        "cover_reasons": cover_reasons(assessment),
+        "cover_reasons_title": ("Why not every predicted verdict is PASS" if assessment.planning
+                                else "Why not every criterion passes"),
+        "model_left_out": left_out,
         "conclusions": _conclusions(assessment, _setup_rows(spec), gear_rows, signatories),
         "references": _references(assessment),
         "outcome_reasons": assessment.outcome_reasons(),
@@ -115,12 +122,58 @@ def build_view(assessment: Assessment, record: dict, model=None) -> ReportView:
         "audit": _audit_settings(spec.audit, units),
         "provenance": record, "version": VERSION,
         "model": model_view(model, units, spec.reference_results, origins(spec),
-                             spec.model.effects),
+                             spec.model.effects, _results_by_run(assessment))
+        if appendices else None,
         "identification": identification_view(model, spec.model.identification, units,
                                               spec.reference_results, origins(spec),
-                                              drop_heights(campaign)),
-        "gap": gap_view(model, campaign, units),
+                                              drop_heights(campaign)) if appendices else None,
+        "gap": gap_view(model, campaign, units) if appendices else None,
     })
+
+
+#: The one line a report made without the drop model spends on what it left out.
+NO_MODEL_LINE = ("The drop model's appendices (calibration, identification, gap diagnosis; "
+                 "not compliance evidence) were not made for this report (certkit report "
+                 "--no-model).")
+
+
+def cover_reasons(assessment: Assessment) -> list[str]:
+    """Why the outcome is not COMPLIANT, one line per reason, for page 1: every shortfall
+    that holds a criterion at FAIL or NOT SHOWN with the criteria it holds back and what
+    would show them, then every data-quality error."""
+    groups: dict[tuple, dict] = {}
+    for verdict in assessment.verdicts:
+        if verdict.verdict == PASS:
+            continue
+        group = groups.setdefault((verdict.verdict, verdict.shortfall or verdict.reason,
+                                   verdict.remedy), {})
+        scopes = group.setdefault((verdict.clause, verdict.title), [])
+        scope = " / ".join(p for p in (verdict.run, verdict.gear) if p)
+        if scope:
+            scopes.append(scope)
+    lines = []
+    for (state, shortfall, remedy), criteria in groups.items():
+        held = "; ".join(f"{clause}, {title[:1].lower() + title[1:]}"
+                         + (f" ({', '.join(scopes)})" if scopes else "")
+                         for (clause, title), scopes in criteria.items())
+        lines.append(f"{state} because {shortfall}: {held}."
+                     + (f" To show it: {remedy}." if remedy and state != FAIL
+                        else f" To resolve: {remedy}." if remedy else ""))
+    lines += [f"Data-quality error {f.id}: {f.message}" for f in assessment.findings
+              if f.severity == "error"]
+    return lines
+
+
+def _results_by_run(assessment: Assessment) -> dict:
+    """(run, gear) -> the values the results table shows for it and their basis, in SI:
+    what a model figure marks when the run's verdicts rest on other values than its trace."""
+    shown = {}
+    for run in assessment.runs:
+        for gear in run.gears:
+            shown[(run.run.id, gear.gear_id)] = {
+                "basis": gear.basis, "F_peak": gear.get("F_peak"), "d_s": gear.get("d_s"),
+                "d_t": gear.get("d_t")}
+    return shown
 
 
 def _basis_view(assessment: Assessment, units) -> list[dict]:
@@ -144,8 +197,8 @@ def _basis_view(assessment: Assessment, units) -> list[dict]:
 
 
 NOT_STATED = "not stated"
-#: The report's numbered sections in order: (anchor, title); one home for the headings
-#: and the table of contents.
+#: The report's body in order, (anchor, title): the compliance evidence a reviewer signs
+#: against; one home for the headings and the table of contents.
 SECTIONS = (
     ("basis", "Certification basis"),
     ("design", "Design inputs and derived quantities"),
@@ -155,22 +208,32 @@ SECTIONS = (
     ("compliance", "Compliance findings"),
     ("data-quality", "Data-quality findings"),
     ("run-details", "Run details and derivations"),
-    ("model", "Governing-equation model"),
+    ("methods", "Methods: certkit equations"),
+    ("conclusions", "Conclusions"),
+    ("provenance", "Provenance"),
+    ("references", "References"))
+#: The appendices on the drop model, (anchor, title), lettered after the body: research on
+#: the drops, not compliance evidence.
+APPENDICES = (
+    ("model", "Drop-model calibration"),
     ("identification", "Identification: Hammerstein, Wiener and NARX models"),
     ("gap", "Sim-to-real gap: where the model disagrees, which effect explains it, how far "
-            "it shrinks"),
-    ("methods", "Methods: certkit equations"),
-    ("provenance", "Provenance"),
-    ("conclusions", "Conclusions"),
-    ("references", "References"))
+            "it shrinks"))
 PLANNING_VERDICTS = "Predicted verdicts (planning on synthetic data: not compliance findings)"
 
 
-def _headings(planning: bool) -> dict[str, str]:
-    """Anchor -> numbered heading of every section."""
+def _headings(planning: bool, appendices: bool = True) -> dict[str, str]:
+    """Anchor -> numbered heading of every section of the body, then (``appendices``)
+    lettered headings of the appendices."""
     planned = {"compliance": PLANNING_VERDICTS} if planning else {}
-    return {anchor: f"{number}. {planned.get(anchor, title)}"
-            for number, (anchor, title) in enumerate(SECTIONS, start=1)}
+    headings = {anchor: f"{number}. {planned.get(anchor, title)}"
+                for number, (anchor, title) in enumerate(SECTIONS, start=1)}
+    if appendices:
+        headings.update({anchor: f"Appendix {letter}. {title}" for letter, (anchor, title)
+                         in zip("ABCDEFGH", APPENDICES)})
+    return headings
+
+
 #: Sign-off blocks every report carries (document.signatories[].role).
 SIGN_OFF = ("prepared", "checked", "approved", "witnessed")
 

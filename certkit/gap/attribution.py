@@ -1,5 +1,5 @@
 """Which unmodelled effect explains a residual: score (Lagrange-multiplier) tests of each
-candidate effect of the library against the calibrated nominal model (issue 5, step 3).
+candidate effect of the library against the calibrated nominal model.
 
 For a candidate k with strength φ_k (0: the effect is absent, so the candidate nests the
 nominal model), its signature s_k = ∂r/∂φ_k at φ_k = 0⁺ is a finite difference of the
@@ -47,6 +47,9 @@ class Attribution:
     decisions: tuple = ()
     #: why no candidate was refitted at this step ("" when some were)
     no_refit: str = ""
+    #: the forms not scored at this step because they cannot be added to the model (a
+    #: Decision each, with the form's own reason: :meth:`Candidate.why_not`)
+    skipped: tuple = ()
 
 
 @dataclass(frozen=True)

@@ -1,5 +1,5 @@
 """How far the gap diagnosis can be trusted: a blind check on synthetic campaigns whose
-effect is withheld (issue 5; a battery sized for this machine).
+effect is withheld (a battery sized for one machine).
 
 Every case is a campaign simulated from the template campaign's spec:
 
@@ -336,7 +336,7 @@ def _gap_to_truth(clean, gear_id: str, diagnosis) -> tuple[float, float]:
 
 
 # --------------------------------------------------------------------------- scoring
-#: Targets of issue 5 (at effect/noise ≥ 2): (value, "at least" | "at most").
+#: The targets the diagnosis is held to (at effect/noise ≥ 2): (value, "at least" | "at most").
 TARGETS = {"top1": (0.85, "at least"), "false_attribution": (0.10, "at most"),
            "median_shrink": (0.50, "at least"), "harm_rate": (0.10, "at most")}
 SCORED_FROM = 2.0

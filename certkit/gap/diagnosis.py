@@ -1,5 +1,5 @@
 """The sim-to-real gap of a gear unit's drop model: where it lies, which unmodelled effect
-explains it and how far it shrinks once that effect is added (issue 5).
+explains it and how far it shrinks once that effect is added.
 
 1. The nominal model (no optional effects) is calibrated on the training runs; the
    held-out runs (:func:`certkit.gap.holdout.split_for`: the spec's ``model.gap.held_out``, by
@@ -38,6 +38,7 @@ from certkit.physics.calibration import (CHANNEL_UNITS, GearCalibration, aligned
                                          calibrate_gear)
 from certkit.physics.drops import MIDDLE_FROM
 from certkit.spec.campaign import Campaign
+from certkit.threads import one_blas_thread
 
 CHANNELS = ("load", "stroke", "tyre")
 #: The phase label of an error over the whole record from touchdown.
@@ -163,6 +164,7 @@ class GapDiagnosis:
     # certkit.gap.missing_force.MissingForce of every run under the calibrated nominal model
 
 
+@one_blas_thread
 def gap_diagnosis(campaign: Campaign, gear_id: str) -> GapDiagnosis:
     """The whole gap diagnosis of ``gear_id`` on its training/held-out split.
 

@@ -1,5 +1,5 @@
 """The force the calibrated nominal model misses, estimated from the records alone: a
-model-free view of the gap (issue 14).
+model-free view of the gap.
 
 On the first compression and rebound of each run (touchdown to the end of the rebound,
 :mod:`certkit.gap.phases`), the strut and tyre force balances are inverted with the

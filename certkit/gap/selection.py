@@ -1,6 +1,6 @@
 """Which effect(s) to name: the greedy choice among the library's candidate effects, with
-its rules stated once here and every decision recorded where it is taken (issue 5 step 3;
-issue 14: forms, ties, harm and the floor).
+its rules stated once here and every decision recorded where it is taken (forms, ties,
+harm and the floor).
 
 At each of at most two steps the candidates (every form of every effect not yet named)
 are scored and profiled (:mod:`certkit.gap.attribution`); the best form of each of the
@@ -34,6 +34,7 @@ from certkit.gap.residuals import gap_shares, harmed, noise_level, shifted_fit
 from certkit.physics.calibration import RunResiduals, aligned_records, calibrate_gear
 from certkit.physics.drop_model import DropModel
 from certkit.physics.effects import CANDIDATES, Candidate
+from certkit.threads import one_blas_thread
 
 __all__ = ["CANDIDATES", "DETECTABLE", "GAIN", "LEADING", "RELEVANT", "TIE_COST", "TIMING_SHARE",
            "Diagnosis", "diagnose"]
@@ -172,6 +173,7 @@ def _mistimed(residuals: RunResiduals, base: np.ndarray, fitted: np.ndarray,
     return (channel, shift, share) if share >= TIMING_SHARE else None
 
 
+@one_blas_thread
 def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
              calibration=None) -> Diagnosis:
     """Which effect(s) of the library explain the gap of ``gear_id``'s nominal model (the
@@ -202,7 +204,13 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
                               lambda v: _configured(residuals, calibration.knobs, chosen, v))
         named_effects = {c.name for c in chosen}
         remaining = [c for c in candidates if c.name not in named_effects]
-        attribution = score_candidates(residuals, models, jacobian, remaining)
+        # a form that cannot be added to this model (its family is empty there) is not
+        # scored, and the reason is recorded: it would only fail to build
+        unfit = {c.key: c.why_not(models[0]) for c in remaining}
+        skipped = tuple(Decision(key, f"not scored: {why}") for key, why in unfit.items() if why)
+        remaining = [c for c in remaining if not unfit[c.key]]
+        attribution = replace(score_candidates(residuals, models, jacobian, remaining),
+                              skipped=skipped)
         profile = profiles(residuals, calibration, chosen, remaining, current, jacobian)
         attribution = replace(attribution, profiles={n: (float(v[-1]), c)
                                                      for n, (v, c) in profile.items()})

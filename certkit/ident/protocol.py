@@ -55,6 +55,7 @@ from certkit.physics.drops import default_split, drop_heights, recorded_drops
 from certkit.physics.gear_model import drop_model_for
 from certkit.spec.campaign import Campaign
 from certkit.spec.rundata import CHANNEL_LABELS
+from certkit.threads import one_blas_thread
 from certkit.units import STANDARD_GRAVITY
 
 #: How reports and the terminal name the validation protocols (Score.protocol).
@@ -261,12 +262,15 @@ def _refit(model, train: list[Drop], output: str):
 
 
 def _governing_equation(campaign: Campaign, gear_id: str, result: GearIdentification,
-                        held: list[Drop]):
+                        held: list[Drop], calibration=None):
     """Nominal and calibrated (on the training runs only) drop models on the held-out runs;
-    returns the calibrated model of the first held-out run (the Wiener plant), or None."""
+    returns the calibrated model of the first held-out run (the Wiener plant), or None.
+    ``calibration``: the gear's drop model already calibrated, used when it was fitted to
+    exactly these training runs (one calibrated model for the report), else made here."""
 
     try:
-        calibration = calibrate_gear(campaign, gear_id, run_ids=list(result.training))
+        if calibration is None or set(calibration.runs) != set(result.training):
+            calibration = calibrate_gear(campaign, gear_id, run_ids=list(result.training))
     except CertkitInputError as error:
         result.notes.append("governing equation not simulated: " + "; ".join(
             p.message for p in error.problems))
@@ -307,8 +311,13 @@ def _whiteness(result, name, output, test, predicted):
         y - predicted, test.load, max_lag=WHITENESS_LAGS, confidence=WHITENESS_CONFIDENCE)))
 
 
-def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None:
+@one_blas_thread
+def identify_gear(campaign: Campaign, gear_id: str,
+                  calibration=None) -> GearIdentification | None:
     """Identify and validate every model of ``gear_id``; None without two usable runs.
+    ``calibration``: the gear's calibrated drop model
+    (:class:`certkit.physics.calibration.GearCalibration`), reused when it was fitted to the
+    identification's training runs.
 
     Orders, hyper-parameters, the held-out runs and the small-signal settings come from
     the spec's ``model.identification`` (defaults: the seed's orders, everything tuned,
@@ -328,7 +337,7 @@ def identify_gear(campaign: Campaign, gear_id: str) -> GearIdentification | None
         return None
     result = GearIdentification(gear_id, tuple(d.run for d in train),
                                 tuple(d.run for d in held), measured={d.run: d for d in drops})
-    plant_model = _governing_equation(campaign, gear_id, result, held)
+    plant_model = _governing_equation(campaign, gear_id, result, held, calibration)
     first = held[0]   # the paper's protocol: the first 200 samples of the highest held-out drop
     paper_train = Drop(first.run, first.load[:PAPER_TRAINING],
                        {k: v[:PAPER_TRAINING] for k, v in first.outputs.items()},
@@ -474,32 +483,42 @@ def _identify_wiener(result, output, routes, train, held, paper_train, settings)
                                     first.outputs[output], paper.simulate(first.load)))
 
 
-def identify(campaign: Campaign, gears: list[str] | None = None) -> Identification:
-    """Every gear unit (or ``gears``) with at least two recorded drops."""
-    spec = campaign.spec
-    small_signal = [r.id for r in spec.runs if r.test_type == "small-signal"]
-    plant_note = (
-        "The campaign has no small-signal run, so the Wiener routes' plant is the gear's drop "
-        "model calibrated on the training runs, driven by a prescribed ground load (the tyre "
-        "contact replaced by the applied force) around its resting point."
-        if not small_signal else
-        f"Small-signal run(s) {', '.join(small_signal)} recorded: the small-signal Wiener "
-        f"blocks come from them; the best-linear-approximation route still uses the "
-        f"calibrated drop model as its plant.")
-    chosen = [u.id for u in spec.gear_units if gears is None or u.id in gears]
+def plant_note(campaign: Campaign) -> str:
+    """What the Wiener routes' plant is, in words (the same for every gear unit)."""
+    small_signal = [r.id for r in campaign.spec.runs if r.test_type == "small-signal"]
+    if not small_signal:
+        return ("The campaign has no small-signal run, so the Wiener routes' plant is the "
+                "gear's drop model calibrated on the training runs, driven by a prescribed "
+                "ground load (the tyre contact replaced by the applied force) around its "
+                "resting point.")
+    return (f"Small-signal run(s) {', '.join(small_signal)} recorded: the small-signal Wiener "
+            f"blocks come from them; the best-linear-approximation route still uses the "
+            f"calibrated drop model as its plant.")
+
+
+def not_identified(campaign: Campaign, gear_id: str) -> str | None:
+    """Why ``gear_id`` has no identification, in words (None: it has no drop at all, so
+    there is nothing to say)."""
+    unused: list[str] = []
+    usable = _drops(campaign, gear_id, unused)
+    if unused or usable:
+        return (f"{gear_id}: {len(usable)} usable drop(s), two needed"
+                + (f" ({'; '.join(unused)})" if unused else ""))
+    return None
+
+
+def identify(campaign: Campaign, gears: list[str] | None = None,
+             calibrations: dict | None = None) -> Identification:
+    """Every gear unit (or ``gears``) with at least two recorded drops; ``calibrations``:
+    gear id -> its calibrated drop model, reused where it fits (:func:`identify_gear`)."""
+    chosen = [u.id for u in campaign.spec.gear_units if gears is None or u.id in gears]
     # one BLAS thread: the results must not depend on the machine's core count
     with threadpool_limits(limits=1):
-        found = [g for g in (identify_gear(campaign, gear_id) for gear_id in chosen) if g]
-    skipped = []
-    for gear_id in chosen:
-        if any(g.gear_id == gear_id for g in found):
-            continue
-        unused: list[str] = []
-        usable = _drops(campaign, gear_id, unused)
-        if unused or usable:
-            skipped.append(f"{gear_id}: {len(usable)} usable drop(s), two needed"
-                           + (f" ({'; '.join(unused)})" if unused else ""))
-    return Identification(found, plant_note, skipped)
+        found = [g for g in (identify_gear(campaign, gear_id, (calibrations or {}).get(gear_id))
+                             for gear_id in chosen) if g]
+    skipped = [note for gear_id in chosen if not any(g.gear_id == gear_id for g in found)
+               for note in [not_identified(campaign, gear_id)] if note]
+    return Identification(found, plant_note(campaign), skipped)
 
 
 def identification_document(identification) -> dict | None:

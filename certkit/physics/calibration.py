@@ -1,7 +1,9 @@
 """Calibrating the drop model of each gear unit against the campaign's measured runs.
 
-For one gear unit, the chosen parameters are fitted to every run that records it, jointly
-(all drop heights at once), by bounded least squares on normalised residuals of all its
+For one gear unit, the chosen parameters are fitted to its training runs jointly (every
+drop height of them at once; by default the drops that :func:`certkit.physics.drops.default_split`
+does not hold out, the spec's ``model.calibration.runs`` when it names them), by bounded
+least squares on normalised residuals of all its
 recorded channels (:func:`certkit.physics.fitting.fit`).  The simulation is the batched fast path
 at a step fixed for the whole fit, so the residuals are a smooth function of the
 parameters and a finite-difference Jacobian is one batched call.
@@ -29,13 +31,14 @@ from certkit.compliance.clauses import ideal_impact_velocity
 from certkit.compliance.measures import contact_velocity, touchdown_time
 from certkit.errors import CertkitInputError
 from certkit.physics.drop_model import DropModel
-from certkit.physics.drops import recorded_drops
+from certkit.physics.drops import default_split, recorded_drops
 from certkit.physics.effects import KNOBS as EFFECT_KNOBS
 from certkit.physics.effects.base import Knob, set_effect
 from certkit.physics.fitting import FitParameter, FitResult, fit
 from certkit.physics.gear_model import drop_model_for
 from certkit.physics.simulation import batch_step, simulate_batch
 from certkit.spec.campaign import Campaign
+from certkit.threads import one_blas_thread
 
 CHANNELS = ("load", "stroke", "tyre")
 CHANNEL_UNITS = {"load": "N", "stroke": "m", "tyre": "m"}
@@ -119,7 +122,8 @@ DEFAULT_KNOBS = ("discharge-coefficient", "gas-precharge", "polytropic-exponent"
 # --------------------------------------------------------------------------- results
 @dataclass(frozen=True)
 class ChannelError:
-    """RMSE of one channel of one run, nominal and calibrated model (SI)."""
+    """RMSE of one channel of one run, nominal and calibrated model (SI); ``role`` says
+    whether the run was fitted ("training") or only simulated ("held out")."""
 
     run: str
     channel: str
@@ -127,6 +131,7 @@ class ChannelError:
     nominal: float
     calibrated: float
     measured_range: float
+    role: str = "training"
 
 
 @dataclass(frozen=True)
@@ -144,7 +149,7 @@ class Trace:
 @dataclass(frozen=True)
 class GearCalibration:
     gear_id: str
-    runs: tuple[str, ...]
+    runs: tuple[str, ...]          # the runs fitted (training)
     knobs: tuple[Knob, ...]
     fit: FitResult
     errors: tuple[ChannelError, ...]
@@ -153,6 +158,7 @@ class GearCalibration:
     step: float                    # RK4 step of the final simulations [s]
     nominal_model: DropModel
     calibrated_model: DropModel
+    held_out: tuple[str, ...] = ()   # recorded drops not fitted, simulated to validate
 
     def apply(self, model: DropModel) -> DropModel:
         """``model`` (of this gear, any run) with the calibrated values."""
@@ -243,10 +249,13 @@ def _residual_vector(runs: list[_Run], simulated: list[dict]) -> np.ndarray:
     return np.concatenate(parts)
 
 
+@one_blas_thread
 def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = None,
                    effects: list[str] | None = None, run_ids: list[str] | None = None
                    ) -> GearCalibration:
-    """Fit ``knobs`` of ``gear_id``'s drop model to every run recording it.
+    """Fit ``knobs`` of ``gear_id``'s drop model to the runs ``run_ids`` (default: every
+    run recording it); every other recorded drop of the gear is simulated with the nominal
+    and the fitted parameters and compared with its record (``role`` "held out").
 
     Raises
     ------
@@ -304,40 +313,60 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
     result = fit(lambda x: many(np.asarray(x)[None, :])[0], parameters, residuals_many=many,
                  max_evaluations=60, tolerance=1e-6)
 
-    nominal_models = [configure(r.model, nominal) for r in runs]
-    fitted_models = [configure(r.model, result.estimate) for r in runs]
-    step = batch_step(nominal_models + fitted_models, [r.velocity for r in runs] * 2, rate)
-    before = _simulated(runs, nominal_models, step, rate)
-    after = _simulated(runs, fitted_models, step, rate)
+    fitted_ids = {r.run_id for r in runs}
+    held = [] if run_ids is None else [r for r in _runs_for(campaign, gear_id, chosen_effects,
+                                                            None) if r.run_id not in fitted_ids]
+    shown = runs + held
+    nominal_models = [configure(r.model, nominal) for r in shown]
+    fitted_models = [configure(r.model, result.estimate) for r in shown]
+    step = batch_step(nominal_models + fitted_models, [r.velocity for r in shown] * 2, rate)
+    before = _simulated(shown, nominal_models, step, rate)
+    after = _simulated(shown, fitted_models, step, rate)
     errors, traces = [], []
-    for run, sim0, sim1 in zip(runs, before, after):
+    for run, sim0, sim1 in zip(shown, before, after):
+        role = "training" if run.run_id in fitted_ids else "held out"
         for name, measured in run.channels.items():
             errors.append(ChannelError(
                 run.run_id, name, CHANNEL_UNITS[name],
                 float(np.sqrt(np.mean((sim0[name] - measured) ** 2))),
-                float(np.sqrt(np.mean((sim1[name] - measured) ** 2))), run.scales[name]))
+                float(np.sqrt(np.mean((sim1[name] - measured) ** 2))), run.scales[name], role))
             traces.append(Trace(run.run_id, name, run.time, measured, sim0[name], sim1[name]))
     return GearCalibration(
         gear_id=gear_id, runs=tuple(r.run_id for r in runs), knobs=tuple(chosen), fit=result,
         errors=tuple(errors), traces=tuple(traces),
-        contact_velocities={r.run_id: (r.velocity, r.velocity_source) for r in runs},
-        step=step, nominal_model=base, calibrated_model=configure(base, result.estimate))
+        contact_velocities={r.run_id: (r.velocity, r.velocity_source) for r in shown},
+        step=step, nominal_model=base, calibrated_model=configure(base, result.estimate),
+        held_out=tuple(r.run_id for r in held))
 
 
+def calibration_runs(campaign: Campaign, gear_id: str) -> list[str]:
+    """The runs ``gear_id``'s drop model is fitted to: the spec's ``model.calibration.runs``
+    when it names them, else the training drops of
+    :func:`certkit.physics.drops.default_split` (every drop when that holds out all of
+    them: drops at one height)."""
+    settings = campaign.spec.model.calibration
+    if settings is not None and settings.runs:
+        return list(settings.runs)
+    training, held = default_split(campaign, gear_id)
+    return training if training else held
+
+
+@one_blas_thread
 def calibrate(campaign: Campaign, knobs: list[str] | None = None,
               gears: list[str] | None = None, effects: list[str] | None = None,
               run_ids: list[str] | None = None) -> Calibration:
-    """Calibrate every gear unit (or ``gears``) that some run records with time histories."""
+    """Calibrate every gear unit (or ``gears``) that some run records with time histories,
+    each on ``run_ids`` (default: :func:`calibration_runs`), validated on its other drops."""
     spec = campaign.spec
     settings = spec.model.calibration
     if knobs is None and settings is not None and settings.parameters:
         knobs = list(settings.parameters)
-    if run_ids is None and settings is not None and settings.runs:
-        run_ids = list(settings.runs)
     recorded = [g.id for g in spec.gear_units
                 if any(s is not None and g.id in s.gears for s in campaign.series.values())]
     chosen = recorded if gears is None else [g for g in gears if g in recorded]
-    results = tuple(calibrate_gear(campaign, gear_id, knobs, effects, run_ids)
+    results = tuple(calibrate_gear(campaign, gear_id, knobs, effects,
+                                   run_ids if run_ids is not None
+                                   else calibration_runs(campaign, gear_id))
                     for gear_id in chosen)
     return Calibration(tuple(spec.model.effects if effects is None else effects), results)
 
@@ -353,7 +382,7 @@ def calibration_document(calibration: Calibration) -> dict:
         fit_ = gear.fit
         gears.append({
             "gear_unit": gear.gear_id,
-            "runs": list(gear.runs),
+            "runs": list(gear.runs), "held_out": list(gear.held_out),
             "contact_velocity": {run: {"value_m_per_s": v, "source": source}
                                  for run, (v, source) in gear.contact_velocities.items()},
             "parameters": [
@@ -363,8 +392,8 @@ def calibration_document(calibration: Calibration) -> dict:
             "correlation": [[_finite(c) for c in row] for row in fit_.correlation],
             "warnings": list(fit_.warnings),
             "normalised_rms": {"nominal": fit_.cost_nominal, "calibrated": fit_.cost},
-            "rmse": [{"run": e.run, "channel": e.channel, "unit": e.unit, "nominal": e.nominal,
-                      "calibrated": e.calibrated} for e in gear.errors],
+            "rmse": [{"run": e.run, "role": e.role, "channel": e.channel, "unit": e.unit,
+                      "nominal": e.nominal, "calibrated": e.calibrated} for e in gear.errors],
             "converged": bool(fit_.success), "message": fit_.message,
             "evaluations": fit_.evaluations, "step_s": gear.step,
         })

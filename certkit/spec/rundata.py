@@ -34,6 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
+from certkit.display import number
 from certkit.errors import (ECHO_LIMIT, CertkitInputError, Problem, escaped, key_path,
                             shown)
 from certkit.spec.schema import Column, GearUnit, Run, TimeColumn
@@ -493,9 +494,18 @@ def _gear_series(check: _Checker, frame, first_line: int, gear_id: str, channels
                    PLAUSIBLE_STROKE_OVER_DESIGN * unit.design_stroke.si, "m",
                    channels.strut_stroke.unit)
     if tyre is not None:
-        limit = unit.tyre.diameter.si / 2 if unit.tyre.diameter else 0.5
+        # no deflection reaches the tyre's radius: the declared tyre diameter, else the
+        # wheel diameter, else a 1 m tyre (the message says which)
+        if unit.tyre.diameter:
+            limit, basis = unit.tyre.diameter.si / 2, "half the tyre diameter"
+        elif unit.wheel_diameter:
+            limit, basis = unit.wheel_diameter.si / 2, "half the wheel diameter"
+        else:
+            limit, basis = 0.5, ("half a 1 m tyre, assumed: neither tyre.diameter nor "
+                                 "wheel_diameter is declared")
         _plausible(check, first_line, base + ("tyre_deflection",), tyre,
-                   -PLAUSIBLE_NEGATIVE_TRAVEL, limit, "m", channels.tyre_deflection.unit)
+                   -PLAUSIBLE_NEGATIVE_TRAVEL, limit, "m", channels.tyre_deflection.unit,
+                   f"upper end: {basis}")
     return GearSeries(load, stroke, tyre)
 
 
@@ -561,7 +571,8 @@ def _longest_run(mask: np.ndarray) -> int:
 
 
 def _plausible(check: _Checker, first_line: int, location: tuple, values: np.ndarray,
-               low: float, high: float, si_unit: str, column_unit: str) -> None:
+               low: float, high: float, si_unit: str, column_unit: str,
+               basis: str = "") -> None:
     """An input error (waivable) when a channel's SI ``values`` leave [low, high]; the
     message speaks in the column's own unit, the one the user's file is written in."""
     finite = np.isfinite(values)
@@ -570,6 +581,7 @@ def _plausible(check: _Checker, first_line: int, location: tuple, values: np.nda
         i = int(outside[0])
         shown = [convert(float(v), si_unit, column_unit) for v in (values[i], low, high)]
         check.waivable("implausible_range", _row(first_line, i), check.key(*location, "column"),
-                       f"value {shown[0]:.4g} {column_unit} (after scale, sign and offset) is "
-                       f"outside the plausible range [{shown[1]:.4g}, {shown[2]:.4g}] "
-                       f"{column_unit} ({outside.size} samples); check the channel mapping")
+                       f"value {number(shown[0])} {column_unit} (after scale, sign and offset) is "
+                       f"outside the plausible range [{number(shown[1])}, {number(shown[2])}] "
+                       f"{column_unit}{f' ({basis})' if basis else ''} ({outside.size} "
+                       f"samples); check the channel mapping")

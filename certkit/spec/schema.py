@@ -477,7 +477,11 @@ class CalibrationSpec(SpecBlock):
     exponent, the top-out stop's compression, friction and load-cell gain when those are on)."""
 
     parameters: list[CalibrationParameter] = Field([], description="parameters to fit")
-    runs: list[Identifier] = Field([], description="runs to fit to (default: all with data)")
+    runs: list[Identifier] = Field(
+        [], description="runs to fit to (default: the drops the identification trains on: "
+                        "every drop but those at the highest drop height, and the middle "
+                        "height's when there are four heights or more); the others are "
+                        "simulated to validate the calibrated model")
 
 
 class BlockModelSpec(SpecBlock):

@@ -46,6 +46,13 @@ class Candidate:
     #: gain): its correction must fit that channel's residual at the same instant, which
     #: the diagnosis checks (:func:`certkit.gap.residuals.shifted_fit`); "" for the others
     memoryless_on: str = ""
+    #: why the form cannot be added to a calibrated model, in words ("" when it can): a form
+    #: whose family is empty at that model is skipped with this reason, never built
+    inapplicable: Callable[[DropModel], str] | None = None
+
+    def why_not(self, model: DropModel) -> str:
+        """"" when the form can be added to ``model``, else why not, in words."""
+        return self.inapplicable(model) if self.inapplicable else ""
 
     @property
     def key(self) -> str:

@@ -41,12 +41,24 @@ def _build(gear) -> GasHeatTransfer:
     return GasHeatTransfer(heat.time_constant.si, heat.ratio_of_specific_heats.si)
 
 
+def _isothermal(model) -> str:
+    """The candidate takes γ = the calibrated polytropic exponent n, so that fast compression
+    stays where the calibration put it; at n = 1 the gas is isothermal already and a heat
+    exchange with the walls has nothing left to change (γ = 1: θ stays 1)."""
+    exponent = model.gas.exponent
+    if exponent > 1.0:
+        return ""
+    return (f"the calibrated polytropic exponent is n = {exponent:.4g}, the isothermal "
+            f"law: with γ = n the gas has no heat left to exchange with the walls, so the "
+            f"form would not change the model")
+
+
 EFFECT = Effect(
     label="heat transfer", name="heat-transfer", needs=(("strut", "heat_transfer"),),
     build=_build,
     candidates=(Candidate("heat transfer", "a thermal time constant of 1 s (γ = the polytropic n)",
                         lambda m, phi: m.with_effect(GasHeatTransfer(1.0 / phi, m.gas.exponent))
-                        if phi > 0 else m),),
+                        if phi > 0 else m, inapplicable=_isothermal),),
     truth=Truth("heat transfer", "nitrogen (γ = 1.4) exchanging heat with the walls, sized from "
                                  "its adiabatic limit (the candidate: γ = the calibrated "
                                  "polytropic exponent n)", (0.01, 50.0),
