@@ -105,6 +105,8 @@ TIMESERIES_SPEC = textwrap.dedent("""\
         shock_absorber: oleo-pneumatic
         design_stroke: 120 mm
         tyre: {size: 5.00-5, pressure: 30 psi, pressure_reference: gauge, diameter: 380 mm}
+        # the analytic load is the strut's force: no unsprung mass, a vertical strut
+        strut: {unsprung_mass: 0 kg, inclination: 0 deg}
     instrumentation:
       sampling_rate: 1000 Hz
     runs:

@@ -52,7 +52,11 @@ def result(measured):
 
 def test_calibration_recovers_the_truth_within_its_standard_errors(result):
     gear = result.gears[0]
-    assert gear.runs == ("D200", "D250", "D300")
+    # fitted to the training drops; the highest drop is held out and only simulated
+    assert gear.runs == ("D200", "D250") and gear.held_out == ("D300",)
+    assert {(e.run, e.role) for e in gear.errors} == {("D200", "training"),
+                                                      ("D250", "training"),
+                                                      ("D300", "held out")}
     for parameter, estimate, error in zip(gear.fit.parameters, gear.fit.estimate,
                                           gear.fit.standard_error):
         true = TRUE_VALUES[parameter.name]
@@ -67,6 +71,7 @@ def test_calibration_recovers_the_truth_within_its_standard_errors(result):
 
 
 def test_calibrated_model_fits_to_the_noise_and_the_nominal_does_not(result):
+    # the held-out drop too: the calibrated model predicts it to within the noise
     for error in result.gears[0].errors:
         noise = 20.0 if error.channel == "load" else 5.0e-5
         assert error.calibrated == pytest.approx(noise, rel=0.1)   # white noise RMS
@@ -82,7 +87,9 @@ def test_cli_prints_estimates_correlations_and_writes_json(measured, tmp_path):
     document = json.loads(target.read_text(encoding="utf-8"))
     names = [p["name"] for p in document["gear_units"][0]["parameters"]]
     assert names == ["discharge-coefficient", "tyre-stiffness"]
-    assert len(document["gear_units"][0]["rmse"]) == 9  # 3 runs x 3 channels
+    assert len(document["gear_units"][0]["rmse"]) == 9  # 3 runs x 3 channels, D300 held out
+    assert {r["role"] for r in document["gear_units"][0]["rmse"] if r["run"] == "D300"} == \
+        {"held out"}
 
 
 def test_a_parameter_ending_on_its_bound_is_flagged(measured):

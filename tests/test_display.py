@@ -49,7 +49,11 @@ def test_model_parameters_follow_the_display_unit_of_their_kind():
     assert parameter(800000.0, "Pa", US) == ("116.0", "psi")   # 0.8 MPa = 116.03 psi
     assert parameter(80.0, "N", US) == ("17.98", "lbf")
     assert parameter(0.6, "1", US) == ("0.6000", "")
-    assert parameter(6.5e-4, "m^3", US) == ("6.500×10⁻⁴", "m³")   # no display unit for volume
+    # a compound unit in the display units of its parts: 6.5e-4 m³ / (0.0254 m)³ = 39.67 in³,
+    # 1.832e4 N·s²/m² × (0.0254 m)²/4.448222 N = 2.657 lbf·s²/in², 5 s/m × 0.0254 = 0.127 s/in
+    assert parameter(6.5e-4, "m^3", US) == ("39.67", "in³")
+    assert parameter(1.832e4, "N*s^2/m^2", US) == ("2.657", "lbf·s²/in²")
+    assert parameter(5.0, "s/m", US) == ("0.1270", "s/in")
 
 
 @pytest.mark.parametrize("given, expected", [

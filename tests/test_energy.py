@@ -89,7 +89,7 @@ def balance_campaign(folder, drop: dict, drop_mass: str):
 
     raw = yaml.safe_load(TIMESERIES_SPEC)
     raw["gear_units"][0].update(static_weight="2900 N", design_stroke="250 mm",
-                                strut={"unsprung_mass": "17.6 lb"})
+                                strut={"unsprung_mass": "17.6 lb", "inclination": "0 deg"})
     run = raw["runs"][0]
     run.update(drop_mass=drop_mass, lift={"method": "none"})
     run["data"] = {"file": "data/r1.csv", "time": {"column": "t_s", "unit": "s"},

@@ -241,14 +241,17 @@ def test_the_gap_section_lays_out_the_diagnosis(diagnosed, with_hysteresis):
                              gap_notes=("right-main: not diagnosed. Example note.",))
     html = report_module.render_html(report_module.build_view(
         assess(campaign), provenance(campaign.inputs), evidence))
-    section = html[html.index('<section id="gap">'):html.index('<section id="methods">')]
-    assert "11. Sim-to-real gap" in section and "12. Methods" in html
-    assert "13. Provenance" in html
+    # an appendix after the body, which ends with the references
+    section = html[html.index('<section id="gap" class="appendix">'):]
+    assert html.index('<section id="references">') < html.index('<section id="model"')
+    assert "Appendix C. Sim-to-real gap" in section and "9. Methods" in html
+    assert "11. Provenance" in html
+    assert "This appendix is not compliance evidence" in section
     assert diagnosed.diagnosis.statement in section
     assert "right-main: not diagnosed. Example note." in section
     # the map before, the held-out overlay, the missing force, the map that remains
     assert section.count("<svg") == 4
-    assert "the force the calibrated nominal model misses, from the records alone" in section
+    assert "the force the calibrated bare model misses, from the records alone" in section
     assert "loop ∝ static curve × sign(δ̇)" in section      # the shapes' table
     assert ("the default (every drop at the highest drop height held out, and at the middle "
             "one from 4 heights up)") in section          # holdout.MIDDLE_FROM = 4
@@ -302,12 +305,15 @@ def test_a_bad_blind_check_record_is_an_input_error_naming_the_key(with_hysteres
 
 def test_the_report_summarises_the_blind_check_and_says_what_falls_short(with_hysteresis,
                                                                          tmp_path):
+    from certkit.evidence.model_evidence import ModelEvidence
+    from certkit.physics.calibration import Calibration
+
     spec = _with_blind_check(with_hysteresis, BLIND, "blind-report.yaml")
     out = tmp_path / "out"
-    render_report(assess(load_campaign(spec)), out)
+    # model evidence with no gear diagnosed: the gap appendix with the record, nothing else
+    render_report(assess(load_campaign(spec)), out, model=ModelEvidence(Calibration((), ()), ""))
     html = (out / "report.html").read_text(encoding="utf-8")
-    section = html[html.index("How far the diagnosis can be trusted"):
-                   html.index('<section id="methods">')]
+    section = html[html.index("How far the diagnosis can be trusted"):]
     # the record's fractions as percentages: 24 of 30 = 80.0 % against at least 85 %
     assert "80.0 %" in section and "24 of 30 cases" in section and "at least 85.0 %" in section
     assert "NOT met" in section and section.count(">met<") == 3
@@ -316,8 +322,8 @@ def test_the_report_summarises_the_blind_check_and_says_what_falls_short(with_hy
     assert "harm rate" in section and "3.0 %" in section and "at most 10.0 %" in section
     # the curve and the confusion matrix: the 5× row and the one case named "cannot tell apart"
     assert "90.0 %" in section and "cannot tell apart" in section
-    # the gap diagnosis itself was not run (no model): said, not hidden
-    assert "The gap diagnosis was not run for this report" in html
+    # no gear unit was diagnosed: said, not hidden
+    assert "No gear unit was diagnosed." in html
     record = json.loads((out / "results.json").read_text(encoding="utf-8"))["provenance"]
     names = {i["file"]: i["sha256"] for i in record["inputs"]}
     assert names["blind/blind_check.json"] == hashlib.sha256(BLIND.read_bytes()).hexdigest()

@@ -137,7 +137,7 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
     inclination = strut.inclination.si if strut and strut.inclination else 0.0
     cos_theta = math.cos(inclination)
     assumptions = {}
-    if not (strut and strut.inclination):
+    if not (strut and strut.inclination is not None):
         assumptions["θ"] = (f"θ = 0 assumed (strut vertical): "
                             f"gear_units[{gear_id}].strut.inclination not declared")
     reported = run.reported.gears.get(gear_id) if run.reported else None
@@ -161,7 +161,7 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
     if gear_series is not None:
         basis = f"time series ({series.file})"
         measures = _measured_values(put, series, gear_series, unit, weight, inclination)
-        if not (strut and strut.unsprung_mass):
+        if not (strut and strut.unsprung_mass is not None):
             assumptions["m2"] = (f"m2 = 0 assumed (F_s = F_V·cos θ): "
                                  f"gear_units[{gear_id}].strut.unsprung_mass not declared")
     elif reported is not None:
@@ -209,7 +209,8 @@ def _measured_values(put, series: RunSeries, gear_series, unit: GearUnit, weight
                      inclination: float) -> GearMeasures:
     """The values measured from a gear unit's time series (certkit M1-M3, E1, E5)."""
     strut = unit.strut
-    unsprung = strut.unsprung_mass.si if strut and strut.unsprung_mass else 0.0
+    declared = strut is not None and strut.unsprung_mass is not None
+    unsprung = strut.unsprung_mass.si if declared else 0.0
     measures = measure_gear(series.time, gear_series.load, gear_series.stroke,
                             gear_series.tyre, weight, inclination, unsprung)
     source_file = {"data": series.file}
@@ -231,10 +232,10 @@ def _measured_values(put, series: RunSeries, gear_series, unit: GearUnit, weight
     put("E_s", "Energy absorbed by the strut", "E_s", measures.strut_energy, "J", "energy",
         "certkit E1", "E_s = ∫ F_s ds, F_s/cos θ = F_V − m2·(g − δ̈), loading stroke",
         source_file | ({"m2": _spec_input(f"gear_units[{unit.id}].strut.unsprung_mass",
-                                          strut.unsprung_mass.text)} if unsprung else {}))
+                                          strut.unsprung_mass.text)} if declared else {}))
     put("E_t", "Energy absorbed by the tyre", "E_t", measures.tyre_energy, "J", "energy",
         "certkit E1", "E_t = ∫ F_V dδ, loading stroke", source_file)
-    if unsprung or measures.energy_at_max_travel is None:
+    if declared or measures.energy_at_max_travel is None:
         put("E_d", "Energy absorbed at maximum total travel", "E_d",
             measures.energy_at_max_travel, "J", "energy", "certkit E5",
             "E_d = E_s(t_d) + E_t(t_d), t_d the instant of maximum δ + s·cos θ",

@@ -414,7 +414,7 @@ def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: s
 
 
 def missing_force_figure(gear_id: str, forces, units, origins: dict) -> dict:
-    """The force the calibrated nominal model misses on each run's first compression and
+    """The force the calibrated bare model misses on each run's first compression and
     rebound (:mod:`certkit.gap.missing_force`): the strut's against stroke rate, the tyre's
     against tyre deflection.  A sign(ṡ) step shows as a jump at ṡ = 0, rebound damping as a
     curve on the extension side only, a tyre loop as two branches in δ."""
@@ -441,12 +441,12 @@ def missing_force_figure(gear_id: str, forces, units, origins: dict) -> dict:
         tyre.set_ylabel(f"missing tyre force [{force_unit}]")
         tyre.legend(loc="best", frameon=False, fontsize=6.0)
         figure.tight_layout()
-        return {"title": f"{gear_id}: the force the calibrated nominal model misses, from the "
+        return {"title": f"{gear_id}: the force the calibrated bare model misses, from the "
                          f"records alone",
                 "caption": "First compression and rebound of each run. Left: the strut force "
                            "the records imply (from the measured load and the axle's "
-                           "acceleration) less the nominal strut law at the measured stroke "
-                           "and stroke rate. Right: the measured load less the nominal tyre "
+                           "acceleration) less the calibrated bare model's strut law at the "
+                           "measured stroke and stroke rate. Right: the measured load less its tyre "
                            "law at the measured deflection and rate. No candidate effect "
                            "enters these curves.",
                 "svg": _to_svg(figure)}

@@ -98,6 +98,12 @@ def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = 
         raise CertkitInputError(missing)
 
     total = gear_mass(spec, run, gear_id)
+    if unsprung.si <= 0:
+        raise CertkitInputError.single(
+            spec_file, line_of(lines, ("gear_units", index, "strut", "unsprung_mass")) if lines
+            else None, f"gear_units[{index}].strut.unsprung_mass",
+            f"the drop model needs a positive unsprung mass (wheel, tyre, axle and piston), "
+            f"found {unsprung.text}; 0 declares it negligible for the energies only")
     if unsprung.si >= total:
         raise CertkitInputError.single(spec_file, None, f"gear_units[{index}].strut.unsprung_mass",
                                        f"{unsprung.text} is not less than the {total:.6g} kg the "

@@ -16,9 +16,10 @@ from pydantic import Field, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
 from certkit.spec.types import (Area, ClockTime, Damping, Date, Density, Duration, Energy,
-                                Force, Fraction, Frequency, Identifier, Inclination, Length, Mass, PositiveLength,
-                                PositiveNumber, Pressure, SpecBlock, Stiffness, Text, Volume,
-                                Weight, WingLoading, quantity, unit_text)
+                                Force, Fraction, Frequency, Identifier, Inclination, Length, Mass,
+                                NonNegativeMass, PositiveLength, PositiveNumber, Pressure,
+                                SpecBlock, Stiffness, Text, Volume, Weight, WingLoading,
+                                quantity, unit_text)
 from certkit.units import parse_quantity
 
 
@@ -154,7 +155,10 @@ class Strut(SpecBlock):
     inclination: Inclination | None = None
     static_stroke: Length | None = None
     minimum_stroke: Length | None = None
-    unsprung_mass: Mass | None = None
+    unsprung_mass: NonNegativeMass | None = Field(
+        None, description="wheel, tyre, brake, axle and piston below the strut: the energies "
+                          "need it (certkit E1, E5); 0 declares it negligible; the drop model "
+                          "needs it positive")
     seal_friction: SealFrictionSpec | None = None
     metering_pin: MeteringPinSpec | None = None
     heat_transfer: HeatTransferSpec | None = None
