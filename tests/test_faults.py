@@ -563,8 +563,11 @@ def test_ctrl_c_at_any_moment_exits_130_with_a_message_and_no_traceback(seed_cop
     # before: a Ctrl-C while certkit was still importing printed a KeyboardInterrupt
     # traceback (exit -2), and a later one stopped with no word of what happened
     out = tmp_path / "out"
+    # Ctrl-C at its default in the child, whatever this test process inherited: a process
+    # that starts with SIGINT ignored (as a test runner's worker may) keeps ignoring it
     process = subprocess.Popen([*CLI, "report", str(seed_copy), "-o", str(out), "--no-model"],
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     time.sleep(delay)
     process.send_signal(signal.SIGINT)
     _, stderr = process.communicate(timeout=120)

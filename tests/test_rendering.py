@@ -69,9 +69,23 @@ TOLERANCE = 0.002
 # --------------------------------------------------------------------------- fixtures
 @pytest.fixture(scope="module")
 def example_report(tmp_path_factory) -> Path:
-    """The example campaign's report (no drop-model section), rendered once."""
+    """The example campaign's report (no drop-model appendix), rendered once."""
     out = tmp_path_factory.mktemp("example") / "out"
     render_report(assess(load_campaign(SEED)), out)
+    return out
+
+
+@pytest.fixture(scope="module")
+def measured_report(tmp_path_factory) -> Path:
+    """The analytic campaign's report (no drop-model appendix): its run is a measured
+    record, so its body draws the run's load, travel and load-travel figures."""
+    from .conftest import TIMESERIES_SPEC, analytic_signals, write_campaign, write_csv
+
+    folder = tmp_path_factory.mktemp("measured") / "campaign"
+    (folder / "data").mkdir(parents=True)
+    write_csv(folder / "data" / "r1.csv", analytic_signals())
+    out = folder.parent / "out"
+    render_report(assess(load_campaign(write_campaign(folder, TIMESERIES_SPEC))), out)
     return out
 
 
@@ -228,11 +242,13 @@ def _check_in_browser(report: Path) -> Counter:
 
 
 def test_every_figure_and_table_has_a_size_in_chromium_and_nothing_is_fetched(
-        browser, example_report):
+        browser, example_report, measured_report):
     expected = _check_in_browser(example_report / "report.html")
-    # not a vacuous pass: the example has the blind-check curve and its tables
-    assert expected["figure"] >= 1 and expected["figure svg"] == expected["figure"]
+    # not a vacuous pass: the example's body has its tables (its records are synthetic, so
+    # it draws no figure; the analytic run's report draws three)
     assert expected["table"] >= 20
+    expected = _check_in_browser(measured_report / "report.html")
+    assert expected["figure"] == 3 and expected["figure svg"] == expected["figure"]
 
 
 def test_browser_check_reports_an_image_fetched_from_the_network(
@@ -256,8 +272,8 @@ def test_browser_check_reports_an_image_fetched_from_the_network(
     assert size_problems(view, expected_elements(html)) == []
 
 
-def test_browser_check_reports_a_figure_drawn_with_no_size(browser, example_report, tmp_path):
-    html = (example_report / "report.html").read_text(encoding="utf-8")
+def test_browser_check_reports_a_figure_drawn_with_no_size(browser, measured_report, tmp_path):
+    html = (measured_report / "report.html").read_text(encoding="utf-8")
     tampered = tmp_path / "report.html"
     tampered.write_text(_inject(html, head="<style>figure svg { display: none }</style>"),
                         encoding="utf-8")
@@ -272,8 +288,8 @@ def test_browser_check_reports_a_figure_drawn_with_no_size(browser, example_repo
         f"{expected['table'] - 1} 'table' in the browser, the HTML has {expected['table']}")
 
 
-def test_browser_check_reports_a_hidden_or_empty_drawing(browser, example_report, tmp_path):
-    html = (example_report / "report.html").read_text(encoding="utf-8")
+def test_browser_check_reports_a_hidden_or_empty_drawing(browser, measured_report, tmp_path):
+    html = (measured_report / "report.html").read_text(encoding="utf-8")
     expected = expected_elements(html)
     tampered = tmp_path / "report.html"
     tampered.write_text(_inject(html, head="<style>figure svg { opacity: 0 }</style>"),
@@ -424,9 +440,9 @@ def test_pdf_pages_match_the_reference_images(example_report, tmp_path_factory):
 
 # --------------------------------------------------------------------------- page breaks
 def stranded_rows(html: str) -> list[str]:
-    """Where a page break strands part of a table, as WeasyPrint lays ``html`` out: a
-    caption at a page's foot without its table's first row, and a table split across pages
-    with a single body row alone on one of them."""
+    """Where a page break strands part of a table or a section, as WeasyPrint lays ``html``
+    out: a caption at a page's foot without its table's first row, a table split across
+    pages with a single body row alone on one of them, a heading left at a page's foot."""
     from weasyprint.formatting_structure import boxes
 
     from certkit.evidence.render import laid_out
@@ -438,7 +454,8 @@ def stranded_rows(html: str) -> list[str]:
 
     fragments: dict = {}
     problems = []
-    for number, page in enumerate(laid_out(html).pages, 1):
+    document = laid_out(html)
+    for number, page in enumerate(document.pages, 1):
         for box in page._page_box.descendants():
             if isinstance(box, boxes.TableBox):
                 fragments.setdefault(box.element, []).append((number, body_rows(box)))
@@ -454,6 +471,49 @@ def stranded_rows(html: str) -> list[str]:
         if len(parts) > 1:
             problems += [f"page {number}: one row of a table split over pages {parts} alone"
                          for number, count in parts if count == 1]
+    return problems + stranded_headings(document)
+
+
+#: The elements whose boxes stand in the flow of a page, as a reader sees them.
+_FLOW = {"h1", "h2", "h3", "h4", "p", "table", "figure", "ul", "ol", "nav", "caption"}
+
+
+def stranded_headings(document) -> list[str]:
+    """Headings a page break leaves at a page's foot: the last thing on a page is a
+    heading, or a paragraph right after its heading, whose section goes on overleaf."""
+    from weasyprint.formatting_structure import boxes
+
+    problems = []
+    pages = document.pages
+    previous = {}      # element -> the element before it among its parent's children
+    root = next(b.element for b in pages[0]._page_box.descendants()
+                if getattr(b, "element_tag", None) == "html")
+    for parent in root.iter():
+        children = list(parent)
+        previous.update({child: before for before, child in zip(children, children[1:])})
+    for number, page in enumerate(pages[:-1], 1):
+        flow = [box for box in page._page_box.descendants()
+                if isinstance(box, boxes.BlockBox) and box.element is not None
+                and box.element_tag in _FLOW and box.element_tag != "caption"]
+        if not flow:
+            continue
+        last = flow[-1]
+        # the deepest last box may be inside a table or a list: take its outermost flow box
+        ends = [b for b in flow if b.element_tag in ("h2", "h3", "h4", "p", "table", "figure",
+                                                     "ul", "ol")]
+        last = ends[-1] if ends else last
+        element = last.element
+        heading = element.tag in ("h2", "h3", "h4")
+        if not heading and element.tag == "p":
+            before = previous.get(element)
+            heading = before is not None and before.tag in ("h2", "h3", "h4") and any(
+                b.element is before for b in flow)
+            text = "".join(before.itertext()) if heading else ""
+        else:
+            text = "".join(element.itertext()) if heading else ""
+        if heading:
+            problems.append(f"page {number}: the heading {''.join(text or '')[:50]!r} at the "
+                            f"page's foot, its section overleaf")
     return problems
 
 

@@ -25,6 +25,7 @@ import os
 import signal
 from dataclasses import dataclass, field
 
+import numpy as np
 from threadpoolctl import threadpool_limits
 
 from certkit.errors import CertkitInputError
@@ -83,6 +84,12 @@ _NUMERICAL_REMEDY = {
 }
 
 
+#: The failures a campaign's data can cause in the numerics (a fit or a simulation meeting
+#: non-finite values, an overflow, a singular matrix); any other error is certkit's own.
+NUMERICAL = (FitError, SimulationError, FloatingPointError, OverflowError,
+             np.linalg.LinAlgError)
+
+
 def _failure(stage: str, gear: str, error: BaseException) -> StageFailure:
     """``error`` of ``stage`` for ``gear`` in words."""
     if isinstance(error, CertkitInputError):
@@ -92,7 +99,7 @@ def _failure(stage: str, gear: str, error: BaseException) -> StageFailure:
         return StageFailure(stage, gear, reason,
                             "correct the spec as stated" + (f" ({', '.join(keys)})"
                                                             if keys else ""))
-    if isinstance(error, (FitError, SimulationError, ArithmeticError)):
+    if isinstance(error, NUMERICAL):
         return StageFailure(stage, gear, f"the {stage} failed numerically: {error}",
                             _NUMERICAL_REMEDY[stage])
     return StageFailure(stage, gear, f"{type(error).__name__}: {error}",

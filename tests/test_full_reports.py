@@ -1,0 +1,119 @@
+"""Both shipped examples' full reports, made by the command line as a user makes them (the
+drop model's calibration, identification and gap diagnosis included):
+
+* the same bytes (results.json, report.pdf, report.html, the tables) with one thread and one
+  process as with two threads and two processes, whatever OMP_NUM_THREADS,
+  OPENBLAS_NUM_THREADS and NUMBA_NUM_THREADS say;
+* the compliance body first: page 1 names every reason a criterion is not PASS, the seed
+  example's body (before the first appendix) fits in 22 pages, each appendix opens saying it
+  is not compliance evidence;
+* exit 0, every stage computed, nothing stranded at a page break.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from .conftest import REPO, SEED
+from .test_rendering import stranded_rows
+
+SECOND = REPO / "campaigns" / "lsa-main-gear-rig" / "campaign.yaml"
+THREADS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
+
+
+def _start(spec: Path, out: Path, count: int) -> subprocess.Popen:
+    """``certkit report`` of ``spec`` into ``out`` with ``count`` threads of every kind and
+    ``count`` processes for the model stages, its evidence made afresh."""
+    environment = dict(os.environ, CERTKIT_CACHE=str(out.parent / f"cache-{count}"),
+                       CERTKIT_WORKERS=str(count), **{name: str(count) for name in THREADS})
+    return subprocess.Popen([sys.executable, "-m", "certkit.cli", "report", str(spec), "-o",
+                             str(out), "--no-cache"], env=environment, text=True,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+
+
+@pytest.fixture(scope="module", params=[SEED, SECOND], ids=["seed example", "second example"])
+def reports(request, tmp_path_factory) -> tuple[Path, Path, list]:
+    """The example's full report made twice at once: one thread and one process, and two of
+    each.  Returns the two output folders and the two runs' (exit code, stdout, stderr)."""
+    root = tmp_path_factory.mktemp("full")
+    outs = [root / "one", root / "two"]
+    running = [_start(request.param, outs[0], 1), _start(request.param, outs[1], 2)]
+    finished = []
+    for process in running:
+        stdout, stderr = process.communicate(timeout=900)
+        finished.append((process.returncode, stdout, stderr))
+    return outs[0], outs[1], finished
+
+
+def _files(folder: Path) -> dict[str, bytes]:
+    return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*"))
+            if p.is_file()}
+
+
+def test_the_full_report_is_written_with_exit_0(reports):
+    one, two, finished = reports
+    for code, stdout, stderr in finished:
+        assert code == 0, stderr
+        assert "Traceback" not in stderr and "internal error" not in stderr
+        assert "wrote" in stdout
+    for folder in (one, two):
+        assert {"report.pdf", "report.html", "results.json"} <= {p.name for p in
+                                                                folder.iterdir()}
+
+
+def test_one_and_two_threads_give_the_same_bytes(reports):
+    one, two, _ = reports
+    first, second = _files(one), _files(two)
+    assert sorted(first) == sorted(second)
+    differ = [name for name in first if first[name] != second[name]]
+    assert differ == [], f"differ with 1 and 2 threads: {differ}"
+
+
+def _pages(pdf: Path) -> list[str]:
+    import pypdfium2
+
+    document = pypdfium2.PdfDocument(pdf)
+    try:
+        return [document[i].get_textpage().get_text_range() for i in range(len(document))]
+    finally:
+        document.close()
+
+
+def test_page_one_names_why_each_criterion_is_not_shown(reports):
+    one, _, _ = reports
+    import json
+
+    results = json.loads((one / "results.json").read_text(encoding="utf-8"))
+    first = " ".join(_pages(one / "report.pdf")[0].split())
+    held = [v for v in results["verdicts"] if v["verdict"] != "PASS"]
+    assert held, "the examples both have criteria NOT SHOWN"
+    for verdict in held:
+        # the reason in words and what would show it, for every criterion held back
+        assert " ".join(verdict["shortfall"].split()) in first, verdict["id"]
+        assert " ".join(verdict["remedy"].split()) in first, verdict["id"]
+
+
+def test_the_body_comes_first_and_each_appendix_says_it_is_not_compliance_evidence(reports):
+    one, _, _ = reports
+    pages = _pages(one / "report.pdf")
+    contents = next(n for n, text in enumerate(pages) if "Contents" in text)
+    starts = {letter: next(n + 1 for n, text in enumerate(pages) if n > contents
+                           and f"Appendix {letter}." in text)
+              for letter in "ABC"}
+    assert starts["A"] < starts["B"] < starts["C"], starts
+    body = starts["A"] - 1
+    assert body <= 22, f"the body takes {body} pages"
+    html = (one / "report.html").read_text(encoding="utf-8")
+    assert html.count("This appendix is not compliance evidence: no verdict rests on it.") == 3
+    # no stage failed on either example
+    assert 'class="not-computed"' not in html
+
+
+def test_no_heading_caption_or_single_row_is_stranded(reports):
+    one, _, _ = reports
+    assert stranded_rows((one / "report.html").read_text(encoding="utf-8")) == []
