@@ -130,6 +130,16 @@ TIMESERIES_SPEC = textwrap.dedent("""\
     """)
 
 
+def report_html(assessment, model=None) -> str:
+    """The report's HTML as render_report writes it, without making the PDF (seconds a
+    test that reads only the page need not spend)."""
+    from certkit.evidence.provenance import provenance
+    from certkit.evidence.render import render_html
+    from certkit.evidence.view import build_view
+
+    return render_html(build_view(assessment, provenance(assessment.campaign.inputs), model))
+
+
 def load_script(path: Path, name: str):
     """A campaign folder's script (synthesise.py) imported as a module."""
     spec = importlib.util.spec_from_file_location(name, path)

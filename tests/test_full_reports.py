@@ -13,13 +13,14 @@ drop model's calibration, identification and gap diagnosis included):
 from __future__ import annotations
 
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
 
-from .conftest import REPO, SEED
+from .conftest import REPO, SEED, SEED_FIGURES
 from .test_rendering import stranded_rows
 
 SECOND = REPO / "campaigns" / "lsa-main-gear-rig" / "campaign.yaml"
@@ -117,3 +118,20 @@ def test_the_body_comes_first_and_each_appendix_says_it_is_not_compliance_eviden
 def test_no_heading_caption_or_single_row_is_stranded(reports):
     one, _, _ = reports
     assert stranded_rows((one / "report.html").read_text(encoding="utf-8")) == []
+
+
+def test_published_figures_appear_only_where_the_campaign_declares_them(reports):
+    # the appendices are where the seed paper's figures used to leak into other campaigns:
+    # the seed example declares them (reference_results), the second example does not
+    one, _, _ = reports
+    html = (one / "report.html").read_text(encoding="utf-8")
+    # figures are inline SVG: their path coordinates are digits that mean nothing here
+    text = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
+    declared = "SEED-AMPHIBIAN-DT" in html
+    for figure in SEED_FIGURES:
+        assert (figure in text) == declared, figure
+    assert ("reference results" in html) == declared
+    if not declared:
+        assert "seed" not in html.lower()
+    # both examples' records are synthetic, and drawn as such
+    assert "synthetic record" in html and ">measured<" not in html

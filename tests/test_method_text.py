@@ -6,9 +6,11 @@ from __future__ import annotations
 import html
 import importlib
 
-from certkit import assess, load_campaign, render_report
+from certkit import assess, load_campaign
 from certkit.compliance import equations
 from certkit.compliance import measures
+
+from .conftest import report_html
 
 
 def test_equation_texts_change_with_the_constants_they_state(monkeypatch):
@@ -35,8 +37,7 @@ def test_equation_texts_change_with_the_constants_they_state(monkeypatch):
 def test_the_report_states_the_windows_and_thresholds_the_measures_use(timeseries_campaign,
                                                                        tmp_path):
     assessment = assess(load_campaign(timeseries_campaign))
-    render_report(assessment, tmp_path / "out")
-    page = html.unescape((tmp_path / "out" / "report.html").read_text(encoding="utf-8"))
+    page = html.unescape(report_html(assessment))
     for key, text in equations.EQUATIONS.items():
         assert text in page, key
     # the value rows' own formulas, from the same constants

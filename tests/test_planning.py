@@ -6,11 +6,11 @@ from __future__ import annotations
 import pytest
 from typer.testing import CliRunner
 
-from certkit import assess, load_campaign, render_report
+from certkit import assess, load_campaign
 from certkit.cli import app
 from certkit.compliance.assessment import PLANNING
 
-from .conftest import ANALYTIC_STRUT_ENERGY, ANALYTIC_TYRE_ENERGY
+from .conftest import ANALYTIC_STRUT_ENERGY, ANALYTIC_TYRE_ENERGY, report_html
 
 runner = CliRunner()
 MARK = "PLANNING ON SYNTHETIC DATA: NOT COMPLIANCE EVIDENCE"
@@ -53,8 +53,7 @@ def test_the_same_synthetic_runs_outside_planning_are_no_evidence(timeseries_cam
 def test_every_page_and_table_says_planning_and_strict_never_passes(timeseries_campaign,
                                                                     tmp_path):
     spec = _synthetic(timeseries_campaign, planning=True)
-    render_report(assess(load_campaign(spec)), tmp_path / "out")
-    page = (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
+    page = report_html(assess(load_campaign(spec)))
     # the running header, which the PDF repeats on every page (templates/report.css @page)
     assert f'<header class="running" id="running-header"><span class="planning-mark">{MARK}' \
         in page

@@ -14,9 +14,10 @@ import sys
 import pytest
 import yaml
 
-from certkit import assess, load_campaign, render_report
+from certkit import assess, load_campaign
 
 from .conftest import REPO, SEED_FIGURES, load_script
+from .conftest import report_html as html_of
 
 SPEC = REPO / "campaigns" / "lsa-main-gear-rig" / "campaign.yaml"
 PLANNING = "PLANNING ONLY: NOT COMPLIANCE EVIDENCE"
@@ -52,9 +53,8 @@ def assessment():
 
 
 @pytest.fixture(scope="module")
-def report_html(assessment, tmp_path_factory):
-    out = render_report(assessment, tmp_path_factory.mktemp("lsa") / "out")  # no model
-    return (out / "report.html").read_text(encoding="utf-8")
+def report_html(assessment):
+    return html_of(assessment)   # no model
 
 
 def _travel_from_the_file(raw_run: dict) -> float:
@@ -170,21 +170,3 @@ def test_the_report_shows_imperial_units_and_no_seed_paper_figure(report_html):
 
 def test_the_report_does_not_name_the_seed_paper(report_html):
     assert "seed" not in report_html.lower()
-
-
-@pytest.mark.slow
-def test_the_full_report_with_the_model_sections_borrows_nothing(tmp_path):
-    # the sections where the seed paper's figures used to leak are the model's (9-11)
-    from certkit.evidence.model_evidence import model_evidence
-
-    campaign = load_campaign(SPEC)
-    render_report(assess(campaign), tmp_path / "out", model=model_evidence(campaign))
-    html = (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
-    assert "9. Governing-equation model" in html and "10. Identification" in html
-    # figures are inline SVG: their path coordinates are digits that mean nothing here
-    text = re.sub(r"<svg.*?</svg>", "", html, flags=re.S)
-    for figure in SEED_FIGURES:
-        assert figure not in text, figure
-    assert "seed" not in html.lower()
-    assert "reference results" not in html        # the campaign declares none
-    assert "synthetic record" in html and ">measured<" not in html
