@@ -253,11 +253,19 @@ def evidence_cache(tmp_path_factory) -> Path:
 
 @pytest.fixture(scope="session")
 def full_report(tmp_path_factory) -> Path:
-    """The example's full report (drop-model sections 9-11 included), made once by the
+    """The example's full report (drop-model appendices included), made once by the
     command line in a fresh process; the slow checks share it."""
+    from .full_reports import SHARED_CACHE
+
     out = tmp_path_factory.mktemp("full-report") / "out"
-    # a cache of its own, empty: the evidence is made here, and kept in out/../cache
-    environment = dict(os.environ, CERTKIT_CACHE=str(out.parent / "cache"))
+    # the evidence test_full_report_seed.py made (when make test ran before on this machine:
+    # CI runs it first), else made here; a copy of that cache, so that nothing here writes
+    # into the shared one
+    cache = out.parent / "cache"
+    cache.mkdir(mode=0o700)
+    for entry in SHARED_CACHE.glob("*.pickle"):
+        shutil.copyfile(entry, cache / entry.name)
+    environment = dict(os.environ, CERTKIT_CACHE=str(cache))
     completed = subprocess.run([sys.executable, "-m", "certkit.cli", "report", str(SEED),
                                 "-o", str(out)], check=True, capture_output=True, text=True,
                                timeout=600, env=environment)

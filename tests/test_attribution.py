@@ -178,6 +178,7 @@ def test_sensor_lag_acts_alike_on_both_paths():
     assert reference.load.max() < plain.load.max()
 
 
+@pytest.mark.slow
 def test_gap_command_on_the_example_names_effects_of_its_truth(physics_campaign):
     from typer.testing import CliRunner
 
