@@ -503,7 +503,7 @@ def test_a_full_archive_with_the_drop_model_reproduces_from_its_inputs(tmp_path,
     assert _tree(target / "data" / "results") == _tree(full_report)
     results = json.loads((target / "data" / "results" / "results.json").read_text())
     assert results["model"]["calibration"]["gear_units"]
-    assert read_info(target)["Drop-Model"] == ["run (report sections 9 to 11)"]
+    assert read_info(target)["Drop-Model"] == ["run (report appendices A to C)"]
     verification = verify_archive(target, recompute_results=True)
     assert verification.intact and verification.recomputed.identical, \
         verification.recomputed.differences[:5]

@@ -90,20 +90,3 @@ def test_validate_exits_2_with_located_messages_in_a_real_process(timeseries_cam
     assert f"campaign.yaml:{typo} runs[0].drop_heigth: unknown key 'drop_heigth': did you " \
            f"mean 'drop_height'?" in completed.stderr
     assert "drop_height: required key is missing" not in completed.stderr
-
-
-@pytest.mark.slow
-def test_report_names_each_step_on_stderr_when_not_on_a_terminal(full_report):
-    """A CI log must not sit silent through a long report: without a terminal every step
-    is a plain line on stderr, from the assessment to the PDF, the model's steps per gear
-    unit among them (the example's full report, made by the command line)."""
-    stderr = (full_report.parent / "report.stderr").read_text(encoding="utf-8")
-    steps = [line.removeprefix("certkit report: ") for line in stderr.splitlines()
-             if line.startswith("certkit report: ")]
-    assert steps[0] == "assessing" and steps[-1] == "writing PDF/A-3b", steps
-    for expected in ("calibrating the drop model of left-main, right-main",
-                     "diagnosing the sim-to-real gap of left-main",
-                     "diagnosing the sim-to-real gap of right-main",
-                     "identifying Hammerstein, Wiener and NARX models of left-main, right-main",
-                     "drawing figures and laying out HTML"):
-        assert expected in steps, steps

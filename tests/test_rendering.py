@@ -317,7 +317,7 @@ def test_html_element_count_is_independent_of_the_browser():
 
 @pytest.mark.slow
 def test_full_report_with_the_model_sections_in_chromium(browser, full_report):
-    # sections 9-11 hold most of the figures: calibration, identification, gap heatmaps,
+    # the appendices hold most of the figures: calibration, identification, gap heatmaps,
     # the blind-check curve
     expected = _check_in_browser(full_report / "report.html")
     assert expected["figure"] >= 10 and expected["figure svg"] == expected["figure"]

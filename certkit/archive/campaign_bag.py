@@ -119,8 +119,8 @@ def _bag_info(campaign, assessment, model) -> list[tuple[str, str]]:
         ("Criteria-Not-Shown", str(counts["NOT SHOWN"])),
         ("Data-Quality-Errors", str(findings["error"])),
         ("Data-Quality-Warnings", str(findings["warning"])),
-        ("Drop-Model", "not run (--no-model)" if model is None else "run (report sections "
-                                                                    "9 to 11)"),
+        ("Drop-Model", "not run (--no-model)" if model is None else "run (report appendices "
+                                                                    "A to C)"),
     ]
     return info
 

@@ -1,4 +1,4 @@
-"""The report's view of the sim-to-real gap (section 11): the gap map, each step of the
+"""The report's view of the sim-to-real gap (appendix C): the gap map, each step of the
 diagnosis as it recorded its decisions, the shrink on the held-out drops and the blind
 check's record.
 

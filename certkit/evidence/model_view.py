@@ -1,5 +1,5 @@
-"""The report's views of the drop model: calibration (section 9) and identification
-(section 10), every number formatted in the campaign's display units.
+"""The report's views of the drop model: calibration (appendix A) and identification
+(appendix B), every number formatted in the campaign's display units.
 
 The identification stage and matplotlib are imported inside the functions that need them:
 a report without the drop model never loads them (about 0.66 s and 0.26 s of start-up,

@@ -1,0 +1,38 @@
+"""The same inputs give the same bytes at any thread count: each shipped example's full
+report made with one thread of every kind (OMP_NUM_THREADS, OPENBLAS_NUM_THREADS,
+NUMBA_NUM_THREADS) and the model stages in the process is byte for byte the report made
+with two threads and the stages in two worker processes.  Before, the second example's
+calibration put the polytropic exponent on its bound with one BLAS thread and not with two,
+and its full report failed on the one and not on the other.
+
+Slow (two cold full reports): the two-thread report takes the evidence the fast
+test_full_report_*.py made on this machine when there is one (CI runs them first)."""
+
+from __future__ import annotations
+
+import shutil
+
+import pytest
+
+from .conftest import REPO, SEED
+from .full_reports import SHARED_CACHE, files, run_report
+
+SECOND = REPO / "campaigns" / "lsa-main-gear-rig" / "campaign.yaml"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("spec", [SEED, SECOND], ids=["seed example", "second example"])
+def test_one_thread_in_one_process_gives_the_bytes_of_two_threads_in_two(spec, tmp_path):
+    shared = tmp_path / "shared"
+    shared.mkdir(mode=0o700)
+    for entry in SHARED_CACHE.glob("*.pickle"):
+        shutil.copyfile(entry, shared / entry.name)
+    two = run_report(spec, tmp_path / "two", 2, 2, shared)
+    one = run_report(spec, tmp_path / "one", 1, 1, tmp_path / "own", "--no-cache")
+    for code, _, stderr in (two, one):
+        assert code == 0, stderr
+    assert "calibrating" in one[2]            # its evidence made afresh, in this process
+    first, second = files(tmp_path / "one"), files(tmp_path / "two")
+    assert sorted(first) == sorted(second)
+    differ = [name for name in first if first[name] != second[name]]
+    assert differ == [], f"differ with 1 and 2 threads: {differ}"
