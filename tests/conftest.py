@@ -166,6 +166,21 @@ def timeseries_campaign(tmp_path: Path) -> Path:
 
 
 @pytest.fixture
+def small_campaign(tmp_path: Path) -> Path:
+    """The analytic campaign with the run's reported values instead of its logger file: a
+    report of nine pages in under two seconds, for checks of how outputs are written."""
+    import yaml
+
+    raw = yaml.safe_load(TIMESERIES_SPEC)
+    run = raw["runs"][0]
+    run.pop("data")
+    run["reported"] = {"gears": {"left-main": {
+        "strut_stroke": "80 mm", "tyre_deflection": "40 mm", "peak_vertical_load": "12 kN",
+        "strut_energy": "611 J", "tyre_energy": "240 J"}}}
+    return write_campaign(tmp_path / "small", yaml.safe_dump(raw, sort_keys=False))
+
+
+@pytest.fixture
 def seed_copy(tmp_path: Path) -> Path:
     """A writable copy of the example campaign folder; returns the spec path."""
     folder = tmp_path / "seed"

@@ -73,7 +73,7 @@ def _no_space(*args, **kwargs):
 
 
 def test_a_full_disk_while_writing_the_report_exits_4_and_keeps_the_earlier_report(
-        seed_copy, tmp_path, monkeypatch):
+        small_campaign, tmp_path, monkeypatch):
     out = tmp_path / "out"
     out.mkdir()
     (out / "results.json").write_text("the earlier report", encoding="utf-8")
@@ -85,10 +85,10 @@ def test_a_full_disk_while_writing_the_report_exits_4_and_keeps_the_earlier_repo
         return real(self, data)
 
     monkeypatch.setattr(pathlib.Path, "write_bytes", write_bytes)
-    result = report(seed_copy, out)
+    result = report(small_campaign, out)
     assert_environment_failure(result, out, "no space left")
     assert (out / "results.json").read_text(encoding="utf-8") == "the earlier report"
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "seed"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "small"]
 
 
 def test_a_full_disk_while_archiving_exits_4_and_leaves_nothing(seed_copy, tmp_path,
@@ -101,13 +101,13 @@ def test_a_full_disk_while_archiving_exits_4_and_leaves_nothing(seed_copy, tmp_p
 
 
 def test_a_full_disk_while_writing_the_audit_exits_4_and_keeps_the_earlier_table(
-        seed_copy, tmp_path, monkeypatch):
+        small_campaign, tmp_path, monkeypatch):
     import certkit.cli.campaign as campaign_commands
 
     table = tmp_path / "audit.md"
     table.write_text("the earlier audit\n", encoding="utf-8")
     monkeypatch.setattr(campaign_commands, "write_text_atomically", _no_space)
-    result = runner.invoke(app, ["audit", str(seed_copy), "-o", str(table)])
+    result = runner.invoke(app, ["audit", str(small_campaign), "-o", str(table)])
     assert_environment_failure(result, table, "no space left")
     assert table.read_text(encoding="utf-8") == "the earlier audit\n"
 
@@ -154,31 +154,31 @@ def test_a_real_full_file_system_exits_4_and_leaves_nothing(seed_copy, tmp_path,
 
 
 # --------------------------------------------------------------------------- read-only
-def test_a_read_only_file_system_exits_4_naming_the_folder(seed_copy, tmp_path):
+def test_a_read_only_file_system_exits_4_naming_the_folder(small_campaign, tmp_path):
     out = tmp_path / "disk" / "out"
     completed, left = _run_on_small_disk(tmp_path, "size=1m,ro", [
-        "report", str(seed_copy), "-o", str(out), "--no-model"])
+        "report", str(small_campaign), "-o", str(out), "--no-model"])
     assert_environment_failure(completed, out, "read-only")
     assert left == []
 
 
-def test_a_single_file_on_a_read_only_file_system_is_named_as_asked(seed_copy, tmp_path):
+def test_a_single_file_on_a_read_only_file_system_is_named_as_asked(small_campaign, tmp_path):
     # before: "cannot write the audit: the file system is read-only (DISK/.a.md.tmp-XXXXXXXX)",
     # naming a temporary file the user never asked for and certkit never made
     table = tmp_path / "disk" / "a.md"
     completed, left = _run_on_small_disk(tmp_path, "size=1m,ro", [
-        "audit", str(seed_copy), "-o", str(table)])
+        "audit", str(small_campaign), "-o", str(table)])
     assert_environment_failure(completed, table, "read-only")
     assert ".tmp-" not in completed.stderr, completed.stderr
 
 
 @pytest.mark.skipif(os.geteuid() == 0, reason="root writes into any folder, whatever its mode")
-def test_a_folder_without_write_permission_exits_4(seed_copy, tmp_path):
+def test_a_folder_without_write_permission_exits_4(small_campaign, tmp_path):
     parent = tmp_path / "shared"
     parent.mkdir()
     parent.chmod(0o555)
     try:
-        result = report(seed_copy, parent / "out")
+        result = report(small_campaign, parent / "out")
     finally:
         parent.chmod(0o755)
     assert_environment_failure(result, parent / "out", "permission denied")
@@ -186,13 +186,13 @@ def test_a_folder_without_write_permission_exits_4(seed_copy, tmp_path):
 
 
 @pytest.mark.skipif(os.geteuid() == 0, reason="root writes into any folder, whatever its mode")
-def test_a_read_only_report_folder_is_kept_and_the_run_exits_4(seed_copy, tmp_path):
+def test_a_read_only_report_folder_is_kept_and_the_run_exits_4(small_campaign, tmp_path):
     out = tmp_path / "out"
     out.mkdir()
     (out / "results.json").write_text("kept", encoding="utf-8")
     out.chmod(0o555)
     try:
-        result = report(seed_copy, out)
+        result = report(small_campaign, out)
     finally:
         out.chmod(0o755)
     assert_environment_failure(result, out, "permission denied")
@@ -200,7 +200,7 @@ def test_a_read_only_report_folder_is_kept_and_the_run_exits_4(seed_copy, tmp_pa
     assert litter(tmp_path) == []
 
 
-def test_a_report_folder_the_user_may_not_write_is_kept(seed_copy, tmp_path, monkeypatch):
+def test_a_report_folder_the_user_may_not_write_is_kept(small_campaign, tmp_path, monkeypatch):
     """The test above as root (who may write anywhere) sees it: the folder answers 'not
     writable' to access(2), as a folder made read-only does to its owner."""
     out = tmp_path / "out"
@@ -209,13 +209,13 @@ def test_a_report_folder_the_user_may_not_write_is_kept(seed_copy, tmp_path, mon
     real = os.access
     monkeypatch.setattr(os, "access", lambda path, mode, *a, **k: False
                         if Path(path) == out and mode & os.W_OK else real(path, mode, *a, **k))
-    result = report(seed_copy, out)
+    result = report(small_campaign, out)
     assert_environment_failure(result, out, "permission denied")
     assert (out / "results.json").read_text(encoding="utf-8") == "kept"
     assert litter(tmp_path) == []
 
 
-def test_a_folder_refusing_new_entries_exits_4(seed_copy, tmp_path, monkeypatch):
+def test_a_folder_refusing_new_entries_exits_4(small_campaign, tmp_path, monkeypatch):
     """What a folder without write permission does (the test above, which root cannot
     run): creating anything in it fails with EACCES."""
     parent = tmp_path / "shared"
@@ -237,7 +237,7 @@ def test_a_folder_refusing_new_entries_exits_4(seed_copy, tmp_path, monkeypatch)
 
     monkeypatch.setattr(os, "mkdir", mkdir)
     monkeypatch.setattr(os, "open", open_)
-    result = report(seed_copy, parent / "out")
+    result = report(small_campaign, parent / "out")
     assert_environment_failure(result, parent / "out", "permission denied")
     assert list(parent.iterdir()) == []
 
@@ -290,25 +290,25 @@ def test_a_catalog_on_a_real_full_or_read_only_disk_exits_4(tmp_path, options, w
 
 # --------------------------------------------------------------------------- two writers
 def test_a_second_run_into_a_folder_being_written_is_refused_with_a_message(
-        seed_copy, tmp_path, monkeypatch):
+        small_campaign, tmp_path, monkeypatch):
     out = tmp_path / "out"
     out.mkdir()
     (out / "results.json").write_text("the first run's", encoding="utf-8")
     monkeypatch.setattr(outputs, "LOCK_WAIT", 0.3, raising=False)
     with open(tmp_path / ".out.lock", "w") as held:     # the first run, still writing
         fcntl.flock(held, fcntl.LOCK_EX)
-        result = report(seed_copy, out)
+        result = report(small_campaign, out)
     assert_environment_failure(result, out, "another certkit run")
     assert (out / "results.json").read_text(encoding="utf-8") == "the first run's"
     assert not [n for n in litter(tmp_path) if ".lock" not in n]
 
 
-def test_an_archive_into_a_target_being_written_is_refused(seed_copy, tmp_path, monkeypatch):
+def test_an_archive_into_a_target_being_written_is_refused(small_campaign, tmp_path, monkeypatch):
     monkeypatch.setattr(outputs, "LOCK_WAIT", 0.3, raising=False)
     target = tmp_path / "bag.zip"
     with open(tmp_path / ".bag.zip.lock", "w") as held:
         fcntl.flock(held, fcntl.LOCK_EX)
-        result = runner.invoke(app, ["archive", str(seed_copy), "-o", str(target),
+        result = runner.invoke(app, ["archive", str(small_campaign), "-o", str(target),
                                      "--no-model"])
     assert_environment_failure(result, target, "another certkit run")
     assert not target.exists()
@@ -355,11 +355,11 @@ TWO_WRITERS = textwrap.dedent("""\
     """)
 
 
-def test_two_runs_into_one_folder_one_writer_at_a_time(seed_copy, tmp_path):
+def test_two_runs_into_one_folder_one_writer_at_a_time(small_campaign, tmp_path):
     script = tmp_path / "writer.py"
     script.write_text(TWO_WRITERS, encoding="utf-8")
     out = tmp_path / "out"
-    args = ["report", str(seed_copy), "-o", str(out), "--no-model"]
+    args = ["report", str(small_campaign), "-o", str(out), "--no-model"]
     a, b = (tmp_path / "a.here", tmp_path / "b.here")
     processes = [subprocess.Popen([sys.executable, str(script), str(me), str(other), mark,
                                    *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
@@ -427,14 +427,14 @@ def _kill_trials(spec: Path, tmp_path: Path, trials: int, seed: int) -> None:
 
 
 def test_a_report_killed_at_random_moments_leaves_a_complete_folder_and_no_litter(
-        seed_copy, tmp_path):
-    _kill_trials(seed_copy, tmp_path, trials=2, seed=16)
+        small_campaign, tmp_path):
+    _kill_trials(small_campaign, tmp_path, trials=2, seed=16)
 
 
 @pytest.mark.slow
-def test_eight_kills_at_random_moments(seed_copy, tmp_path):
+def test_eight_kills_at_random_moments(small_campaign, tmp_path):
     # eight, not twenty: CI's 20-minute limit; benchmarks/kill_trials.py runs more
-    _kill_trials(seed_copy, tmp_path, trials=8, seed=1616)
+    _kill_trials(small_campaign, tmp_path, trials=8, seed=1616)
 
 
 # A run killed between the two renames of the fallback (no renameat2 here): the earlier
@@ -465,37 +465,37 @@ KILLED_BETWEEN_RENAMES = textwrap.dedent("""\
     """)
 
 
-def test_a_run_killed_between_the_two_renames_loses_nothing(seed_copy, tmp_path,
+def test_a_run_killed_between_the_two_renames_loses_nothing(small_campaign, tmp_path,
                                                              monkeypatch):
     out = tmp_path / "out"
     out.mkdir()
     (out / "results.json").write_text("earlier", encoding="utf-8")
     script = tmp_path / "killed.py"
     script.write_text(KILLED_BETWEEN_RENAMES, encoding="utf-8")
-    killed = subprocess.run([sys.executable, str(script), "report", str(seed_copy), "-o",
+    killed = subprocess.run([sys.executable, str(script), "report", str(small_campaign), "-o",
                              str(out), "--no-model"], capture_output=True, text=True,
                             timeout=300)
     assert killed.returncode == 137, killed.stderr
     assert not out.exists()      # the state the fallback can leave: the gap between renames
     # the next run fails (a full disk): the earlier report is back, nothing else is left
     monkeypatch.setattr(report_module, "_write_outputs", lambda *a: _no_space())
-    assert_environment_failure(report(seed_copy, out), out, "no space left")
+    assert_environment_failure(report(small_campaign, out), out, "no space left")
     assert (out / "results.json").read_text(encoding="utf-8") == "earlier"
     assert litter(tmp_path) == []
     # and a run that succeeds replaces it, leaving nothing beside it
     monkeypatch.setattr(report_module, "_write_outputs", quick_outputs("next"))
-    assert report(seed_copy, out).exit_code == 0
+    assert report(small_campaign, out).exit_code == 0
     assert (out / "results.json").read_text(encoding="utf-8") == "next"
     assert litter(tmp_path) == []
 
 
-def test_without_renameat2_the_two_renames_still_replace_the_report(seed_copy, tmp_path,
+def test_without_renameat2_the_two_renames_still_replace_the_report(small_campaign, tmp_path,
                                                                      monkeypatch):
     monkeypatch.setattr(outputs, "rename2", lambda source, target, flags: False)
     out = tmp_path / "out"
     for text in ("first", "second"):
         monkeypatch.setattr(report_module, "_write_outputs", quick_outputs(text))
-        assert report(seed_copy, out).exit_code == 0
+        assert report(small_campaign, out).exit_code == 0
         assert (out / "results.json").read_text(encoding="utf-8") == text
         assert litter(tmp_path) == []
 
@@ -527,7 +527,7 @@ def test_renameat2_by_system_call_number_exchanges_two_folders(tmp_path):
     assert os.listdir(tmp_path / "b") == ["from-a"] and os.listdir(tmp_path / "a") == []
 
 
-def test_litter_of_other_names_is_left_alone(seed_copy, tmp_path, monkeypatch):
+def test_litter_of_other_names_is_left_alone(small_campaign, tmp_path, monkeypatch):
     """Only what certkit names for this target is removed: not another target's, not a
     user's folder that merely looks alike, not a file."""
     keep = [".out.tmp-notes", ".outer.tmp-certkit-abcdefgh", ".out.tmp-certkit-abcdefgh.txt"]
@@ -536,8 +536,8 @@ def test_litter_of_other_names_is_left_alone(seed_copy, tmp_path, monkeypatch):
     (tmp_path / keep[2]).write_text("x", encoding="utf-8")
     (tmp_path / ".out.tmp-certkit-abcdefgh").mkdir()          # a killed run's
     monkeypatch.setattr(report_module, "_write_outputs", quick_outputs("x"))
-    assert report(seed_copy, tmp_path / "out").exit_code == 0
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([*keep, "out", "seed"])
+    assert report(small_campaign, tmp_path / "out").exit_code == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([*keep, "out", "small"])
 
 
 # --------------------------------------------------------------------------- zip bombs
@@ -579,13 +579,13 @@ def test_ctrl_c_at_any_moment_exits_130_with_a_message_and_no_traceback(seed_cop
 
 
 # --------------------------------------------------------------------------- the terminal
-def test_a_closed_standard_output_or_one_without_unicode_is_no_certkit_bug(seed_copy):
+def test_a_closed_standard_output_or_one_without_unicode_is_no_certkit_bug(small_campaign):
     # before: `certkit audit spec >&-` and PYTHONIOENCODING=ascii (a locale without UTF-8)
     # were AttributeError / UnicodeEncodeError, "a certkit bug" (exit 3)
-    closed = subprocess.run(" ".join([*CLI, "audit", str(seed_copy), ">&-"]), shell=True,
+    closed = subprocess.run(" ".join([*CLI, "audit", str(small_campaign), ">&-"]), shell=True,
                             capture_output=True, text=True)
     assert closed.returncode == 1 and closed.stderr == "", closed.stderr  # 1: criteria fail
-    ascii_only = subprocess.run([*CLI, "audit", str(seed_copy)], capture_output=True,
+    ascii_only = subprocess.run([*CLI, "audit", str(small_campaign)], capture_output=True,
                                 env=dict(os.environ, PYTHONIOENCODING="ascii"))
     assert ascii_only.returncode == 1, ascii_only.stderr
     assert b"\\u2014" in ascii_only.stdout and ascii_only.stdout.isascii()
