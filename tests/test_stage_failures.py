@@ -72,6 +72,14 @@ def test_the_report_is_written_with_each_failure_in_its_appendix(failing, tmp_pa
             "are not finite") in html
     assert "To change: check the drop model's nominal parameters" in html
     assert (tmp_path / "out" / "report.pdf").stat().st_size > 0
+    # and results.json lists them for a CI job
+    import json
+
+    failures = json.loads((tmp_path / "out" / "results.json").read_text(encoding="utf-8"))[
+        "model"]["failures"]
+    assert len(failures) == 6
+    assert {f["stage"] for f in failures} == {"calibration", "identification", "gap diagnosis"}
+    assert [f["certkit_error"] for f in failures if f["stage"] == "identification"] == [True] * 2
 
 
 def test_an_isothermal_calibration_skips_the_heat_transfer_form_with_its_reason():

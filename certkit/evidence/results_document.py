@@ -55,6 +55,10 @@ def results_document(assessment: Assessment, record: dict, model=None) -> dict:
         from certkit.physics.calibration import calibration_document
 
         model_part = {"note": model.note, "synthetic_runs": list(model.synthetic_runs),
+                      # stages not computed for a gear unit: why, and what to change
+                      "failures": [{"stage": f.stage, "gear_unit": f.gear, "reason": f.reason,
+                                    "remedy": f.remedy, "certkit_error": f.internal}
+                                   for f in model.failures],
                       "calibration": (calibration_document(model.calibration)
                                       if model.calibration is not None else None),
                       "identification": identification_document(model.identification),
