@@ -113,9 +113,10 @@ def check_available_energy(assessment: Assessment) -> None:
                 severity = "warning"
                 assumed = f"; computed with {gear.assumptions['θ']}"
         elif gear.measures is not None:
-            _add(assessment, "energy-balance-not-checked", "info", run.run.id, gear.gear_id,
+            _add(assessment, "energy-balance-not-checked", "warning", run.run.id, gear.gear_id,
                  f"{where}: the absorbed energy is not checked against the energy available "
-                 f"(certkit E5 against E3): E_d {gear.values['E_d'].note}",
+                 f"(certkit E5 against E3): E_d {gear.values['E_d'].note}; declare it so that "
+                 f"the check runs",
                  reason=gear.values["E_d"].note)
             continue
         else:

@@ -188,7 +188,7 @@ def model_figure(gear_id: str, run_id: str, traces: list, units, window: float =
     tabulated = tabulated or {}
     to_time, time_label = _time_axis(units)
     with _style():
-        figure, all_axes = plt.subplots(len(traces), 1, figsize=(_WIDTH, 1.1 * len(traces) + 0.6),
+        figure, all_axes = plt.subplots(len(traces), 1, figsize=(_WIDTH, 0.85 * len(traces) + 0.6),
                                         sharex=True)
         all_axes = np.atleast_1d(all_axes)
         for axes, trace in zip(all_axes, traces):
@@ -257,7 +257,9 @@ def identification_figures(gear, units, origin: str = "measured") -> list[dict]:
             axes.set_xlabel(f"vertical load [{units.force}]")
             axes.set_ylabel(f"{CHANNEL_LABELS[output]} [{units.length}]")
             if axes.get_legend_handles_labels()[0]:   # the models drawn differ per output
-                axes.legend(loc="upper left", frameon=False, fontsize=6.5)
+                # above the panel, never over a curve
+                axes.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False,
+                            fontsize=6.0, ncol=2, borderaxespad=0.0)
         figure.tight_layout()
         left_out = "".join(
             f" Not drawn: {model} for the {CHANNEL_LABELS[name]}, whose linear block's static "
@@ -361,7 +363,7 @@ def gap_overlay(gear_id: str, run_id: str, before, after, phases, label_after: s
     records = (before.measured, before.simulated) + ((after.simulated,) if after else ())
     with _style():
         figure, all_axes = plt.subplots(len(channels), 2,
-                                        figsize=(_WIDTH, 1.15 * len(channels) + 0.9),
+                                        figsize=(_WIDTH, 0.95 * len(channels) + 0.9),
                                         sharex="col", gridspec_kw={"width_ratios": (1, 2)})
         all_axes = np.atleast_2d(all_axes)
         for column, (start, stop) in enumerate(spans):
@@ -439,7 +441,8 @@ def missing_force_figure(gear_id: str, forces, units, origins: dict) -> dict:
         strut.set_ylabel(f"missing strut force [{force_unit}]")
         tyre.set_xlabel(f"tyre deflection δ [{length_unit}]")
         tyre.set_ylabel(f"missing tyre force [{force_unit}]")
-        tyre.legend(loc="best", frameon=False, fontsize=6.0)
+        tyre.legend(loc="lower right", bbox_to_anchor=(1.0, 1.02), frameon=False,
+                    fontsize=6.0, ncol=3, borderaxespad=0.0)
         figure.tight_layout()
         return {"title": f"{gear_id}: the force the calibrated bare model misses, from the "
                          f"records alone",

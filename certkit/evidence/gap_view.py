@@ -14,7 +14,7 @@ import math
 from markupsafe import Markup
 
 from certkit.display import magnitude, number, parameter, percent, with_unit
-from certkit.evidence.methods import gap_method
+from certkit.evidence.methods import gap_method, unit_size
 from certkit.evidence.model_view import origins
 from certkit.evidence.sections import BlindSection, GapSection
 from certkit.physics.drops import MIDDLE_FROM
@@ -69,7 +69,7 @@ def _gap_steps(gap, units) -> list[dict]:
     from certkit.gap.selection import CANDIDATES, TIE_COST
 
     diagnosis = gap.diagnosis
-    sizes = {c.key: c.unit_size for c in CANDIDATES}
+    sizes = {c.key: unit_size(c, units) for c in CANDIDATES}
     steps = []
     for index, (attribution, fits) in enumerate(diagnosis.steps):
         beat = diagnosis.step_costs[index]
@@ -259,27 +259,37 @@ def _form_row(row, units) -> dict:
             "scored": f"{row.right_scored} of {row.scored}", "peak": peak}
 
 
-def _declared_words(answer: tuple, declared: list[str]) -> str:
-    """How the diagnosis's answer stands to the effects the spec's model declares."""
+def _declared_words(diagnosis, declared: list[str]) -> str:
+    """How the diagnosis's answer stands to the effects the spec's model declares, and
+    whether an effect it declares not is worth adding: only when it carries to the held-out
+    drops (closes part of their load gap and makes no held-out channel worse)."""
+    from certkit.gap.selection import FLOOR_CHANNEL
     from certkit.physics.effects import BY_NAME
 
+    answer = diagnosis.answer
     labels = [BY_NAME[name].label for name in declared if name in BY_NAME]
-    if not labels:
-        return ("The spec's model declares no optional effect"
-                + (f"; {' and '.join(answer)} would be worth adding to it (model.effects)."
-                   if answer else "."))
     named = [a for a in answer if a in labels]
     new = [a for a in answer if a not in labels]
-    words = f"The spec's model declares {' and '.join(labels)}. "
+    words = (f"The spec's model declares {' and '.join(labels)}. " if labels
+             else "The spec's model declares no optional effect. ")
     if not answer:
         return words + ("Starting without them, the diagnosis named no effect: the drops do "
-                        "not single out one of the library's effects.")
+                        "not single out one of the library's effects." if labels else "")
     if named:
         words += (f"Starting without them, the diagnosis named {' and '.join(named)} from the "
                   f"drops alone: the data support {'them' if len(named) > 1 else 'it'}. ")
     if new:
+        share = (diagnosis.shares or {}).get(FLOOR_CHANNEL)
+        carries = share is not None and share[0] > 0 and not diagnosis.caveats
         words += (f"It also named {' and '.join(new)}, which the spec's model does not "
-                  f"include: worth adding (model.effects).")
+                  + ("include: worth adding (model.effects)." if carries else
+                     "include; on the held-out drops the named effects "
+                     + ("make " + " and ".join(diagnosis.caveats) + " worse"
+                        if diagnosis.caveats else
+                        f"close {percent(share[0], 0)} of the {FLOOR_CHANNEL} gap"
+                        if share is not None else "were not measured")
+                     + ", so the drops do not show that it carries beyond the training "
+                       "runs: no reason to add it on this evidence."))
     return words.strip()
 
 
@@ -338,7 +348,7 @@ def gap_view(evidence, campaign, units) -> GapSection:
             "largest": _gap_largest(gap.before, units),
             "heatmap": figures[0], "overlays": figures[1:],
             "steps": _gap_steps(gap, units), "statement": diagnosis.statement,
-            "declared": _declared_words(diagnosis.answer, declared),
+            "declared": _declared_words(diagnosis, declared),
             "missing": missing, "signatures": _signatures(diagnosis, units),
             "shrink": _gap_shrink(gap, units),
             "remaining": dict(remaining, svg=Markup(remaining["svg"])) if remaining else None,

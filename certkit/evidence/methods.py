@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from certkit.display import percent, with_unit
+from certkit.display import parameter, percent, with_unit
 from certkit.physics.drops import MIDDLE_FROM
 
 #: Appendix A: the governing-equation model and its calibration.
@@ -49,6 +49,14 @@ def identification_method(window: str, paper_samples: str, force_unit: str, leng
             f"errors are listed apart. RBF kernel K(x, z) = exp(−‖x − z‖²/σ²) (LS-SVMlab "
             f"convention; some authors write 2σ²); γ and σ² tuned by cross-validation on the "
             f"training runs.")
+
+
+def unit_size(candidate, units) -> str:
+    """What strength 1 of a candidate form means, its quantities in the display units."""
+    words = candidate.unit_size
+    for text, value, si_unit in candidate.quantities:
+        words = words.replace(text, " ".join(filter(None, parameter(value, si_unit, units))))
+    return words
 
 
 def gap_method(units) -> dict:
@@ -140,6 +148,6 @@ def gap_method(units) -> dict:
             f"damping both ways, tyre stiffness and damping). A mark is seen when its "
             f"coefficient has the effect's sign and removing it alone loses at least "
             f"{percent(SEEN, 0)} of the missing force's variance (partial R²)."),
-        "candidates": [{"name": c.name, "form": c.form or "—", "unit_size": c.unit_size}
-                       for c in CANDIDATES],
+        "candidates": [{"name": c.name, "form": c.form or "—",
+                        "unit_size": unit_size(c, units)} for c in CANDIDATES],
     }

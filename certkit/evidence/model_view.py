@@ -115,6 +115,14 @@ def model_view(evidence, units, reference=None, origins=None, effects=(),
                 "reference": " ".join(typed(published.text, published.si, "length", units)),
                 "nominal": with_unit(nominal, "length", units),
                 "calibrated": with_unit(fitted, "length", units)})
+        worse = [f"the {CHANNEL_LABELS[e.channel]} of {e.run} "
+                 f"({percent(e.calibrated / e.nominal - 1, 1, signed=True)})"
+                 for e in gear.errors if e.role == "held out" and e.calibrated > e.nominal]
+        held_out_words = (
+            "On the held-out runs, calibration made " + ", ".join(worse) + " worse than the "
+            "nominal model: what it fitted on the training runs does not carry to that drop."
+            if worse else ("On the held-out runs, calibration made no channel worse than the "
+                           "nominal model." if gear.held_out else ""))
         # the drops the model did not see: where a reader judges it
         shown_runs = list(gear.held_out) or list(gear.runs[-1:])
         figures = [model_figure(gear.gear_id, run, [t for t in gear.traces if t.run == run],
@@ -132,7 +140,7 @@ def model_view(evidence, units, reference=None, origins=None, effects=(),
                                                    for w in fit.warnings],
             "message": fit.message, "evaluations": fit.evaluations,
             "cost": f"{number(fit.cost_nominal)} → {number(fit.cost)}", "rmse": rmse,
-            "figures": figures, "velocities": velocities,
+            "figures": figures, "velocities": velocities, "held_out_words": held_out_words,
             "step": with_unit(gear.step, "time", units)})
     intro = (f"This appendix is not compliance evidence: no verdict rests on it. It compares "
              f"each gear unit's drop model with its drops. The model is the two-mass governing "

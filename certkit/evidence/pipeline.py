@@ -36,6 +36,7 @@ def make_evidence(campaign: Campaign, *, model: bool = True, cache: bool = True,
         if kept is not None:
             progress("drop-model evidence unchanged: taken from the cache "
                      f"({evidence_cache.cache_folder()}, --no-cache makes it again)")
+            _say_what_is_missing(kept, progress)
             return assessment, kept
     # Lazy on purpose: the model stage (numba kernel, scipy's optimisers) adds about 0.5 s
     # to every CLI start-up (python -X importtime -c "import certkit.cli": 0.56 s for
@@ -44,11 +45,22 @@ def make_evidence(campaign: Campaign, *, model: bool = True, cache: bool = True,
     from certkit.evidence.model_evidence import model_evidence
 
     evidence = model_evidence(campaign, progress=progress)
+    _say_what_is_missing(evidence, progress)
     if entry is not None:
         problem = evidence_cache.store(entry, evidence)
         if problem:
             progress(f"the drop-model evidence was not kept in the cache: {problem}")
     return assessment, evidence
+
+
+def _say_what_is_missing(evidence, progress) -> None:
+    """The model appendices a report will not have, or the stages not computed, said as
+    the run goes (a CI log shows it without opening the report)."""
+    if evidence.calibration is None:
+        progress(f"no drop-model appendices: {evidence.note}")
+    for failure in evidence.failures:
+        progress(f"not computed: the {failure.stage} of {failure.gear} (its appendix says "
+                 f"why and what to change)")
 
 
 def report_campaign(campaign: Campaign, folder: str | Path, *, model: bool = True,

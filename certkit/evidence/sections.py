@@ -150,6 +150,7 @@ class ReportView:
     matrix: list[dict]
     completeness: list[dict]
     results_rows: list[dict]
+    results_assumptions: list[str]  # what a value marked ‡ was computed with
     results_units: dict[str, str]
     load_factors: list[dict]
     load_factor_statement: str

@@ -111,6 +111,7 @@ def build_view(assessment: Assessment, record: dict, model=None) -> ReportView:
         "gear_units": gear_rows, "setup": _setup_rows(spec), "instrumentation": instrumentation,
         "matrix": matrix, "completeness": completeness,
         "results_rows": results_rows, "results_units": results_units,
+        "results_assumptions": results_assumptions(assessment),
         "load_factors": load_factors, "load_factor_statement": load_factor_statement,
         # a column only where some run has something in it (a single-gear rig has no ΣF_peak)
         "load_factor_columns": {column: any(r[column] not in ("", "—") for r in load_factors)
@@ -306,10 +307,23 @@ def _gear_unit_rows(assessment: Assessment, units) -> list[dict]:
                                 ("unsprung_mass", "Unsprung mass"), ("notes", "Notes")):
                 value = getattr(strut, name)
                 if value is not None:
-                    fields.append((label, getattr(value, "text", value)))
+                    fields.append((label, pretty_typed(getattr(value, "text", value))))
+        # the two the energies rest on are listed whether stated or not: a reviewer sees
+        # what was assumed (the values they enter say so too)
+        shown = {label for label, _ in fields}
+        fields += [(label, NOT_STATED) for label in ("Strut inclination", "Unsprung mass")
+                   if label not in shown]
         gear_rows.append({"id": gear.id, "fields": fields})
     return gear_rows
 
+
+
+def pretty_typed(text):
+    """A value typed in the spec as typed, its unit's powers as superscripts (in^3: in³)."""
+    if not isinstance(text, str):
+        return text
+    magnitude, _, unit = text.partition(" ")
+    return f"{magnitude} {pretty(unit)}" if unit and "^" in unit else text
 
 
 def _instrumentation(assessment: Assessment, units) -> InstrumentationSection | None:
@@ -367,6 +381,30 @@ def _completeness_rows(assessment: Assessment, units) -> list[dict]:
 
 
 
+#: The mark of a value computed with an input the spec leaves out (its assumption is
+#: printed under the table, and beside the value in the run details).
+ASSUMED = "‡"
+
+
+def _assumed(value: Value | None, gear) -> str:
+    """:data:`ASSUMED` when ``value`` was computed with one of ``gear``'s assumptions."""
+    if value is None or value.value is None:
+        return ""
+    return ASSUMED if any(symbol in value.inputs for symbol in gear.assumptions) else ""
+
+
+def results_assumptions(assessment: Assessment) -> list[str]:
+    """Each assumption a value of the results table rests on, once, with its gear units."""
+    found: dict[str, list[str]] = {}
+    for run in assessment.runs:
+        for gear in run.gears:
+            for words in gear.assumptions.values():
+                units = found.setdefault(words, [])
+                if gear.gear_id not in units:
+                    units.append(gear.gear_id)
+    return [f"{words} ({', '.join(units)})" for words, units in found.items()]
+
+
 def _results_rows(assessment: Assessment, units) -> list[dict]:
     results_rows = []
     for run in assessment.runs:
@@ -374,7 +412,8 @@ def _results_rows(assessment: Assessment, units) -> list[dict]:
             def cell(key, kind, gear=gear):
                 value = gear.values.get(key)
                 return ("—" if value is None
-                        else typed(value.typed, value.value, kind, units)[0])
+                        else typed(value.typed, value.value, kind, units)[0]
+                        + _assumed(value, gear))
             energy_keys = [k for k in gear.values if k.startswith("n_j_energy[")]
             results_rows.append({
                 "run": run.run.id, "gear": gear.gear_id,

@@ -179,7 +179,8 @@ class TestArticle(SpecBlock):
     tyre_ply_rating: str | None = None
     oil_volume: Volume | None = Field(None, description="oil volume as serviced for the test")
     gas_pressure: Pressure | None = Field(
-        None, description="gas pressure as serviced (state gauge or absolute in the text)")
+        None, description="gas pressure as serviced, a pressure such as '180 psi' (gauge or "
+                          "absolute as strut.pressure_reference says)")
     gas_temperature: str | None = Field(
         None, description="temperature at which the gas was charged, e.g. '18 degC'")
 

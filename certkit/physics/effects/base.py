@@ -49,6 +49,9 @@ class Candidate:
     #: why the form cannot be added to a calibrated model, in words ("" when it can): a form
     #: whose family is empty at that model is skipped with this reason, never built
     inapplicable: Callable[[DropModel], str] | None = None
+    #: the quantities ``unit_size`` states in SI, (its words for one, value [SI], SI unit):
+    #: a report shows them in the campaign's display units
+    quantities: tuple = ()
 
     def why_not(self, model: DropModel) -> str:
         """"" when the form can be added to ``model``, else why not, in words."""

@@ -58,7 +58,8 @@ EFFECT = Effect(
     build=_build,
     candidates=(Candidate("heat transfer", "a thermal time constant of 1 s (γ = the polytropic n)",
                         lambda m, phi: m.with_effect(GasHeatTransfer(1.0 / phi, m.gas.exponent))
-                        if phi > 0 else m, inapplicable=_isothermal),),
+                        if phi > 0 else m, inapplicable=_isothermal,
+                        quantities=(("1 s", 1.0, "s"),)),),
     truth=Truth("heat transfer", "nitrogen (γ = 1.4) exchanging heat with the walls, sized from "
                                  "its adiabatic limit (the candidate: γ = the calibrated "
                                  "polytropic exponent n)", (0.01, 50.0),

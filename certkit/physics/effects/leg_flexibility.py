@@ -77,12 +77,14 @@ EFFECT = Effect(
         Candidate("leg flexibility", "a leg compliance of 1/(3 kN/mm), half the unsprung mass "
                                      "at the axle",
                   lambda m, phi: m.with_effect(LegFlexibility(0.5 * m.lower_mass, 3.0e6 / phi))
-                  if phi > 0 else m, probe=0.02, form="at the axle"),
+                  if phi > 0 else m, probe=0.02, form="at the axle",
+                  quantities=(("3 kN/mm", 3.0e6, "N/m"),)),
         Candidate("leg flexibility", "a compliance of 1/(10 kN/mm) above the strut, carrying "
                                      "a mass twice the unsprung mass",
                   lambda m, phi: m.with_effect(LegFlexibility(2.0 * m.lower_mass, 1.0e7 / phi,
                                                               above=True))
-                  if phi > 0 else m, probe=0.02, form="above the strut")),
+                  if phi > 0 else m, probe=0.02, form="above the strut",
+                  quantities=(("10 kN/mm", 1.0e7, "N/m"),))),
     truth=Truth("leg flexibility", "a leg mode with 35 % of the unsprung mass at the axle and "
                                    "5 % damping (the candidate: 50 %, undamped)", (0.02, 5.0),
                 mechanics=_damped_leg))

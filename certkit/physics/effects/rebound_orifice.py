@@ -60,7 +60,7 @@ EFFECT = Effect(
                                      "the compression orifice's",
                   lambda m, phi: m.with_effect(ReboundOrifice(
                       0.0, linear=3.0 * m.orifice.coefficient * REBOUND_SPEED * phi)),
-                  form="linear")),
+                  form="linear", quantities=(("0.5 m/s", 0.5, "m/s"),))),
     truth=Truth("rebound orifice", "rebound damping K_reb − K_h (the candidate's own form)",
                 (0.01, 20.0), mechanics=lambda m, s: m.with_effect(
                     ReboundOrifice(3.0 * m.orifice.coefficient * s))))

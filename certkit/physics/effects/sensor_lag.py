@@ -60,10 +60,10 @@ EFFECT = Effect(
     candidates=(
         Candidate("sensor lag", "a first-order lag of 2 ms on every recorded channel",
                   lambda m, phi: m.with_effect(SensorLag(0.002 * phi)), probe=0.1,
-                  form="first order"),
+                  form="first order", quantities=(("2 ms", 0.002, "s"),)),
         Candidate("sensor lag", "two first-order lags of 1 ms in cascade on every recorded "
                                 "channel", lambda m, phi: m.with_effect(SensorLag(0.001 * phi, 2)),
-                  probe=0.1, form="second order")),
+                  probe=0.1, form="second order", quantities=(("1 ms", 0.001, "s"),))),
     truth=Truth("sensor lag", "a 2nd-order Butterworth low-pass (cut-off 300 Hz/s) plus a pure "
                               "delay (0.1 ms·s) on every channel, sized by what remains with the "
                               "touchdowns aligned (the candidate: a first-order lag)",

@@ -65,11 +65,12 @@ EFFECT = Effect(
                                      "switching over 2 mm of deflection and held at rest",
                   lambda m, phi: m.with_effect(TyreHysteresis(
                       0.0, constant=0.02 * m.total_mass * STANDARD_GRAVITY * phi, memory=True)),
-                  form="constant amplitude, with memory"),
+                  form="constant amplitude, with memory", quantities=(("2 mm", 0.002, "m"),)),
         Candidate("tyre hysteresis", "a loop of 5 % of the static tyre curve, switching over "
                                      "2 mm of deflection and held at rest",
                   lambda m, phi: m.with_effect(TyreHysteresis(0.05 * phi, memory=True)),
-                  form="a share of the static curve, with memory")),
+                  form="a share of the static curve, with memory",
+                  quantities=(("2 mm", 0.002, "m"),))),
     truth=Truth("tyre hysteresis", "a tyre hysteresis loop switching within 5 mm/s (the "
                                    "candidate: 10 mm/s)", (0.02, 20.0),
                 mechanics=lambda m, s: m.with_effect(
