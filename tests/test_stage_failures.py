@@ -97,3 +97,26 @@ def test_an_isothermal_calibration_skips_the_heat_transfer_form_with_its_reason(
     assert "n = 1" in reason and "isothermal" in reason
     # every other form has nothing against the isothermal model
     assert [c.key for c in CANDIDATES if c.why_not(isothermal)] == ["heat transfer"]
+
+
+def test_a_worker_process_that_dies_costs_its_stages_not_the_report(monkeypatch):
+    import os
+
+    def dies(campaign, gear_id):
+        os._exit(9)               # as a process the kernel kills for want of memory
+
+    def fails(campaign, gear_id, *args, **kwargs):
+        raise FitError("not finite")
+
+    monkeypatch.setattr(stages, "workers", lambda tasks: 2)     # worker processes, forked
+    monkeypatch.setattr(stages, "gap_diagnosis", dies)
+    monkeypatch.setattr(stages, "calibrate_gear", fails)
+    monkeypatch.setattr(stages, "identify_gear", fails)
+    evidence = stages.model_evidence(load_campaign(SEED))
+    lost = [f for f in evidence.failures if "ended without a result" in f.reason]
+    # the gap diagnoses died with their processes; whatever the broken pool could not
+    # finish is stated the same way, and everything finished is kept
+    assert {("gap diagnosis", "left-main"), ("gap diagnosis", "right-main")} <= \
+        {(f.stage, f.gear) for f in lost}
+    assert all("CERTKIT_WORKERS=1" in f.remedy for f in lost)
+    assert len(evidence.failures) == 6

@@ -23,6 +23,8 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -190,7 +192,8 @@ def workers(tasks: int) -> int:
 
 
 def _results(campaign: Campaign, tasks: list[tuple], progress) -> dict:
-    """task -> its result, in worker processes when :func:`workers` allows."""
+    """task -> its result, in worker processes when :func:`workers` allows.  A worker that
+    dies (killed, out of memory) costs its tasks, which are then stated as failures."""
     global _CAMPAIGN
     _CAMPAIGN = campaign
     count = workers(len(tasks))
@@ -202,16 +205,36 @@ def _results(campaign: Campaign, tasks: list[tuple], progress) -> dict:
                 results[task] = _run(task)[1]
             return results
         progress("; ".join(_words(t) for t in tasks) + f" ({count} processes)")
-        pool = multiprocessing.get_context("fork").Pool(count, initializer=_worker_start)
+        pool = ProcessPoolExecutor(count, mp_context=multiprocessing.get_context("fork"),
+                                   initializer=_worker_start)
         try:
-            results = dict(pool.imap_unordered(_run, tasks))
-            pool.close()
-            pool.join()
+            futures = {task: pool.submit(_run, task) for task in tasks}
+            results = {}
+            for task, future in futures.items():
+                try:
+                    results[task] = future.result()[1]
+                except BrokenProcessPool:
+                    results[task] = _lost(task)
             return results
         finally:
-            pool.terminate()
+            # a stop (Ctrl-C, SIGTERM) while the workers run: end them, do not wait
+            pool.shutdown(wait=False, cancel_futures=True)
+            for process in list((getattr(pool, "_processes", None) or {}).values()):
+                if process.is_alive():
+                    process.kill()
     finally:
         _CAMPAIGN = None
+
+
+def _lost(task: tuple) -> tuple:
+    """The result of a task whose worker process died: each of its stages not computed."""
+    kind, gear_id, identification = task
+    why = ("the process computing it ended without a result (killed, or out of memory)",
+           "run the report again; with CERTKIT_WORKERS=1 the stages run in one process")
+    if kind == "gap":
+        return None, None, [StageFailure(GAP, gear_id, *why)]
+    stages = [CALIBRATION] + ([IDENTIFICATION] if identification else [])
+    return None, None, None, [StageFailure(stage, gear_id, *why) for stage in stages]
 
 
 def _words(task: tuple) -> str:
