@@ -111,20 +111,22 @@ def test_make_evidence_reuses_the_kept_evidence_unless_told_not_to(timeseries_ca
 
     def fake(campaign, progress=None):
         made.append(campaign.spec_path)
-        return {"evidence": len(made)}
+        return model_evidence_module.ModelEvidence(None, f"evidence {len(made)}")
 
     monkeypatch.setattr(model_evidence_module, "model_evidence", fake)
     campaign = load_campaign(timeseries_campaign)
     steps = []
     _, first = pipeline.make_evidence(campaign, progress=steps.append)
     _, second = pipeline.make_evidence(campaign, progress=steps.append)
-    assert first == second == {"evidence": 1} and len(made) == 1
+    assert first.note == second.note == "evidence 1" and len(made) == 1
     assert any("taken from the cache" in step for step in steps)
+    # and the run says the report will have no model appendices, each time
+    assert steps.count("no drop-model appendices: evidence 1") == 2
     _, third = pipeline.make_evidence(campaign, cache=False)
-    assert third == {"evidence": 2} and len(made) == 2
+    assert third.note == "evidence 2" and len(made) == 2
     # the kept entry is the first one still: --no-cache neither reads nor writes
     _, fourth = pipeline.make_evidence(campaign)
-    assert fourth == {"evidence": 1}
+    assert fourth.note == "evidence 1"
 
 
 @pytest.mark.skipif(sys.platform != "linux", reason="XDG_CACHE_HOME is the Linux convention")

@@ -43,7 +43,8 @@ PACKAGE = Path(__file__).resolve().parent.parent
 #: added later and not listed here costs a cache miss when it changes, never a stale entry.
 PRESENTATION = ("cli/", "archive/", "evidence/audit.py", "evidence/comparison.py",
                 "evidence/figures.py", "evidence/gap_view.py", "evidence/methods.py",
-                "evidence/model_view.py", "evidence/render.py", "evidence/report.py",
+                "evidence/limits.py", "evidence/model_view.py", "evidence/render.py",
+                "evidence/report.py",
                 "evidence/results_document.py", "evidence/sections.py", "evidence/view.py",
                 "evidence/cache.py", "evidence/pipeline.py", "evidence/provenance.py",
                 "outputs.py")

@@ -14,11 +14,12 @@ from certkit.compliance.criteria import at_least
 from certkit.compliance.equations import EQUATIONS, GRAVITY_NOTE
 from certkit.display import DISPLAY_RULE, display, margin, number, pretty, typed, with_unit
 from certkit.evidence.gap_view import gap_view
+from certkit.evidence.limits import assumed_mark, cover_reasons, results_assumptions
 from certkit.evidence.model_view import identification_view, model_view, origins
 from certkit.evidence.sections import (AircraftSection, CampaignSection, DocumentSection,
                                        InstrumentationSection, ReportView)
 from certkit.physics.drops import drop_heights
-from certkit.results import FAIL, PASS, Value
+from certkit.results import PASS, Value
 from certkit.version import VERSION
 
 
@@ -136,33 +137,6 @@ def build_view(assessment: Assessment, record: dict, model=None) -> ReportView:
 NO_MODEL_LINE = ("The drop model's appendices (calibration, identification, gap diagnosis; "
                  "not compliance evidence) were not made for this report (certkit report "
                  "--no-model).")
-
-
-def cover_reasons(assessment: Assessment) -> list[str]:
-    """Why the outcome is not COMPLIANT, one line per reason, for page 1: every shortfall
-    that holds a criterion at FAIL or NOT SHOWN with the criteria it holds back and what
-    would show them, then every data-quality error."""
-    groups: dict[tuple, dict] = {}
-    for verdict in assessment.verdicts:
-        if verdict.verdict == PASS:
-            continue
-        group = groups.setdefault((verdict.verdict, verdict.shortfall or verdict.reason,
-                                   verdict.remedy), {})
-        scopes = group.setdefault((verdict.clause, verdict.title), [])
-        scope = " / ".join(p for p in (verdict.run, verdict.gear) if p)
-        if scope:
-            scopes.append(scope)
-    lines = []
-    for (state, shortfall, remedy), criteria in groups.items():
-        held = "; ".join(f"{clause}, {title[:1].lower() + title[1:]}"
-                         + (f" ({', '.join(scopes)})" if scopes else "")
-                         for (clause, title), scopes in criteria.items())
-        lines.append(f"{state} because {shortfall}: {held}."
-                     + (f" To show it: {remedy}." if remedy and state != FAIL
-                        else f" To resolve: {remedy}." if remedy else ""))
-    lines += [f"Data-quality error {f.id}: {f.message}" for f in assessment.findings
-              if f.severity == "error"]
-    return lines
 
 
 def _results_by_run(assessment: Assessment) -> dict:
@@ -381,30 +355,6 @@ def _completeness_rows(assessment: Assessment, units) -> list[dict]:
 
 
 
-#: The mark of a value computed with an input the spec leaves out (its assumption is
-#: printed under the table, and beside the value in the run details).
-ASSUMED = "‡"
-
-
-def _assumed(value: Value | None, gear) -> str:
-    """:data:`ASSUMED` when ``value`` was computed with one of ``gear``'s assumptions."""
-    if value is None or value.value is None:
-        return ""
-    return ASSUMED if any(symbol in value.inputs for symbol in gear.assumptions) else ""
-
-
-def results_assumptions(assessment: Assessment) -> list[str]:
-    """Each assumption a value of the results table rests on, once, with its gear units."""
-    found: dict[str, list[str]] = {}
-    for run in assessment.runs:
-        for gear in run.gears:
-            for words in gear.assumptions.values():
-                units = found.setdefault(words, [])
-                if gear.gear_id not in units:
-                    units.append(gear.gear_id)
-    return [f"{words} ({', '.join(units)})" for words, units in found.items()]
-
-
 def _results_rows(assessment: Assessment, units) -> list[dict]:
     results_rows = []
     for run in assessment.runs:
@@ -413,7 +363,7 @@ def _results_rows(assessment: Assessment, units) -> list[dict]:
                 value = gear.values.get(key)
                 return ("—" if value is None
                         else typed(value.typed, value.value, kind, units)[0]
-                        + _assumed(value, gear))
+                        + assumed_mark(value, gear))
             energy_keys = [k for k in gear.values if k.startswith("n_j_energy[")]
             results_rows.append({
                 "run": run.run.id, "gear": gear.gear_id,
