@@ -37,8 +37,9 @@ def with_hysteresis(tmp_path_factory):
         "  effects: [rebound-orifice, seal-friction]",
         "  effects: [rebound-orifice, seal-friction, tyre-hysteresis]")
     root = tmp_path_factory.mktemp("gap")
+    # 1.2 s of each drop: the impact, the rebound and the settling the diagnosis works on
     return simulate_campaign(load_campaign(write_campaign(root / "truth", text)), root / "runs",
-                             seed=11)
+                             seed=11, duration=1.2)
 
 
 @pytest.fixture(scope="module")
