@@ -286,3 +286,4 @@ def full_report(tmp_path_factory) -> Path:
                                timeout=600, env=environment)
     (out.parent / "report.stderr").write_text(completed.stderr, encoding="utf-8")
     return out
+

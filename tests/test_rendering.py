@@ -241,6 +241,7 @@ def _check_in_browser(report: Path) -> Counter:
     return expected
 
 
+@pytest.mark.slow   # Chromium starts in seconds: CI runs it, make test-slow
 def test_every_figure_and_table_has_a_size_in_chromium_and_nothing_is_fetched(
         browser, example_report, measured_report):
     expected = _check_in_browser(example_report / "report.html")
@@ -251,6 +252,7 @@ def test_every_figure_and_table_has_a_size_in_chromium_and_nothing_is_fetched(
     assert expected["figure"] == 3 and expected["figure svg"] == expected["figure"]
 
 
+@pytest.mark.slow   # Chromium starts in seconds: CI runs it, make test-slow
 def test_browser_check_reports_an_image_fetched_from_the_network(
         browser, example_report, tmp_path):
     html = (example_report / "report.html").read_text(encoding="utf-8")
@@ -272,6 +274,7 @@ def test_browser_check_reports_an_image_fetched_from_the_network(
     assert size_problems(view, expected_elements(html)) == []
 
 
+@pytest.mark.slow   # Chromium starts in seconds: CI runs it, make test-slow
 def test_browser_check_reports_a_figure_drawn_with_no_size(browser, measured_report, tmp_path):
     html = (measured_report / "report.html").read_text(encoding="utf-8")
     tampered = tmp_path / "report.html"
@@ -288,6 +291,7 @@ def test_browser_check_reports_a_figure_drawn_with_no_size(browser, measured_rep
         f"{expected['table'] - 1} 'table' in the browser, the HTML has {expected['table']}")
 
 
+@pytest.mark.slow   # Chromium starts in seconds: CI runs it, make test-slow
 def test_browser_check_reports_a_hidden_or_empty_drawing(browser, measured_report, tmp_path):
     html = (measured_report / "report.html").read_text(encoding="utf-8")
     expected = expected_elements(html)
