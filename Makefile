@@ -7,6 +7,11 @@ VENV   ?= .venv
 CAMPAIGN ?= campaigns/seed-amphibian/campaign.yaml
 OUT    ?= out
 
+# Python caches compiled modules (and pytest its rewritten test modules) in __pycache__,
+# git-ignored: an environment that forbids it (PYTHONDONTWRITEBYTECODE=1) makes every test
+# process and every certkit command compile them again
+unexport PYTHONDONTWRITEBYTECODE
+
 # constraints.txt pins every package to the versions the tests (and the committed reference
 # page images) were made with, so a fresh machine gets the same bytes
 $(VENV)/.installed: pyproject.toml constraints.txt

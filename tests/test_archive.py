@@ -453,7 +453,8 @@ def test_an_input_behind_a_link_is_archived_where_the_spec_names_it(seed_copy, t
 
 
 @pytest.mark.parametrize("intruder", ["empty folder", "folder", "file"])
-def test_a_target_that_appears_while_archiving_is_left_alone(tmp_path, monkeypatch, intruder):
+def test_a_target_that_appears_while_archiving_is_left_alone(small_campaign, tmp_path,
+                                                            monkeypatch, intruder):
     import certkit.archive.campaign_bag as archive_module
 
     target = tmp_path / "bag"
@@ -470,7 +471,8 @@ def test_a_target_that_appears_while_archiving_is_left_alone(tmp_path, monkeypat
         return digest
 
     monkeypatch.setattr(archive_module, "write_bag", write_and_intrude)
-    result = runner.invoke(app, ["archive", str(SEED), "-o", str(target), "--no-model"])
+    result = runner.invoke(app, ["archive", str(small_campaign), "-o", str(target),
+                                 "--no-model"])
     assert result.exit_code == 2
     assert "appeared while the archive was being written" in result.output
     if intruder == "file":
@@ -478,7 +480,7 @@ def test_a_target_that_appears_while_archiving_is_left_alone(tmp_path, monkeypat
     else:
         assert [p.name for p in target.iterdir()] == ([] if intruder == "empty folder"
                                                       else ["theirs.txt"])
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["bag"]   # no staging left
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bag", "small"]   # no staging left
 
 
 def test_a_zip_cannot_carry_a_date_before_1980(seed_copy, tmp_path):
