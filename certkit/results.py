@@ -116,6 +116,18 @@ class Finding:
 
 
 @dataclass(frozen=True)
+class Unchecked:
+    """A data-quality check that could not run on what the campaign gives, and why."""
+
+    check: str
+    where: str | None   # the run, gear unit or run/gear it could not run for; None: anywhere
+    reason: str
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+@dataclass(frozen=True)
 class Comparison:
     """A value a source reported beside certkit's recomputation of it."""
 

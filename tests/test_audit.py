@@ -233,7 +233,7 @@ def test_a_malformed_baseline_is_bad_input_not_a_crash(tmp_path):
 def test_a_repeated_finding_gets_its_own_id():
     from types import SimpleNamespace
 
-    from certkit.compliance.quality import _add
+    from certkit.compliance.findings import add as _add
 
     assessment = SimpleNamespace(findings=[])
     for channel in ("load", "stroke", "tyre"):   # one check, one run, three channels

@@ -169,8 +169,8 @@ def test_reported_energies_are_each_checked_alone_not_their_sum(seed_copy):
     2868.445 N·6374.322 N/6360.957 N = 2874.472 N (certkit W1); d = d_t + d_s = 52.47 +
     97.85 = 150.32 mm (M2, reported); E_avail = 2874.472 N·(0.300 + 0.15032) m = 1294.43 J.
     E_s + E_t = 1305.97 + 356.36 = 1662.33 J is 28 % more, but each is taken to its own
-    maximum, so the sum is no bound; E_s alone is 0.9 % above E_avail, inside the 1 %
-    tolerance."""
+    maximum, so the sum is no strict bound (a warning of its own, tests/test_audit_checklist.py);
+    E_s alone is 0.9 % above E_avail, inside the 1 % tolerance."""
     from certkit import assess, load_campaign
 
     def d300_left(assessment):
@@ -185,12 +185,13 @@ def test_reported_energies_are_each_checked_alone_not_their_sum(seed_copy):
     assert gear.get("E_avail") == pytest.approx(1294.43, abs=0.01)
     assert gear.get("E_d") is None and gear.get("W_implied") is None
     assert found == []
-    # 1320 J of strut energy alone is 1.98 % more than the drop supplied: an error
+    # 1320 J of strut energy alone is 1.98 % more than the drop supplied: a finding, a
+    # warning because the unit's share of the drop rests on its assumed static weight
     text = seed_copy.read_text(encoding="utf-8")
     seed_copy.write_text(text.replace("strut_energy: 1305.97 J", "strut_energy: 1320 J"),
                          encoding="utf-8")
     gear, found = d300_left(assess(load_campaign(seed_copy)))
-    assert [f.severity for f in found] == ["error"]
+    assert [f.severity for f in found] == ["warning"]
     assert found[0].message.startswith("run D300, left-main: E_s = 1320 J (the strut energy "
                                        "alone, as reported; certkit E5)")
     assert found[0].values["absorbed"] == pytest.approx(1320.0)

@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from certkit.compliance.measures import GearMeasures
-from certkit.results import FAIL, NOT_SHOWN, PASS, Comparison, Finding, Value, Verdict
+from certkit.results import FAIL, NOT_SHOWN, PASS, Comparison, Finding, Unchecked, Value, Verdict
 from certkit.spec.campaign import Campaign
 from certkit.spec.requirement_sets import RequirementSet
 from certkit.spec.rundata import RunSeries
@@ -72,6 +72,7 @@ class Assessment:
     verdicts: list[Verdict] = field(default_factory=list)
     findings: list[Finding] = field(default_factory=list)
     comparisons: list[Comparison] = field(default_factory=list)
+    unchecked: list[Unchecked] = field(default_factory=list)
 
     @property
     def planning(self) -> bool:

@@ -45,7 +45,7 @@ EQUATIONS: dict[str, str] = {
           "W_drop·(h + d) − m2·g·(d − δ(t_d)) − ½·m2·δ̇(t_d)². From reported values E_d is not "
           "known (E_s and E_t each run to their own maximum, so their sum counts twice what the "
           "first-peaking element gives back); the audit then checks each of E_s and E_t alone "
-          "against E_avail, which holds for any drop",
+          "against E_avail, which holds for any drop, and their sum with a wider tolerance",
     "W1": "W_drop = m_drop·g for a single-unit drop; for a drop of the complete airplane each "
           "unit's share W_drop = W_unit·m_drop·g/W_max",
     "G1": "ground-reaction factor F_peak/W_unit",

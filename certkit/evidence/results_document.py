@@ -85,6 +85,7 @@ def results_document(assessment: Assessment, record: dict, model=None) -> dict:
                             for g in r.gears]} for r in assessment.runs],
         "verdicts": [v.as_dict() for v in assessment.verdicts],
         "findings": [f.as_dict() for f in assessment.findings],
+        "not_checked": [u.as_dict() for u in assessment.unchecked],
         "comparisons": [c.as_dict() for c in assessment.comparisons],
         "equations": EQUATIONS,
         "model": model_part,

@@ -159,6 +159,7 @@ class ReportView:
     verdicts: list[dict]
     findings: list[dict]
     comparisons: list[dict]
+    not_checked: list[dict]
     equations: list[tuple[str, str]]
     gravity_note: str
     display_rule: str

@@ -118,6 +118,8 @@ def build_view(assessment: Assessment, record: dict, model=None) -> ReportView:
         "load_factor_columns": {column: any(r[column] not in ("", "—") for r in load_factors)
                                 for column in ("stated", "combined", "n_j", "n", "n_energy")},
         "runs": runs, "verdicts": verdicts, "findings": findings, "comparisons": comparisons,
+        "not_checked": [{"check": u.check, "where": u.where or "the campaign",
+                         "reason": u.reason} for u in assessment.unchecked],
         "equations": sorted(EQUATIONS.items()), "gravity_note": GRAVITY_NOTE,
         "display_rule": DISPLAY_RULE,
         "assumptions": [a.strip() for a in spec.assumptions],

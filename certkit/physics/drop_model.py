@@ -34,6 +34,7 @@ import numpy as np
 
 from certkit.physics import dynamics as dyn
 from certkit.physics.dynamics import P_ATM
+from certkit.compliance.servicing import gas_equilibrium_stroke
 from certkit.units import STANDARD_GRAVITY
 
 __all__ = ["P_ATM", "Parameter", "Term", "GasSpring", "Orifice", "EndStops", "Tyre",
@@ -106,10 +107,7 @@ class GasSpring(Term):
 
         ``exponent`` overrides n (1 for gas at wall temperature, with heat transfer)."""
         n = self.exponent if exponent is None else exponent
-        pressure = P_ATM + load / self.area
-        if pressure <= self.precharge:
-            return 0.0  # the preload holds the load: the strut stays topped out
-        return self.volume / self.area * (1.0 - (self.precharge / pressure) ** (1.0 / n))
+        return gas_equilibrium_stroke(self.volume, self.area, self.precharge, load, n)
 
     def pack(self, p):
         p[dyn.GAS_AREA], p[dyn.GAS_VOLUME] = self.area, self.volume

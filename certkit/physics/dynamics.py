@@ -40,7 +40,9 @@ import math
 import numpy as np
 from numba import njit, prange
 
-P_ATM = 101325.0        # Pa, standard atmosphere (ISO 2533)
+from certkit.compliance.servicing import STANDARD_ATMOSPHERE
+
+P_ATM = STANDARD_ATMOSPHERE  # Pa, standard atmosphere (ISO 2533)
 G = 9.80665             # m/s^2, standard gravity
 VOLUME_FLOOR = 0.02     # the gas volume never falls below 2 % of V0 (keeps the law finite)
 PIN_POINTS = 16         # largest metering-pin table

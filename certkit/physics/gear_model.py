@@ -11,7 +11,8 @@ import math
 
 from certkit.compliance.drop_conditions import drop_weight_share, lift_force_ratio
 from certkit.errors import CertkitInputError, Problem
-from certkit.physics.drop_model import P_ATM, DropModel, EndStops, GasSpring, Orifice, Tyre
+from certkit.compliance.servicing import absolute_pressure
+from certkit.physics.drop_model import DropModel, EndStops, GasSpring, Orifice, Tyre
 from certkit.physics.effects import BY_NAME, EFFECTS
 from certkit.physics.effects.base import Gear
 from certkit.spec.schema import CampaignSpec, Run
@@ -116,7 +117,7 @@ def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = 
             f"{volume.text} leaves less than 2 % of itself at the design stroke (the piston "
             f"sweeps A_a·s_max = {swept * 1e6:.6g} cm^3): the gas would be compressed to nothing")
     inclination = strut.inclination.si if strut.inclination is not None else 0.0
-    absolute = precharge.si + (P_ATM if reference == "gauge" else 0.0)
+    absolute = absolute_pressure(precharge.si, reference)
     gas = GasSpring(pneumatic.si, volume.si, absolute, exponent.si)
     static_load = (unit.static_weight.si - unsprung.si * STANDARD_GRAVITY) * math.cos(inclination)
     if gas.equilibrium_stroke(static_load) >= unit.design_stroke.si:

@@ -398,6 +398,18 @@ class AuditSettings(SpecBlock):
     asymmetry_threshold: Fraction = Field(parse_quantity("10 %", "dimensionless"))
     reported_tolerance: Fraction = Field(parse_quantity("2 %", "dimensionless"))
     energy_tolerance: Fraction = Field(parse_quantity("1 %", "dimensionless"))
+    energy_sum_tolerance: Fraction = Field(
+        parse_quantity("10 %", "dimensionless"),
+        description="how far E_s + E_t, each to its own peak, may exceed the energy available")
+    reported_energy_spread: Fraction = Field(
+        parse_quantity("15 %", "dimensionless"),
+        description="spread across runs of the drop weight implied by reported energies")
+    static_stroke_tolerance: Fraction = Field(
+        parse_quantity("15 %", "dimensionless"),
+        description="share of the static stroke seal friction and gas temperature may move it")
+    tyre_curve_tolerance: Fraction = Field(
+        parse_quantity("15 %", "dimensionless"),
+        description="how far the peak load may fall below the tyre curve at maximum deflection")
     bottoming_margin: Fraction = Field(parse_quantity("5 %", "dimensionless"))
     drop_mass_spread: Fraction = Field(parse_quantity("10 %", "dimensionless"))
     sample_rate_tolerance: Fraction = Field(parse_quantity("1 %", "dimensionless"))
