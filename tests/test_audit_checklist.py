@@ -381,3 +381,27 @@ def test_reported_values_of_consistent_drops_raise_nothing(tmp_path):
     sums = [(g.get("E_s") + g.get("E_t")) / g.get("E_avail") for r in assessment.runs
             for g in r.gears]
     assert 1.0 < min(sums) and max(sums) < 1.05     # the over-count is there, and small
+
+
+def test_a_check_that_cannot_run_is_listed_with_what_it_needs(timeseries_campaign, tmp_path):
+    from xml.etree import ElementTree
+
+    from typer.testing import CliRunner
+
+    from certkit.cli import app
+
+    # one drop, no static stroke, no tyre curve: three checks cannot run, none is a failure
+    assessment = assess(load_campaign(timeseries_campaign))
+    assert {(u.check, u.where) for u in assessment.unchecked} == {
+        ("rising-with-height", "left-main"), ("stroke-below-static", "left-main"),
+        ("tyre-deflection-vs-curve", "left-main")}
+    junit = tmp_path / "audit.xml"
+    result = CliRunner().invoke(app, ["audit", str(timeseries_campaign), "--junit", str(junit)])
+    assert "3 check(s) could not run" in result.output
+    suite = next(s for s in ElementTree.parse(junit).getroot().iter("testsuite")
+                 if s.get("name") == "checks not run")
+    assert suite.get("skipped") == "3" and suite.get("failures") == "0"
+    case = next(c for c in suite.iter("testcase")
+                if c.get("name") == "QA-not-run/stroke-below-static/left-main")
+    assert case.find("skipped").get("message") == \
+        "needs gear_units[left-main].strut.static_stroke"

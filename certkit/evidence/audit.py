@@ -35,12 +35,15 @@ PASS = "PASS"
 #: The kind (and id) of the row a planning campaign's audit starts with: it always fails,
 #: so no CI job can turn green on predictions made from synthetic histories.
 PLANNING_ROW = "planning"
+#: The kind of the row of a data-quality check that could not run (JUnit: skipped).
+NOT_CHECKED = "not checked"
 
 
 @dataclass(frozen=True)
 class AuditRow:
     id: str
-    kind: str                 # "criterion", "finding" or "baseline" (a change since it)
+    kind: str                 # "criterion", "finding", "not checked" (a check that could
+                              # not run: skipped, never a failure) or "baseline" (a change)
     clause: str               # criterion: the requirement clause; finding: the check
     title: str
     run: str | None
@@ -79,6 +82,10 @@ def audit_rows(assessment: Assessment) -> list[AuditRow]:
     rows += [AuditRow(f.id, "finding", f.check, f.check.replace("-", " "), f.run, f.gear, None,
                       None, None, "", f.severity, f.message)
              for f in assessment.findings]
+    rows += [AuditRow("/".join(["QA-not-run", u.check] + ([u.where] if u.where else [])),
+                      NOT_CHECKED, u.check, u.check.replace("-", " "), None, None, None, None,
+                      None, "", "not run", u.reason)
+             for u in assessment.unchecked]
     return rows
 
 
@@ -153,6 +160,8 @@ def to_markdown(rows: list[AuditRow], title: str, units: DisplayUnits | None = N
              f"{sum(r.kind == 'finding' and r.outcome == 'error' for r in rows)} data-quality "
              f"error(s), {sum(r.kind == 'finding' and r.outcome == 'warning' for r in rows)} "
              f"warning(s)"
+             + (f"; {sum(r.kind == NOT_CHECKED for r in rows)} check(s) could not run"
+                if any(r.kind == NOT_CHECKED for r in rows) else "")
              + (f"; {sum(r.kind == 'baseline' for r in rows)} change(s) since the baseline"
                 if any(r.kind == "baseline" for r in rows) else "") + ".", ""]
     header = ["id", "outcome", "value", "limit", "margin", "message"]
@@ -176,13 +185,15 @@ def to_junit(rows: list[AuditRow], title: str, units: DisplayUnits | None = None
     prefix = "PLANNING (synthetic data, not compliance evidence): " if planning else ""
     root = ElementTree.Element("testsuites", name=f"certkit audit: {prefix}{title}")
     for kind, name in ((PLANNING_ROW, PLANNING_ROW), ("criterion", "criteria"),
-                       ("finding", "data quality"), ("baseline", "baseline")):
+                       ("finding", "data quality"), (NOT_CHECKED, "checks not run"),
+                       ("baseline", "baseline")):
         chosen = [row for row in rows if row.kind == kind]
-        if kind in ("baseline", PLANNING_ROW) and not chosen:
+        if kind in ("baseline", PLANNING_ROW, NOT_CHECKED) and not chosen:
             continue
         suite = ElementTree.SubElement(root, "testsuite", name=name, tests=str(len(chosen)),
                                        failures=str(sum(row.failed for row in chosen)),
-                                       errors="0", skipped="0")
+                                       errors="0",
+                                       skipped=str(len(chosen) if kind == NOT_CHECKED else 0))
         for row in chosen:
             case = ElementTree.SubElement(suite, "testcase", name=row.id,
                                           classname=f"{name}.{row.clause}")
@@ -190,7 +201,10 @@ def to_junit(rows: list[AuditRow], title: str, units: DisplayUnits | None = None
             detail = (f"{row.outcome}: value {shown['value']}, limit {shown['limit']}, "
                       f"margin {shown['margin']}. {row.message}" if kind == "criterion"
                       else f"{row.outcome}: {row.message}")
-            if row.failed:
+            if kind == NOT_CHECKED:
+                ElementTree.SubElement(case, "skipped", message=row.message[:200]).text = \
+                    row.message
+            elif row.failed:
                 failure = ElementTree.SubElement(case, "failure", type=row.outcome,
                                                  message=detail[:200])
                 failure.text = detail
