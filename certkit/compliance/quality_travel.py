@@ -231,8 +231,8 @@ def check_tyre_curve(assessment: Assessment) -> None:
         if curve is None:
             not_checked(assessment, "tyre-deflection-vs-curve", gear.gear_id,
                         f"needs gear_units[{gear.gear_id}].tyre.load_deflection")
-        if curve is None or f_peak is None or d_t is None:
-            continue
+        if curve is None or f_peak is None or d_t is None or d_t <= 0:
+            continue   # a deflection that never rose above zero has no point on the curve
         expected = curve.reference_load.si * (d_t / curve.reference_deflection.si) \
             ** curve.exponent.si
         if f_peak < (1 - tolerance) * expected:
