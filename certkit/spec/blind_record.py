@@ -78,9 +78,12 @@ DIAGNOSIS_CODE = ("gap/attribution.py", "gap/selection.py", "gap/missing_force.p
 
 def template_fingerprint(campaign) -> str:
     """SHA-256 of the spec's content (canonical JSON of the validated spec) without
-    ``model.gap.blind_check``: the same before and after the spec names its blind-check
-    record, different after any change to the spec."""
+    ``model.gap.blind_check`` and without the data-quality audit's thresholds (``audit``),
+    which the diagnosis never reads: the same before and after the spec names its
+    blind-check record, or after a threshold of the audit is added or changed, different
+    after any other change to the spec."""
     content = campaign.spec.model_dump(mode="json")
+    content.pop("audit", None)
     gap = (content.get("model") or {}).get("gap")
     if isinstance(gap, dict):
         gap.pop("blind_check", None)
