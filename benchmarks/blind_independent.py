@@ -2,7 +2,8 @@
 
 Run:  .venv/bin/python benchmarks/blind_independent.py SPEC -g GEAR -o DIR [--workers N]
       [--quick] [--rescore RECORD]   (about 10 minutes on 2 cores; --rescore scores a
-      record's cases again without running them)
+      record's cases again without running them: the record keeps who ran them, run_by,
+      apart from who scored them, scored_by)
 
 Every case is a campaign simulated from the template campaign's spec by the independent
 drop simulator in ``benchmarks/truthgen`` (its own force laws, its own nuisance physics
@@ -62,7 +63,8 @@ from certkit.gap.selection import diagnose, pooled  # noqa: E402
 from certkit.physics.calibration import aligned_records, calibrate_gear  # noqa: E402
 from certkit.physics.gear_model import gear_mass  # noqa: E402
 from certkit.physics.synthetic import NO_SENSOR_EFFECTS, Histories, SensorModel, write_campaign  # noqa: E402,E501
-from certkit.spec.blind_record import code_fingerprint, template_fingerprint  # noqa: E402
+from certkit.spec.blind_record import (provenance, read_blind_check,  # noqa: E402
+                                       template_fingerprint)
 from certkit.spec.campaign import load_campaign  # noqa: E402
 from certkit.version import VERSION  # noqa: E402
 
@@ -402,8 +404,17 @@ def score(outcomes: list[dict]) -> dict:
 
 
 def record(template: str, gear_id: str, plan: Plan, settings, cases: list[Case],
-           outcomes: list[dict]) -> dict:
-    """The blind-check record of ``outcomes`` (the cases run, in ``cases``' order)."""
+           outcomes: list[dict], run_by: dict | None = None) -> dict:
+    """The blind-check record of ``outcomes`` (the cases run, in ``cases``' order).
+
+    ``run_by`` is who ran the cases (:func:`~certkit.spec.blind_record.provenance`); None:
+    this process ran them.  The record's ``scored_by`` is always this process, and its
+    template's code fingerprint is the one that ran the cases: a rescore never re-stamps
+    the run."""
+    command = (f"python benchmarks/blind_independent.py {Path(template).name} -g {gear_id} "
+               f"-o DIR")
+    scored_by = provenance(command + " --rescore RECORD" if run_by is not None else command)
+    run_by = scored_by if run_by is None else run_by
     campaign = load_campaign(template)
     generator = hashlib.sha256()
     for path in sorted((HERE / "truthgen").glob("*.py")):
@@ -418,9 +429,8 @@ def record(template: str, gear_id: str, plan: Plan, settings, cases: list[Case],
                    f"effects outside the library "
                    f"({', '.join(truthgen.FORMS[f].label for f in _outside_forms())})"),
         "template": {"spec": Path(template).name, "sha256": template_fingerprint(campaign),
-                     "code": code_fingerprint(), "gear": gear_id},
-        "command": f"python benchmarks/blind_independent.py {Path(template).name} "
-                   f"-g {gear_id} -o DIR",
+                     "code": run_by["code"], "gear": gear_id},
+        "command": command, "run_by": run_by, "scored_by": scored_by,
         "settings": {"ratios": list(plan.ratios), "seeds": list(plan.seeds),
                      "null_cases": plan.null_cases, "outside_ratios": list(plan.outside_ratios),
                      "pairs": [list(p) for p in _pairs()], "pair_ratio": plan.pair_ratio,
@@ -452,13 +462,17 @@ def main() -> int:
     plan, settings = Plan(), blind_check.Settings()
     started = clock.perf_counter()
     cases = battery(plan, args.quick)
+    run_by = None
     if args.rescore is not None:
-        outcomes = json.loads(args.rescore.read_text(encoding="utf-8"))["cases"]
+        earlier = read_blind_check(args.rescore)
+        outcomes = earlier.cases
         if [o["id"] for o in outcomes] != [c.id for c in cases]:
             parser.error(f"{args.rescore} holds other cases than this battery")
+        # the cases were run by whoever ran them, not by this process
+        run_by = earlier.cases_run_by.model_dump()
     else:
         outcomes = run_battery(template, args.gear, plan, settings, cases, args.workers)
-    document = record(template, args.gear, plan, settings, cases, outcomes)
+    document = record(template, args.gear, plan, settings, cases, outcomes, run_by)
     args.out.mkdir(parents=True, exist_ok=True)
     blind_check.write_blind_check(document, args.out)
     for name, metric in document["metrics"].items():

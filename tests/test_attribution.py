@@ -210,7 +210,7 @@ def test_each_candidate_decision_names_the_rule_that_made_it():
 
     from certkit.gap.attribution import Attribution, Score
     from certkit.gap.selection import (DETECTABLE, GAIN, LEADING, RELEVANT, TIE_COST, _decisions,
-                                       _refit_decisions)
+                                       _refit_decisions, _refused)
 
     scores = (Score("a", 9.0, 1.0, 1.0, 0.9), Score("b", 4.0, 1.0, 1.0, 0.5),
               Score("c", 0.0, -1.0, 1.0, 0.0), Score("d", 0.1, 1.0, 1.0, 0.01),
@@ -235,23 +235,34 @@ def test_each_candidate_decision_names_the_rule_that_made_it():
     harm = {("a",): [], ("b",): [], ("e",): [], ("f",): ["stroke"]}
     removed = {("a",): 9.0, ("b",): 1.0, ("e",): 5.0, ("f",): 5.0}
     timely = {f.effects: None for f in fits}
-    outcomes = [d.status for d in _refit_decisions(fits, 1.0, harm, removed, timely, fits[0],
-                                                   (), names)]
+
+    def judged(refits):
+        return {f.effects: _refused(f, 1.0, harm.get(f.effects, []), removed[f.effects],
+                                    timely.get(f.effects)) for f in refits}
+
+    outcomes = [d.status for d in _refit_decisions(fits, judged(fits), fits[0], (), names, {})]
     assert outcomes[0] == "named"
     assert outcomes[1].endswith("not named") and f"less than {100 * GAIN:.0f} %" in outcomes[1]
-    assert outcomes[2] == (f"cuts the training cost by {100 * GAIN:.0f} % or more, less than "
-                           f"the named effect: not named")
+    assert outcomes[2] == (f"cuts the training cost by {100 * GAIN:.0f} % or more, but less "
+                           f"than the named effect: not named")
     assert outcomes[3] == "makes the training stroke error worse beyond its noise: not named"
     # a refit that gains enough but removes less than DETECTABLE noise variances
     small = Fit(effects=("g",), training_cost=0.5)
     names["g"] = Form(name="G")
-    lost = _refit_decisions([small], 1.0, {("g",): []}, {("g",): DETECTABLE / 2},
-                            {("g",): None}, None, (), names)[0].status
+    removed[("g",)] = DETECTABLE / 2
+    lost = _refit_decisions([small], judged([small]), None, (), names, {})[0].status
     assert lost == (f"removes {DETECTABLE / 2:.2g} noise variances from the training records, "
                     f"fewer than {DETECTABLE:g}: not told apart from the nominal model's own "
                     f"floor, not named")
     # a tie: neither is named, and each says why
-    tied = [d.status for d in _refit_decisions(fits[:1] + fits[2:3], 1.0, harm, removed,
-                                               timely, None, ("A", "E"), names)]
+    pair = fits[:1] + fits[2:3]
+    tied = [d.status for d in _refit_decisions(pair, judged(pair), None, ("A", "E"), names, {})]
     assert tied == [f"within {100 * (TIE_COST - 1):.0f} % of another effect's training "
                     f"cost: a tie, not named"] * 2
+    # a near-tie the missing force broke for the refit with the higher cost: the one with
+    # the lower cost lost to the missing force's mark, not to the cost, and says so
+    broken = {("a",): "within 10 % of each other's training cost with E; the mark: not named",
+              ("e",): "within 10 % of each other's training cost with A; the mark: named"}
+    outcomes = [d.status for d in _refit_decisions(pair, judged(pair), fits[2], (), names,
+                                                   broken)]
+    assert outcomes == [broken[("a",)], broken[("e",)]]

@@ -313,3 +313,55 @@ def test_a_template_the_diagnosis_cannot_use_exits_2_before_any_case_runs():
     assert result.exit_code == 2
     assert "gear unit nose has no drop with time histories" in result.output
     assert "Traceback" not in result.output
+
+
+def test_a_rescore_keeps_who_ran_the_cases(tmp_path, monkeypatch):
+    """A record scored again by other code still says who ran its cases: the run's
+    fingerprint, commit and date stay, and only scored_by is the scoring certkit's."""
+    import sys
+    from pathlib import Path
+
+    from certkit.spec.blind_record import code_fingerprint, read_blind_check
+
+    root = Path(__file__).resolve().parents[1]
+    example = root / EXAMPLE
+    sys.path.insert(0, str(root / "benchmarks"))
+    import blind_independent as independent
+
+    committed = example.parent / "blind-check" / "blind-check.json"
+    earlier = json.loads(committed.read_text(encoding="utf-8"))
+    ran = {"certkit": "0.0.9", "code": "a" * 64, "commit": "b" * 40, "date": "2026-01-02",
+           "files": {"gap/selection.py": "c" * 64}, "command": "the run's command"}
+    earlier["run_by"] = ran
+    earlier["template"]["code"] = ran["code"]
+    source = tmp_path / "earlier.json"
+    source.write_text(json.dumps(earlier), encoding="utf-8")
+    monkeypatch.setattr(sys, "argv", ["blind_independent.py", str(example), "-g", "left-main",
+                                      "-o", str(tmp_path / "out"), "--rescore", str(source)])
+    assert independent.main() == 0
+    record = read_blind_check(tmp_path / "out" / "blind-check.json")
+    assert record.run_by.model_dump() == ran and record.template.code == "a" * 64
+    assert record.scored_by.code == code_fingerprint() != record.run_by.code
+    assert record.scored_by.command.endswith("--rescore RECORD")
+    # the cases are the earlier ones, untouched
+    assert record.cases == earlier["cases"]
+
+
+def test_the_report_names_the_files_that_differ_from_the_running_certkit():
+    from certkit.evidence.gap_view import _made_by
+    from certkit.spec.blind_record import Provenance, code_files, code_fingerprint
+
+    files = code_files()
+    now = Provenance(certkit="0.1.0", code=code_fingerprint(), files=files, date="2026-11-26")
+    assert _made_by("Its cases were run", now, code_fingerprint()) == \
+        "Its cases were run by certkit 0.1.0 on 2026-11-26, with this certkit's diagnosis code."
+    other = dict(files, **{"gap/selection.py": "0" * 64})
+    other.pop("gap/phases.py")
+    then = Provenance(certkit="0.0.9", code="f" * 64, files=other, commit="1234567890abcdef")
+    sentence = _made_by("They were scored", then, code_fingerprint())
+    assert sentence.startswith("They were scored by certkit 0.0.9 at commit 1234567890ab, "
+                               "with other diagnosis code than this certkit's (the files that "
+                               "differ: gap/phases.py, gap/selection.py)")
+    older = Provenance(certkit="0.0.9", code="f" * 64)     # a record from before per-file hashes
+    assert "which files differ is not recorded" in _made_by("Its cases were run", older,
+                                                            code_fingerprint())

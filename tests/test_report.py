@@ -189,7 +189,7 @@ def test_model_section_is_reproducible_and_says_the_data_are_synthetic(full_repo
     from certkit.spec.blind_record import code_fingerprint, read_blind_check
     record = read_blind_check(SEED.parent / "blind-check" / "blind-check.json")
     if record.template.code == code_fingerprint():
-        assert "modules) is this certkit&#39;s." in html
+        assert "with this certkit&#39;s diagnosis code." in html
     else:
         assert "other diagnosis code than this certkit" in html
     assert "Blind check: what the diagnosis gets right against effect size" in html

@@ -18,7 +18,8 @@ from certkit.evidence.methods import gap_method, unit_size
 from certkit.evidence.model_view import origins
 from certkit.evidence.sections import BlindSection, GapSection
 from certkit.physics.drops import MIDDLE_FROM
-from certkit.spec.blind_record import METRICS, code_fingerprint, template_fingerprint
+from certkit.spec.blind_record import (METRICS, code_fingerprint, differing_files,
+                                       template_fingerprint)
 from certkit.spec.rundata import CHANNEL_LABELS
 
 
@@ -153,6 +154,22 @@ def _gap_shrink(gap, units) -> list[dict]:
     return rows
 
 
+def _made_by(step: str, who, code: str) -> str:
+    """One sentence on who did a step of the blind check and whether it is this certkit's
+    diagnosis code (fingerprint of the simulation and diagnosis modules)."""
+    when = "".join(part for part in (f" on {who.date}" if who.date else "",
+                                     f" at commit {who.commit[:12]}" if who.commit else ""))
+    sentence = f"{step} by certkit {who.certkit}{when}"
+    if who.code == code:
+        return sentence + ", with this certkit's diagnosis code."
+    differing = differing_files(who.files)
+    which = ("which files differ is not recorded" if differing is None
+             else "the files that differ: " + ", ".join(differing))
+    return (sentence + ", with other diagnosis code than this certkit's (" + which
+            + "), so the figures describe that code: run the command again to measure this "
+              "one.")
+
+
 def _blind_view(campaign, units) -> dict:
     """The blind check's record (model.gap.blind_check) in words and tables, or how to make
     one."""
@@ -225,11 +242,10 @@ def _blind_view(campaign, units) -> dict:
                      + ("; it matches this campaign's spec)." if record.template.sha256 == now
                         else f"; this campaign's spec now has {now}: the record was made "
                              f"from another version of it).")
-                     + (" Its diagnosis code (fingerprint of the simulation and diagnosis "
-                        "modules) is this certkit's." if record.template.code == code
-                        else " It was made by other diagnosis code than this certkit's "
-                             "(other thresholds or simulation), so it describes that code: "
-                             "run the command again.")),
+                     + " " + _made_by("Its cases were run", record.cases_run_by, code)
+                     + (" " + _made_by("They were scored", record.scored_by, code)
+                        if record.scored_by is not None and record.scored_by != record.run_by
+                        else "")),
         "truths": ("The withheld truths were simulated by " + record.truths + "."
                    if record.truths else
                    "The withheld truths were simulated by certkit's own drop model, each "

@@ -7,33 +7,15 @@ same bytes.
 from __future__ import annotations
 
 import platform
-import subprocess
 from importlib import metadata
-from pathlib import Path
 
 from packaging.requirements import InvalidRequirement, Requirement
 from packaging.utils import canonicalize_name
 
-from certkit.version import VERSION
+from certkit.version import VERSION, git_commit
 
 DEPENDENCIES = ("numpy", "numba", "scipy", "pandas", "pyarrow", "jinja2", "matplotlib", "weasyprint",
                 "pydantic", "pint", "PyYAML")
-
-
-def _git_commit() -> str | None:
-    """Commit of the certkit source tree, with '-dirty' when it has uncommitted changes."""
-    source = Path(__file__).resolve().parent.parent.parent   # the repository, if any
-    if not (source / ".git").exists():
-        return None
-    try:
-        commit = subprocess.run(["git", "-C", str(source), "rev-parse", "HEAD"], check=True,
-                                capture_output=True, text=True, timeout=10).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(source), "status", "--porcelain",
-                                "--untracked-files=no"], check=True, capture_output=True,
-                               text=True, timeout=10).stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        return None
-    return commit + ("-dirty" if dirty else "")
 
 
 def versions(names) -> dict:
@@ -51,7 +33,7 @@ def provenance(inputs) -> dict:
     """Provenance record for results.json and the report."""
     return {
         "certkit_version": VERSION,
-        "certkit_commit": _git_commit(),
+        "certkit_commit": git_commit(),
         "python": platform.python_version(),
         "dependencies": versions(DEPENDENCIES),
         "inputs": [{"file": item.name, "sha256": item.sha256, "bytes": item.size}
@@ -94,7 +76,7 @@ def environment() -> dict:
         pending.extend(_requirement_names(name))
     return {
         "certkit_version": VERSION,
-        "certkit_commit": _git_commit(),
+        "certkit_commit": git_commit(),
         "python": f"{platform.python_implementation()} {platform.python_version()}",
         "platform": f"{platform.system()} {platform.machine()}",
         "packages": dict(sorted(packages.items())),

@@ -104,7 +104,7 @@ def score_candidates(residuals, models: list[DropModel], nominal_jacobian: np.nd
     return Attribution(tuple(scores), confusability, sigma2)
 
 
-def _central_jacobian(residuals, values, models_at, relative: float = 1e-4) -> np.ndarray:
+def central_jacobian(residuals, values, models_at, relative: float = 1e-4) -> np.ndarray:
     """∂r/∂x at ``values`` by central differences, every stencil point in one batch;
     ``models_at(x)`` gives the models (one per run) at parameter vector x."""
     values = np.asarray(values, dtype=float)
@@ -120,7 +120,7 @@ def _central_jacobian(residuals, values, models_at, relative: float = 1e-4) -> n
     return np.column_stack([(r[2 * i] - r[2 * i + 1]) / (2 * h) for i, h in enumerate(steps)])
 
 
-def _configured(residuals, knobs, candidates, x) -> list[DropModel]:
+def configured(residuals, knobs, candidates, x) -> list[DropModel]:
     """The runs' models with the knobs at x[:k] and the candidates at strengths x[k:]."""
     models = []
     for base in residuals.models:
@@ -135,8 +135,8 @@ def _configured(residuals, knobs, candidates, x) -> list[DropModel]:
 
 def nominal_jacobian(residuals, calibration) -> np.ndarray:
     """∂r/∂θ of a calibration's knobs at its estimate."""
-    return _central_jacobian(residuals, calibration.fit.estimate,
-                             lambda x: _configured(residuals, calibration.knobs, [], x))
+    return central_jacobian(residuals, calibration.fit.estimate,
+                            lambda x: configured(residuals, calibration.knobs, [], x))
 
 
 # --------------------------------------------------------------------------- refits
@@ -191,7 +191,7 @@ def profiles(residuals, calibration, chosen: list[Candidate], candidates: list[C
         points = [np.array(values + strengths + [s]) for s in STARTS]
         # a batch per strength: the stiffest strength of a stiff candidate (a stiff leg, a
         # fast heat exchange) sets only its own integration step
-        vectors = [residuals.evaluate([_configured(residuals, calibration.knobs,
+        vectors = [residuals.evaluate([configured(residuals, calibration.knobs,
                                                    chosen + [candidate], x)])[0]
                    for x in points]
         for x, r in zip(points, vectors):
@@ -219,7 +219,7 @@ def refit(residuals, calibration, candidates: list[Candidate],
                    for c, v in zip(candidates, start[len(knobs):])]
 
     def many(matrix):
-        return residuals.evaluate([_configured(residuals, knobs, candidates, x)
+        return residuals.evaluate([configured(residuals, knobs, candidates, x)
                                    for x in matrix])
 
     # forward differences: refits are compared at GAIN (10 %) apart, far above their

@@ -56,7 +56,7 @@ from certkit.physics.effects import TRUTHS, Truth
 from certkit.physics.gear_model import drop_model_for
 from certkit.physics.simulation import simulate_batch
 from certkit.physics.synthetic import NO_SENSOR_EFFECTS, SensorModel, simulate_campaign
-from certkit.spec.blind_record import code_fingerprint, template_fingerprint
+from certkit.spec.blind_record import code_fingerprint, provenance, template_fingerprint
 from certkit.spec.campaign import load_campaign
 from certkit.units import STANDARD_GRAVITY
 from certkit.version import VERSION
@@ -518,14 +518,17 @@ def blind_check(template: str | Path, gear_id: str | None = None,
             outcomes.append(future.result())
             if progress:
                 progress(outcomes[-1])
+    command = f"certkit gap --blind-check {Path(template).name} -g {gear_id}"
     document = {"kind": "certkit blind check", "certkit": VERSION,
                 "template": {"spec": Path(template).name,
                              "sha256": template_fingerprint(campaign),
                              "fingerprint": "SHA-256 of the spec's content as validated "
-                                            "(canonical JSON) without model.gap.blind_check",
+                                            "(canonical JSON) without model.gap.blind_check "
+                                            "and the audit's thresholds",
                              "code": code_fingerprint(),
                              "gear": gear_id},
-                "command": f"certkit gap --blind-check {Path(template).name} -g {gear_id}",
+                "command": command, "run_by": provenance(command),
+                "scored_by": provenance(command),
                 "settings": {**{k: v for k, v in asdict(settings).items()
                                 if not isinstance(v, tuple) or k in ("ratios", "seeds")},
                              "effects": list(settings.effects),

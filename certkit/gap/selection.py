@@ -26,7 +26,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from certkit.display import percent
-from certkit.gap.attribution import (Attribution, Decision, Refit, _central_jacobian, _configured,
+from certkit.gap.attribution import (Attribution, Decision, Refit, central_jacobian, configured,
                                      nominal_jacobian, profiles, refit, score_candidates)
 from certkit.gap.holdout import split_for
 from certkit.gap.missing_force import campaign_missing_forces, pointed_effects, signatures
@@ -197,11 +197,11 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
     for _ in range(2):
         step_costs.append(cost)
         x = list(current.values) + list(current.strengths) if current else None
-        models = (_configured(residuals, calibration.knobs, chosen, x) if current
+        models = (configured(residuals, calibration.knobs, chosen, x) if current
                   else [calibration.apply(m) for m in residuals.models])
         jacobian = nominal_jacobian(residuals, calibration) if current is None else \
-            _central_jacobian(residuals, x,
-                              lambda v: _configured(residuals, calibration.knobs, chosen, v))
+            central_jacobian(residuals, x,
+                             lambda v: configured(residuals, calibration.knobs, chosen, v))
         named_effects = {c.name for c in chosen}
         remaining = [c for c in candidates if c.name not in named_effects]
         # a form that cannot be added to this model (its family is empty there) is not
@@ -225,7 +225,7 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
                               no_refit="" if fits else _NO_REFIT)
         steps.append((attribution, fits))
         base = residuals.evaluate([models])[0]
-        fitted = residuals.evaluate([_configured(residuals, calibration.knobs,
+        fitted = residuals.evaluate([configured(residuals, calibration.knobs,
                                                  [names[k] for k in f.effects],
                                                  list(f.values) + list(f.strengths))
                                      for f in fits]) if fits else []
@@ -235,24 +235,25 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
                    for f, r in zip(fits, fitted)}
         mistimed = {f.effects: _mistimed(residuals, base, r, names[f.effects[-1]])
                     for f, r in zip(fits, fitted)}
-        useful = sorted((f for f in fits if f.training_cost <= (1 - GAIN) * cost
-                         and not harm[f.effects] and removed[f.effects] >= DETECTABLE
-                         and mistimed[f.effects] is None),
+        # each refit is judged once; the filter and the record both read the judgement
+        refused = {f.effects: _refused(f, cost, harm[f.effects], removed[f.effects],
+                                       mistimed[f.effects]) for f in fits}
+        useful = sorted((f for f in fits if refused[f.effects] is None),
                         key=lambda f: f.training_cost)
         evidence.append(tuple(signatures(campaign_missing_forces(
             campaign, gear_id, training,
             lambda m: current.apply(calibration.knobs, m, chosen) if current
             else calibration.apply(m)))))
         best = useful[0] if useful else None
-        broken = ""
+        broken = {}
         if best is not None and len(useful) > 1 and \
                 useful[1].training_cost <= TIE_COST * best.training_cost:
             best, broken = _break_tie(best, useful[1], names, evidence[-1])
             if best is None:
                 tie = (names[useful[0].effects[-1]].name, names[useful[1].effects[-1]].name)
                 statement = _tie_statement(chosen, useful[0], useful[1], names, attribution)
-        refit_notes.append(_refit_decisions(fits, cost, harm, removed, mistimed,
-                                            best if not tie else None, tie, names, broken))
+        refit_notes.append(_refit_decisions(fits, refused, best if not tie else None, tie,
+                                            names, broken))
         if tie:
             break
         if best is None:
@@ -286,19 +287,20 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
 
 
 def _break_tie(best: Refit, other: Refit, names: dict, evidence) -> tuple:
-    """(the refit to name, or None for a tie; why the tie was broken): the model-free
-    missing force decides a near-tie when it shows the mark of one of the two effects and
-    not of the other."""
+    """(the refit to name, or None for a tie; {effects: why} for the two refits when the
+    tie was broken): the model-free missing force decides a near-tie when it shows the mark
+    of one of the two effects and not of the other, whichever has the lower training cost."""
     pointed = pointed_effects(list(evidence))
     a, b = names[best.effects[-1]].name, names[other.effects[-1]].name
     if (a in pointed) == (b in pointed):
-        return None, ""
-    winner, loser = (best, b) if a in pointed else (other, a)
-    effect = names[winner.effects[-1]].name
-    return winner, (f"within {percent(TIE_COST - 1, 0)} of {loser}'s training cost; the "
-                    f"missing force shows the mark of {effect} "
-                    f"({percent(pointed[effect], 0)} of its variance) and not of {loser}: "
-                    f"named")
+        return None, {}
+    (winner, effect), (loser, lost) = ((best, a), (other, b)) if a in pointed \
+        else ((other, b), (best, a))
+    within = f"within {percent(TIE_COST - 1, 0)} of each other's training cost"
+    mark = f"the missing force shows the mark of {effect} " \
+           f"({percent(pointed[effect], 0)} of its variance) and not of {lost}"
+    return winner, {winner.effects: f"{within} with {lost}; {mark}: named",
+                    loser.effects: f"{within} with {effect}; {mark}: not named"}
 
 
 def _tie_statement(chosen, best: Refit, other: Refit, names: dict,
@@ -359,36 +361,52 @@ def _decisions(attribution: Attribution, relevant: set, leading: list, names: di
     return tuple(decisions)
 
 
-def _refit_decisions(fits: list, cost: float, harm: dict, removed: dict, mistimed: dict,
-                     named: Refit | None, tie: tuple, names: dict, broken: str = "") -> tuple:
-    """What became of each refit of one step: named, or not named and why."""
+def _refused(refitted: Refit, cost: float, harm: list, removed: float,
+             mistimed: tuple | None) -> str | None:
+    """Why a refit cannot be named, by the first rule it fails (None: it can be): it must
+    cut the training cost by :data:`GAIN`, harm no training channel beyond its noise,
+    remove :data:`DETECTABLE` noise variances, and, for an error of a recorded channel, fit
+    the residual at the same instant (:data:`TIMING_SHARE`)."""
+    if refitted.training_cost > (1 - GAIN) * cost:
+        return f"cuts the training cost by less than {percent(GAIN, 0)}: not named"
+    if harm:
+        return "makes the training " + ", ".join(harm) + " error worse beyond its noise: not named"
+    if removed < DETECTABLE:
+        return (f"removes {removed:.2g} noise variances from the training records, fewer than "
+                f"{DETECTABLE:g}: not told apart from the nominal model's own floor, not named")
+    if mistimed is not None:
+        channel, shift, share = mistimed
+        return (f"its correction of the recorded {channel} fits the residual better "
+                f"{abs(shift) * 1e3:.3g} ms {'later' if shift > 0 else 'earlier'} than at the "
+                f"same instant (the shift removes {percent(share, 0)} of the {channel}'s "
+                f"remaining mean square; {percent(TIMING_SHARE, 0)} or more is a timing "
+                f"error): an error without memory acts at the same instant, so the {channel} "
+                f"record's error is not this one: not named")
+    return None
+
+
+def _refit_decisions(fits: list, refused: dict, named: Refit | None, tie: tuple, names: dict,
+                     broken: dict) -> tuple:
+    """What became of each refit of one step, with the reason that decided it: refused by
+    a rule (``refused``), named, one of a tie, one of a tie the missing force broke
+    (``broken``), or admissible with a higher training cost than the named refit."""
     decisions = []
     for refitted in fits:
         effect = names[refitted.effects[-1]].name
-        if named is not None and refitted is named:
-            status = broken or "named"
-        elif refitted.training_cost > (1 - GAIN) * cost:
-            status = f"cuts the training cost by less than {percent(GAIN, 0)}: not named"
-        elif harm[refitted.effects]:
-            status = ("makes the training " + ", ".join(harm[refitted.effects])
-                      + " error worse beyond its noise: not named")
-        elif removed[refitted.effects] < DETECTABLE:
-            status = (f"removes {removed[refitted.effects]:.2g} noise variances from the "
-                      f"training records, fewer than {DETECTABLE:g}: not told apart from the "
-                      f"nominal model's own floor, not named")
-        elif mistimed[refitted.effects] is not None:
-            channel, shift, share = mistimed[refitted.effects]
-            status = (f"its correction of the recorded {channel} fits the residual better "
-                      f"{abs(shift) * 1e3:.3g} ms {'later' if shift > 0 else 'earlier'} than "
-                      f"at the same instant (the shift removes {percent(share, 0)} of the "
-                      f"{channel}'s remaining mean square; {percent(TIMING_SHARE, 0)} or more "
-                      f"is a timing error): an error without memory acts at the same "
-                      f"instant, so the {channel} record's error is not this one: not named")
+        if refitted.effects in broken:
+            status = broken[refitted.effects]
+        elif named is not None and refitted is named:
+            status = "named"
+        elif refused[refitted.effects] is not None:
+            status = refused[refitted.effects]
         elif effect in tie:
             status = (f"within {percent(TIE_COST - 1, 0)} of another effect's training cost: "
                       f"a tie, not named")
+        elif named is not None:
+            status = (f"cuts the training cost by {percent(GAIN, 0)} or more, but less than "
+                      f"the named effect: not named")
         else:
-            status = (f"cuts the training cost by {percent(GAIN, 0)} or more, less than the "
-                      f"named effect: not named")
+            status = (f"admissible, but the step ended in a tie of {tie[0]} and {tie[1]}: "
+                      f"not named")
         decisions.append(Decision(" + ".join(refitted.effects), status))
     return tuple(decisions)

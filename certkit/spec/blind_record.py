@@ -11,6 +11,7 @@ Fractions are fractions here (0.9, not 90 %); the report shows them as percentag
 
 from __future__ import annotations
 
+import datetime as dt
 import hashlib
 import json
 from pathlib import Path
@@ -20,6 +21,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 
 from certkit.errors import shown
 from certkit.spec.jsonsource import JsonSourceError, load_json
+from certkit.version import VERSION, git_commit
 
 KIND = "certkit blind check"
 
@@ -73,7 +75,7 @@ DIAGNOSIS_CODE = ("gap/attribution.py", "gap/selection.py", "gap/missing_force.p
                   "physics/drop_model.py", "physics/dynamics.py", "physics/effects/",
                   "physics/fitting.py", "gap/holdout.py", "compliance/measures.py",
                   "gap/phases.py", "gap/residuals.py", "spec/rundata.py",
-                  "physics/simulation.py", "physics/synthetic.py")
+                  "physics/simulation.py", "physics/synthetic.py", "compliance/servicing.py")
 
 
 def template_fingerprint(campaign) -> str:
@@ -104,6 +106,36 @@ def code_fingerprint() -> str:
     return digest.hexdigest()
 
 
+def code_files() -> dict[str, str]:
+    """SHA-256 of each module of :data:`DIAGNOSIS_CODE` (path under certkit/): a record
+    keeps them so that the report can say which files differ from the running certkit."""
+    folder = Path(__file__).resolve().parent.parent
+    files = {}
+    for entry in DIAGNOSIS_CODE:
+        names = ([f"{entry}{path.name}" for path in sorted((folder / entry).glob("*.py"))]
+                 if entry.endswith("/") else [entry])
+        for name in names:
+            files[name] = hashlib.sha256((folder / name).read_bytes()).hexdigest()
+    return files
+
+
+def provenance(command: str) -> dict:
+    """Who did a step of a blind check (ran its cases, or scored them): certkit's version
+    and commit, the diagnosis code's fingerprint and per-file hashes, the date, the
+    command."""
+    return {"certkit": VERSION, "commit": git_commit(), "code": code_fingerprint(),
+            "files": code_files(), "date": dt.date.today().isoformat(), "command": command}
+
+
+def differing_files(recorded: dict[str, str] | None) -> list[str] | None:
+    """The modules of the diagnosis code whose content differs from ``recorded`` (added or
+    removed ones too); None when the record keeps no per-file hashes."""
+    if recorded is None:
+        return None
+    now = code_files()
+    return sorted(name for name in set(now) | set(recorded) if now.get(name) != recorded.get(name))
+
+
 class _Record(BaseModel):
     # written by another program, possibly a newer certkit: extra keys are ignored, the
     # documented ones must be present and of the right type
@@ -115,6 +147,17 @@ class Template(_Record):
     sha256: str
     gear: str
     code: str | None = None     # code_fingerprint() of the certkit that made it
+
+
+class Provenance(_Record):
+    """Who ran a blind check's cases, or scored them (:func:`provenance`)."""
+
+    certkit: str
+    code: str | None
+    commit: str | None = None
+    files: dict[str, str] | None = None
+    date: str | None = None
+    command: str | None = None
 
 
 class Metric(_Record):
@@ -195,9 +238,22 @@ class BlindCheckRecord(_Record):
     curve: list[CurvePoint]
     confusion: Confusion
     cases: list[dict[str, Any]] = []
+    #: who ran the cases; a rescore keeps it (absent from records made before it was kept
+    #: apart: :attr:`cases_run_by` then falls back on the template's code)
+    run_by: Provenance | None = None
+    #: who computed the metrics from the cases (the same as run_by unless rescored)
+    scored_by: Provenance | None = None
     #: per truth form of an independent battery: its cases and how many were answered
     #: right (absent from certkit's own battery)
     forms: list[FormRow] = []
+
+    @property
+    def cases_run_by(self) -> Provenance:
+        """Who ran the cases: ``run_by``, or for an older record what its template says
+        (the code fingerprint, without per-file hashes, date or commit)."""
+        if self.run_by is not None:
+            return self.run_by
+        return Provenance(certkit=self.certkit, code=self.template.code, command=self.command)
 
     @model_validator(mode="after")
     def _scored_from(self):
