@@ -154,6 +154,19 @@ def _gap_shrink(gap, units) -> list[dict]:
     return rows
 
 
+def _battery_words(battery: str | None) -> str:
+    """What the record's battery means for its figures."""
+    if battery == "development":
+        return (" These cases are the development battery: the diagnosis's rules and "
+                "thresholds were set after failures on them, so its figures are in-sample "
+                "and overstate what a battery it was not tuned on finds.")
+    if battery == "sealed":
+        return (" These cases are a sealed battery, drawn from ranges never run before and "
+                "run once: its figures are held out.")
+    return (" The record does not say whether its cases were a development or a sealed "
+            "battery: read its figures as in-sample.")
+
+
 def _made_by(step: str, who, code: str) -> str:
     """One sentence on who did a step of the blind check and whether it is this certkit's
     diagnosis code (fingerprint of the simulation and diagnosis modules)."""
@@ -247,6 +260,7 @@ def _blind_view(campaign, units) -> dict:
                         if record.scored_by is not None and record.scored_by != record.run_by
                         else "")),
         "truths": ("The withheld truths were simulated by " + record.truths + "."
+                   + _battery_words(record.battery)
                    if record.truths else
                    "The withheld truths were simulated by certkit's own drop model, each "
                    "effect in a form other than its candidate's where the library allows: "

@@ -238,6 +238,10 @@ class BlindCheckRecord(_Record):
     curve: list[CurvePoint]
     confusion: Confusion
     cases: list[dict[str, Any]] = []
+    #: which battery the cases come from: "development" (the battery the diagnosis's rules
+    #: were tuned on, so its figures are in-sample) or "sealed" (drawn from ranges never run
+    #: before, run once per release of the diagnosis); None: not stated (older records)
+    battery: Literal["development", "sealed"] | None = None
     #: who ran the cases; a rescore keeps it (absent from records made before it was kept
     #: apart: :attr:`cases_run_by` then falls back on the template's code)
     run_by: Provenance | None = None
