@@ -26,6 +26,15 @@ from certkit.units import STANDARD_GRAVITY, ureg
 ALTERNATIVE_UNITS = {"length": ["mm", "cm", "m", "in", "ft"],
                      "wing_loading": ["lbf/ft^2", "kgf/m^2", "N/m^2"]}
 UNIT_SLIP_TOLERANCE = 0.05
+
+#: 14 CFR 23.725(b)'s definition of W for each position, as the finding quotes it.
+STATIC_WEIGHT_DEFINITION = {
+    "main": "for a main unit, the static weight in the level attitude with the nose wheel clear",
+    "nose": "for a nose unit, the static reaction with the airplane at maximum weight and the "
+            "centre of gravity forward, under 1.0 g down and 0.33 g forward",
+    "tail": "for a tail unit, the static weight in the tail-down attitude"}
+
+
 # --------------------------------------------------------------------------- inputs
 def check_static_weight_basis(assessment: Assessment) -> None:
     for gear in assessment.campaign.spec.gear_units:
@@ -33,8 +42,8 @@ def check_static_weight_basis(assessment: Assessment) -> None:
             add(assessment, "static-weight-assumed", "warning", None, gear.id,
                  f"{gear.id}: static weight {gear.static_weight.text} is assumed"
                  f"{' (' + gear.static_weight_note.strip() + ')' if gear.static_weight_note else ''}"
-                 f"; 23.725(b) defines W for a main unit as the static weight in the level "
-                 f"attitude with the nose wheel clear")
+                 f"; 23.725(b) defines W {STATIC_WEIGHT_DEFINITION[gear.position]}; "
+                 f"weigh it so and state the basis (static_weight_basis)")
 
 
 def check_synthetic_data(assessment: Assessment) -> None:

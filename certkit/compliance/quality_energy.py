@@ -49,12 +49,13 @@ def check_energy_bounds(assessment: Assessment) -> None:
             if eta is None:
                 continue
             energy = gear.get(f"E_{element}")
-            bound = gear.get("F_peak") * gear.get(f"d_{element}")
+            bound = energy / eta            # the rectangle η is taken against (certkit E2)
+            rectangle = "F_peak·cos θ·d_s" if element == "s" else "F_peak·d_t"
             where = f"run {run.run.id}, {gear.gear_id}"
             if eta > 1:
                 add(assessment, f"energy-exceeds-bound-{name}", "error", run.run.id, gear.gear_id,
                     f"{where}: {name} energy {shown(assessment, energy, 'energy')} exceeds "
-                    f"F_peak·d = {shown(assessment, bound, 'energy')} (η = {eta:.4g} > 1): "
+                    f"{rectangle} = {shown(assessment, bound, 'energy')} (η = {eta:.4g} > 1): "
                     f"impossible for any {name}; check the energy integral, the load or the "
                     f"travel", eta=eta, energy=energy, bound=bound)
             elif eta <= 0:
@@ -178,13 +179,17 @@ def check_airplane_energy(assessment: Assessment) -> None:
         total = sum(absorbed)
         if total > supplied * (1 + tolerance):
             listing = " + ".join(shown(assessment, e, "energy") for e in absorbed)
+            arithmetic = (f"{shown(assessment, weight, 'force')} × ("
+                          f"{shown(assessment, h, 'length')} + "
+                          f"{shown(assessment, mean_travel, 'length')})" if lift == 0 else
+                          f"{shown(assessment, weight, 'force')} × ({shown(assessment, h, 'length')}"
+                          f" + {1 - lift:.4g} × {shown(assessment, mean_travel, 'length')})")
             add(assessment, "airplane-energy-exceeds-available", "warning", run.run.id, None,
                 f"run {run.run.id}: the main units together absorb {basis} = {listing} = "
                 f"{shown(assessment, total, 'energy')}, {total / supplied - 1:.1%} more than "
-                f"the whole airplane supplies, m_drop·g·(h + d̄) = "
-                f"{shown(assessment, weight, 'force')} × ({shown(assessment, h, 'length')} + "
-                f"{shown(assessment, mean_travel, 'length')}) = "
-                f"{shown(assessment, supplied, 'energy')} (d̄ the main units' mean travel; "
+                f"the whole airplane supplies, m_drop·g·(h + d̄) − L_dev·m_drop·g·d̄ = "
+                f"{arithmetic} = {shown(assessment, supplied, 'energy')} (d̄ the main units' "
+                f"mean travel; "
                 f"tolerance {tolerance:.0%}), before the nose unit takes its share; check the "
                 f"drop height, the drop mass and the energy integrals",
                 absorbed=total, supplied=supplied)
@@ -226,7 +231,7 @@ def check_implied_drop_weight(assessment: Assessment) -> None:
                         f"strut and tyre energies with the travel")
     _spread(assessment, implied, spread, "the absorbed energy E_d")
     _spread(assessment, upper, settings.reported_energy_spread.si,
-            "the reported energies, (E_s + E_t)/(h + d) (an upper bound whose overcount "
+            "the reported energies, (E_s + E_t)/(h + (1 − L_dev)·d) (an upper bound whose overcount "
             "changes little with height)")
 
 

@@ -250,7 +250,8 @@ def check_tyre_curve(assessment: Assessment) -> None:
 def check_main_unit_weights(assessment: Assessment) -> None:
     """The main units' static weights, all defined in the same attitude (23.725(b): level,
     nose wheel clear, or tail down), add up to no more than the airplane's maximum weight.
-    An error beyond ``audit.reported_tolerance``: the weights cannot all be right."""
+    An error beyond ``audit.reported_tolerance``: the weights cannot all be right; a warning
+    where one of them is only assumed."""
     spec = assessment.campaign.spec
     tolerance = spec.audit.reported_tolerance.si
     mains = [unit for unit in spec.gear_units if unit.position == "main"]
@@ -260,9 +261,13 @@ def check_main_unit_weights(assessment: Assessment) -> None:
     maximum = spec.aircraft.maximum_weight.si
     if total > maximum * (1 + tolerance):
         listing = " + ".join(f"{unit.id} {unit.static_weight.text}" for unit in mains)
-        add(assessment, "main-units-outweigh-aircraft", "error", None, None,
+        assumed = [unit.id for unit in mains if unit.static_weight_basis == "assumed"]
+        add(assessment, "main-units-outweigh-aircraft", "warning" if assumed else "error",
+            None, None,
             f"the main units' static weights {listing} = {shown(assessment, total, 'force')} "
             f"exceed the airplane's maximum weight {spec.aircraft.maximum_weight.text} by "
             f"{total / maximum - 1:.1%} (tolerance {tolerance:.0%}): the units carry the "
             f"airplane between them; check gear_units[].static_weight and "
-            f"aircraft.maximum_weight", total=total, maximum=maximum)
+            f"aircraft.maximum_weight"
+            + (f" (assumed, not weighed: {', '.join(assumed)})" if assumed else ""),
+            total=total, maximum=maximum)
