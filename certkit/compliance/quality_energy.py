@@ -49,7 +49,8 @@ def check_energy_bounds(assessment: Assessment) -> None:
             if eta is None:
                 continue
             energy = gear.get(f"E_{element}")
-            bound = energy / eta            # the rectangle η is taken against (certkit E2)
+            # the rectangle η is taken against (certkit E2); η > 0 wherever it is used
+            bound = energy / eta if eta > 0 else None
             rectangle = "F_peak·cos θ·d_s" if element == "s" else "F_peak·d_t"
             where = f"run {run.run.id}, {gear.gear_id}"
             if eta > 1:
