@@ -6,6 +6,8 @@ cannot drift apart.
 
 from __future__ import annotations
 
+import math
+
 from certkit.spec.schema import CampaignSpec, Run
 from certkit.units import STANDARD_GRAVITY
 
@@ -29,3 +31,9 @@ def drop_weight_share(spec: CampaignSpec, run: Run, gear_id: str) -> float:
         return drop_weight
     unit = next(g for g in spec.gear_units if g.id == gear_id)
     return unit.static_weight.si * drop_weight / spec.aircraft.maximum_weight.si
+
+
+def static_strut_load(static_weight: float, unsprung_mass: float, inclination: float) -> float:
+    """Axial load on the strut at rest [N]: the unit's static weight W [N] less the weight
+    of the unsprung mass below the strut [kg], along a strut inclined θ [rad] from vertical."""
+    return (static_weight - unsprung_mass * STANDARD_GRAVITY) * math.cos(inclination)

@@ -16,6 +16,7 @@ The relations (docs/audit-checklist.md lists them with their sources):
 from __future__ import annotations
 
 from certkit.compliance.assessment import Assessment, GearResult, RunResult
+from certkit.compliance.clauses import available_energy
 from certkit.compliance.drop_conditions import lift_force_ratio
 from certkit.compliance.findings import add, gear_items, not_checked, shown
 from certkit.display import number
@@ -176,7 +177,7 @@ def check_airplane_energy(assessment: Assessment) -> None:
         weight = run.run.drop_mass.si * STANDARD_GRAVITY
         h, lift = run.run.drop_height.si, lift_force_ratio(run.run)
         mean_travel = sum(travels) / len(travels)
-        supplied = weight * (h + mean_travel) - lift * weight * mean_travel
+        supplied = available_energy(weight, h, mean_travel, lift)
         total = sum(absorbed)
         if total > supplied * (1 + tolerance):
             listing = " + ".join(shown(assessment, e, "energy") for e in absorbed)

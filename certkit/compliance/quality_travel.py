@@ -14,13 +14,10 @@ The relations (docs/audit-checklist.md lists them with their sources):
 
 from __future__ import annotations
 
-import math
-
 from certkit.compliance.assessment import Assessment
-from certkit.compliance.drop_conditions import lift_force_ratio, lift_ratio
+from certkit.compliance.drop_conditions import lift_force_ratio, lift_ratio, static_strut_load
 from certkit.compliance.findings import add, gear_items, not_checked, rises, shown
 from certkit.compliance.servicing import absolute_pressure, gas_equilibrium_stroke
-from certkit.units import STANDARD_GRAVITY
 
 #: (key, what it is, kind, check name) of the gear values that rise with drop height.
 RISING = (("d_s", "strut stroke", "length", "stroke-not-rising"),
@@ -140,7 +137,7 @@ def _static_load(unit) -> float:
     strut = unit.strut
     unsprung = strut.unsprung_mass.si if strut.unsprung_mass is not None else 0.0
     inclination = strut.inclination.si if strut.inclination is not None else 0.0
-    return (unit.static_weight.si - unsprung * STANDARD_GRAVITY) * math.cos(inclination)
+    return static_strut_load(unit.static_weight.si, unsprung, inclination)
 
 
 def check_static_stroke(assessment: Assessment) -> None:

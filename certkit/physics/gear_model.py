@@ -11,6 +11,7 @@ import math
 
 from certkit.compliance.drop_conditions import drop_weight_share, lift_force_ratio
 from certkit.errors import CertkitInputError, Problem
+from certkit.compliance.drop_conditions import static_strut_load
 from certkit.compliance.servicing import absolute_pressure
 from certkit.physics.drop_model import DropModel, EndStops, GasSpring, Orifice, Tyre
 from certkit.physics.effects import BY_NAME, EFFECTS
@@ -119,7 +120,7 @@ def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = 
     inclination = strut.inclination.si if strut.inclination is not None else 0.0
     absolute = absolute_pressure(precharge.si, reference)
     gas = GasSpring(pneumatic.si, volume.si, absolute, exponent.si)
-    static_load = (unit.static_weight.si - unsprung.si * STANDARD_GRAVITY) * math.cos(inclination)
+    static_load = static_strut_load(unit.static_weight.si, unsprung.si, inclination)
     if gas.equilibrium_stroke(static_load) >= unit.design_stroke.si:
         raise CertkitInputError.single(
             spec_file, None, f"gear_units[{index}].strut",
