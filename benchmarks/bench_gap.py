@@ -48,7 +48,8 @@ def main() -> None:
     if args.skip_blind:
         return
 
-    from certkit.gap.blind_check import battery, blind_check
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from blindcheck.battery import battery, blind_check
 
     print(f"thread pools of this process: {blas_threads.loaded_pools()}")
 

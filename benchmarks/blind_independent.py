@@ -46,7 +46,7 @@ import sys
 import tempfile
 import time as clock
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -56,17 +56,19 @@ sys.path.insert(0, str(HERE))
 import truthgen  # noqa: E402
 
 from certkit.compliance.clauses import ideal_impact_velocity  # noqa: E402
-from certkit.gap import blind_check  # noqa: E402
 from certkit.gap.holdout import split_for  # noqa: E402
 from certkit.gap.residuals import harmed  # noqa: E402
 from certkit.gap.selection import diagnose, pooled  # noqa: E402
 from certkit.physics.calibration import aligned_records, calibrate_gear  # noqa: E402
 from certkit.physics.gear_model import gear_mass  # noqa: E402
 from certkit.physics.synthetic import NO_SENSOR_EFFECTS, Histories, SensorModel, write_campaign  # noqa: E402,E501
-from certkit.spec.blind_record import (provenance, read_blind_check,  # noqa: E402
-                                       template_fingerprint)
+from certkit.spec.blind_record import read_blind_check, template_fingerprint  # noqa: E402
 from certkit.spec.campaign import load_campaign  # noqa: E402
 from certkit.version import VERSION  # noqa: E402
+
+from blindcheck import battery as own  # noqa: E402
+from blindcheck import scoring  # noqa: E402
+from blindcheck.record import provenance, write_blind_check  # noqa: E402
 
 P_ATM = 101325.0
 #: Issue 14's targets on the independent battery (effect ≥ 2× noise).
@@ -78,12 +80,34 @@ SIZING_GRID = 9
 
 @dataclass(frozen=True)
 class Plan:
+    """What a battery is made of.  ``development``: the battery the diagnosis was tuned on
+    (every form at its development shape, seeds 31-32, no-effect seeds 500-519).
+    ``sealed``: shapes, nuisance physics and the nominal scatter drawn per case from the
+    declared ranges (:data:`truthgen.FORMS`' ``shape_ranges``, :data:`NUISANCE_RANGES`), on
+    seeds never run while developing; see the README's rule for when a sealed range is
+    spent and a new one drawn."""
+
+    battery: str = "development"
     ratios: tuple = (1.0, 2.0, 5.0)
     seeds: tuple = (31, 32)
+    null_seeds: int = 500        # the no-effect cases' seeds start here
     null_cases: int = 20
     outside_ratios: tuple = (2.0, 5.0)
     pair_ratio: float = 5.0
     scatter: float = 0.03
+    drawn: bool = False          # shapes and nuisances drawn from their ranges
+    only: tuple = ()             # restrict to these forms' single-effect cases ("" = all)
+
+
+#: The sealed range in use: seeds never run before (the history of spent ranges is in the
+#: README, "Blind check"); a sealed result that drives a change spends it.
+SEALED = Plan(battery="sealed", seeds=(7101, 7102), null_seeds=7500, scatter=0.06,
+              drawn=True)
+#: Where a sealed case's nuisance physics is drawn (the development value in brackets):
+#: top-out pad compression under preload [m] (1.5 mm), real-gas coefficient β (0.03), the
+#: tyre curve's departure per δ/δ_ref (0.06).
+NUISANCE_RANGES = (("pad", 0.5e-3, 3.0e-3), ("gas", 0.0, 0.06), ("tyre_shape", 0.0, 0.12))
+PLANS = {"development": Plan(), "sealed": SEALED}
 
 
 def _library_forms() -> list[str]:
@@ -123,12 +147,35 @@ def _case(forms: tuple, ratio, seed: int) -> Case:
 
 def battery(plan: Plan = Plan(), quick: bool = False) -> list[Case]:
     seeds = plan.seeds[:1] if quick else plan.seeds
-    cases = [_case((f,), r, s) for f in _library_forms() for r in plan.ratios for s in seeds]
-    cases += [_case((), None, 500 + k) for k in range(4 if quick else plan.null_cases)]
+    forms = [f for f in _library_forms() if not plan.only or f in plan.only]
+    cases = [_case((f,), r, s) for f in forms for r in plan.ratios for s in seeds]
+    if plan.only:
+        return cases
+    cases += [_case((), None, plan.null_seeds + k)
+              for k in range(4 if quick else plan.null_cases)]
     cases += [_case((f,), r, s) for f in _outside_forms() for r in plan.outside_ratios
               for s in seeds]
     cases += [_case(pair, plan.pair_ratio, s) for pair in _pairs() for s in seeds]
     return cases
+
+
+def draws(case: Case, plan: Plan) -> tuple[tuple, truthgen.Nuisances]:
+    """The case's shapes (one (name, value) tuple per form) and nuisance physics: the
+    development values, or (a sealed plan) drawn uniformly from their declared ranges with
+    the case's own seed (an order's draw rounded to a whole order)."""
+    if not plan.drawn:
+        return tuple(() for _ in case.forms), truthgen.Nuisances()
+    rng = np.random.default_rng([case.key, 1])
+    shapes = []
+    for form_id in case.forms:
+        shape = []
+        for name, low, high in truthgen.FORMS[form_id].shape_ranges:
+            value = float(rng.uniform(low, high))
+            shape.append((name, float(round(value)) if name == "order" else value))
+        shapes.append(tuple(shape))
+    nuisances = truthgen.Nuisances(**{name: float(rng.uniform(low, high))
+                                      for name, low, high in NUISANCE_RANGES})
+    return tuple(shapes), nuisances
 
 
 # --------------------------------------------------------------------------- the gear
@@ -170,7 +217,8 @@ def _rate(campaign) -> float:
 
 
 # --------------------------------------------------------------------------- sizing
-def _first_cycle_change(campaign, gear_id: str, truths: tuple, index_of: dict) -> float:
+def _first_cycle_change(campaign, gear_id: str, truths: tuple, index_of: dict,
+                        nuisances: truthgen.Nuisances = truthgen.Nuisances()) -> float:
     """RMS over the runs of the load change the truths make over each run's first
     compression and rebound (touchdown to the end of the rebound of the run without
     them) [N], with the touchdowns aligned first: a delay of the whole record is what the
@@ -179,39 +227,59 @@ def _first_cycle_change(campaign, gear_id: str, truths: tuple, index_of: dict) -
     for run in _drops(campaign, gear_id):
         gear = gear_of(campaign, run, gear_id)
         speed = ideal_impact_velocity(run.drop_height.si)
-        plain = truthgen.simulate(gear, speed, _rate(campaign), drop_index=index_of[run.id])
+        plain = truthgen.simulate(gear, speed, _rate(campaign), drop_index=index_of[run.id],
+                                  nuisances=nuisances)
         changed = truthgen.simulate(gear, speed, _rate(campaign), truths=truths,
-                                    drop_index=index_of[run.id])
+                                    drop_index=index_of[run.id], nuisances=nuisances)
         weight = (gear.upper_mass + gear.lower_mass) * 9.80665
-        load = blind_check.aligned_on_touchdown(plain.time, changed.load, plain.load,
+        load = own.aligned_on_touchdown(plain.time, changed.load, plain.load,
                                                 0.02 * weight)
-        window = blind_check.first_cycle(plain.time, plain.load, plain.stroke, weight)
+        window = own.first_cycle(plain.time, plain.load, plain.stroke, weight)
         squares.append(np.mean((load[window] - plain.load[window]) ** 2))
     return float(np.sqrt(np.mean(squares)))
 
 
-def size_table(template: str, gear_id: str, plan: Plan, noise: float) -> dict:
-    """(form, ratio) -> the size at which the form changes the first-cycle load by
-    ratio × noise, interpolated (log-log) on a grid over the form's size range."""
-    campaign = load_campaign(template)
+def _sizes(campaign, gear_id: str, form_id: str, shape: tuple, ratios, noise: float,
+           nuisances: truthgen.Nuisances = truthgen.Nuisances()) -> dict:
+    """ratio -> the size at which the form (of ``shape``) changes the first-cycle load by
+    ratio × noise, interpolated (log-log) on a grid over the form's size range (None when
+    the range does not reach it)."""
     index_of = {run.id: i for i, run in enumerate(campaign.spec.runs)}
+    low, high = truthgen.FORMS[form_id].sizes
+    grid = np.geomspace(low, high, SIZING_GRID)
+    effect = np.array([_first_cycle_change(campaign, gear_id,
+                                           (truthgen.Truth(form_id, float(s), shape),),
+                                           index_of, nuisances)
+                       for s in grid])
+    out = {}
+    for ratio in ratios:
+        target = ratio * noise
+        above = np.nonzero(effect >= target)[0]
+        if above.size == 0 or above[0] == 0 or effect[above[0] - 1] <= 0:
+            out[ratio] = None
+            continue
+        i = int(above[0])
+        slope = math.log(effect[i] / effect[i - 1]) / math.log(grid[i] / grid[i - 1])
+        out[ratio] = float(grid[i - 1] * (target / effect[i - 1]) ** (1.0 / slope))
+    return out
+
+
+def _ratios(plan: Plan) -> list:
+    return sorted(set(plan.ratios) | set(plan.outside_ratios) | {plan.pair_ratio})
+
+
+def size_table(template: str, gear_id: str, plan: Plan, noise: float) -> dict:
+    """(form, ratio) -> the size at which the form, at its development shape, changes the
+    first-cycle load by ratio × noise (a drawn plan sizes every case on its own draws, in
+    :func:`run_case`, and needs no table)."""
+    if plan.drawn:
+        return {}
+    campaign = load_campaign(template)
     table = {}
     for form_id in list(truthgen.FORMS):
-        low, high = truthgen.FORMS[form_id].sizes
-        grid = np.geomspace(low, high, SIZING_GRID)
-        effect = np.array([_first_cycle_change(campaign, gear_id,
-                                               (truthgen.Truth(form_id, float(s)),), index_of)
-                           for s in grid])
-        for ratio in sorted(set(plan.ratios) | set(plan.outside_ratios) | {plan.pair_ratio}):
-            target = ratio * noise
-            above = np.nonzero(effect >= target)[0]
-            if above.size == 0 or above[0] == 0 or effect[above[0] - 1] <= 0:
-                table[(form_id, ratio)] = None
-                continue
-            i = int(above[0])
-            slope = math.log(effect[i] / effect[i - 1]) / math.log(grid[i] / grid[i - 1])
-            table[(form_id, ratio)] = float(grid[i - 1] * (target / effect[i - 1])
-                                            ** (1.0 / slope))
+        for ratio, size in _sizes(campaign, gear_id, form_id, (), _ratios(plan),
+                                  noise).items():
+            table[(form_id, ratio)] = size
     return table
 
 
@@ -223,9 +291,10 @@ def _factors(case: Case, plan: Plan) -> dict:
 
 
 def write_case(template: str, gear_id: str, case: Case, truths: tuple, folder: Path,
-               plan: Plan, sensors: SensorModel, label: str) -> Path:
-    """The case's campaign simulated by truthgen with ``truths`` (every gear unit of every
-    run), written with ``sensors`` into ``folder/label``."""
+               plan: Plan, sensors: SensorModel, label: str,
+               nuisances: truthgen.Nuisances = truthgen.Nuisances()) -> Path:
+    """The case's campaign simulated by truthgen with ``truths`` and ``nuisances`` (every
+    gear unit of every run), written with ``sensors`` into ``folder/label``."""
     campaign = load_campaign(template)
     factors = _factors(case, plan)
     rate = _rate(campaign)
@@ -235,7 +304,7 @@ def write_case(template: str, gear_id: str, case: Case, truths: tuple, folder: P
         for gid in run.gear_units:
             gear = gear_of(campaign, run, gid, factors)
             record = truthgen.simulate(gear, ideal_impact_velocity(run.drop_height.si), rate,
-                                       truths=truths, drop_index=index)
+                                       truths=truths, drop_index=index, nuisances=nuisances)
             out[gid] = Histories(record.time, record.load, record.stroke, record.tyre,
                                  -record.acceleration, record.displacement, gear.upper_mass)
         return out
@@ -266,7 +335,7 @@ def _physical_size(clean, bare, gear_id: str, held) -> dict:
 
 
 def run_case(template: str, gear_id: str, case: Case, sizes: dict, plan: Plan,
-             settings: blind_check.Settings) -> dict:
+             settings: own.Settings) -> dict:
     import numba
     from threadpoolctl import threadpool_limits
 
@@ -278,7 +347,17 @@ def run_case(template: str, gear_id: str, case: Case, sizes: dict, plan: Plan,
              "outside": outside, "ratio": case.ratio, "seed": case.seed,
              "form": "; ".join(f"{forms[f].label}: {forms[f].description}"
                                for f in case.forms) or "none (nuisances only)"}
-    chosen = tuple(truthgen.Truth(f, sizes[(f, case.ratio)]) for f in case.forms)
+    shapes, nuisances = draws(case, plan)
+    if plan.drawn:     # sized on the case's own shapes and nuisances
+        campaign = load_campaign(template)
+        sizes = {(f, case.ratio): _sizes(campaign, gear_id, f, shape, [case.ratio],
+                                         settings.load_noise, nuisances)[case.ratio]
+                 for f, shape in zip(case.forms, shapes)}
+    chosen = tuple(truthgen.Truth(f, sizes[(f, case.ratio)], shape)
+                   for f, shape in zip(case.forms, shapes))
+    truth["shapes"] = [dict(shape) for shape in shapes]
+    truth["nuisances"] = {"pad_m": nuisances.pad, "gas": nuisances.gas,
+                          "tyre_shape": nuisances.tyre_shape}
     if any(t.size is None for t in chosen):
         return {**truth, "named": [], "statement": "not generated: size out of range",
                 "error": None, "skipped": "size out of range", "shrink": 0.0, "before": None,
@@ -290,12 +369,13 @@ def run_case(template: str, gear_id: str, case: Case, sizes: dict, plan: Plan,
     with tempfile.TemporaryDirectory() as name, threadpool_limits(limits=1):
         folder = Path(name)
         try:
-            written = write_case(template, gear_id, case, chosen, folder, plan, noisy, "noisy")
+            written = write_case(template, gear_id, case, chosen, folder, plan, noisy, "noisy",
+                                 nuisances)
             diagnosis = diagnose(load_campaign(written), gear_id)
             clean = load_campaign(write_case(template, gear_id, case, chosen, folder, plan,
-                                             NO_SENSOR_EFFECTS, "clean"))
+                                             NO_SENSOR_EFFECTS, "clean", nuisances))
             bare = load_campaign(write_case(template, gear_id, case, (), folder, plan,
-                                            NO_SENSOR_EFFECTS, "bare"))
+                                            NO_SENSOR_EFFECTS, "bare", nuisances))
             held = diagnosis.held_out
             gap_before = _held_out_load(clean, gear_id, held, diagnosis.calibration.apply)
             gap_after = _held_out_load(clean, gear_id, held, diagnosis.configure)
@@ -340,7 +420,7 @@ def _metric(name: str, value, count, cases) -> dict:
         met = bool(value >= target) if direction == "at least" else bool(value <= target)
     return {"value": value, "count": count, "cases": cases, "target": target,
             "direction": direction, "met": met,
-            "interval": blind_check.wilson(count, cases) if count is not None else None}
+            "interval": scoring.wilson(count, cases) if count is not None else None}
 
 
 def _by_form(outcomes: list[dict]) -> list[dict]:
@@ -358,7 +438,7 @@ def _by_form(outcomes: list[dict]) -> list[dict]:
             return (not o["named"] and not o.get("error")) if form.effect is None \
                 else o["named"][:1] == o["truth"]
 
-        scored = [o for o in mine if o["ratio"] >= blind_check.SCORED_FROM]
+        scored = [o for o in mine if o["ratio"] >= scoring.SCORED_FROM]
         peaks = [run for o in scored for run in (o.get("physical") or {}).values()]
         rows.append({
             "form": form_id, "label": form.label, "effect": form.effect,
@@ -374,11 +454,11 @@ def _by_form(outcomes: list[dict]) -> list[dict]:
 def score(outcomes: list[dict]) -> dict:
     inside = [o for o in outcomes if not o.get("outside")]
     effects = sorted({e for o in inside for e in o["truth"]})
-    document = blind_check.score(inside, tuple(effects))
+    document = scoring.score(inside, tuple(effects))
     metrics = document["metrics"]
     for name, metric in metrics.items():      # issue 14's targets, not issue 5's
         metric.update(_metric(name, metric["value"], metric["count"], metric["cases"]))
-    scored = [o for o in inside if len(o["truth"]) == 1 and o["ratio"] >= blind_check.SCORED_FROM
+    scored = [o for o in inside if len(o["truth"]) == 1 and o["ratio"] >= scoring.SCORED_FROM
               and not o.get("skipped")]
     outside = [o for o in outcomes if o.get("outside") and not o.get("skipped")]
     abstained = sum(not o["named"] and not o.get("error") for o in outside)
@@ -388,7 +468,7 @@ def score(outcomes: list[dict]) -> dict:
     # harm as the targets count it: cases that named an effect, with no effect or one of
     # effect/noise ≥ SCORED_FROM (single or pairs); below that, listed in the cases only
     named = [o for o in inside if o["named"] and not o.get("skipped")
-             and (o["ratio"] is None or o["ratio"] >= blind_check.SCORED_FROM)]
+             and (o["ratio"] is None or o["ratio"] >= scoring.SCORED_FROM)]
     for name, key in (("harm_rate", "harmed"), ("harm_any_channel", "harmed_any")):
         count = sum(bool(o.get(key)) for o in named)
         metrics[name] = _metric(name, count / len(named) if named else None, count, len(named))
@@ -404,16 +484,14 @@ def score(outcomes: list[dict]) -> dict:
 
 
 def record(template: str, gear_id: str, plan: Plan, settings, cases: list[Case],
-           outcomes: list[dict], run_by: dict | None = None) -> dict:
+           outcomes: list[dict], run_by: dict | None = None, rescored: bool = False) -> dict:
     """The blind-check record of ``outcomes`` (the cases run, in ``cases``' order).
 
-    ``run_by`` is who ran the cases (:func:`~certkit.spec.blind_record.provenance`); None:
-    this process ran them.  The record's ``scored_by`` is always this process, and its
-    template's code fingerprint is the one that ran the cases: a rescore never re-stamps
-    the run."""
-    command = (f"python benchmarks/blind_independent.py {Path(template).name} -g {gear_id} "
-               f"-o DIR")
-    scored_by = provenance(command + " --rescore RECORD" if run_by is not None else command)
+    ``run_by`` is who ran the cases (:func:`blindcheck.record.provenance`, taken before
+    they ran).  The record's ``scored_by`` is always this process, and its template's code
+    fingerprint is the one that ran the cases: a rescore never re-stamps the run."""
+    command = _command(template, gear_id, plan)
+    scored_by = provenance(command + " --rescore RECORD" if rescored else command)
     run_by = scored_by if run_by is None else run_by
     campaign = load_campaign(template)
     generator = hashlib.sha256()
@@ -431,22 +509,38 @@ def record(template: str, gear_id: str, plan: Plan, settings, cases: list[Case],
         "template": {"spec": Path(template).name, "sha256": template_fingerprint(campaign),
                      "code": run_by["code"], "gear": gear_id},
         "command": command, "run_by": run_by, "scored_by": scored_by,
-        "battery": "development",
+        "battery": plan.battery,
         "settings": {"ratios": list(plan.ratios), "seeds": list(plan.seeds),
+                     "null_seeds": plan.null_seeds, "only": list(plan.only),
+                     "shapes": ("drawn per case from the declared ranges "
+                                "(shape_ranges of benchmarks/truthgen/forms.py; every case's "
+                                "draws are in its outcome)" if plan.drawn else
+                                "each form's development values (its description)"),
+                     "shape_ranges": {f: [list(r) for r in form.shape_ranges]
+                                      for f, form in truthgen.FORMS.items()}
+                     if plan.drawn else None,
+                     "nuisance_ranges": [list(r) for r in NUISANCE_RANGES]
+                     if plan.drawn else None,
                      "null_cases": plan.null_cases, "outside_ratios": list(plan.outside_ratios),
                      "pairs": [list(p) for p in _pairs()], "pair_ratio": plan.pair_ratio,
                      "scatter": plan.scatter, "load_noise": settings.load_noise,
                      "size_measure": "RMS load change over the first compression and rebound "
                                      "of every run (touchdowns aligned), in units of the load "
                                      "noise",
-                     "scored_from": blind_check.SCORED_FROM, "cases": len(cases),
+                     "scored_from": scoring.SCORED_FROM, "cases": len(cases),
                      "targets": "those of the metrics, on cases with effect/noise of at least "
-                                f"{blind_check.SCORED_FROM:g} (harm: of those that named an "
+                                f"{scoring.SCORED_FROM:g} (harm: of those that named an "
                                 "effect, and the no-effect cases)"},
     }
     document.update(score(outcomes))
     document["cases"] = outcomes
     return document
+
+
+def _command(template: str, gear_id: str, plan: Plan) -> str:
+    return (f"python benchmarks/blind_independent.py {Path(template).name} -g {gear_id} "
+            f"--battery {plan.battery}" + (f" --only {','.join(plan.only)}" if plan.only
+                                           else "") + " -o DIR")
 
 
 def main() -> int:
@@ -458,9 +552,17 @@ def main() -> int:
     parser.add_argument("--quick", action="store_true", help="one seed, 4 no-effect cases")
     parser.add_argument("--rescore", type=Path, default=None,
                         help="score the cases of this record again instead of running them")
+    parser.add_argument("--battery", choices=sorted(PLANS), default="development",
+                        help="the development battery (tuned on) or the sealed one")
+    parser.add_argument("--only", default="",
+                        help="only these forms' single-effect cases (comma-separated ids)")
     args = parser.parse_args()
     template = str(Path(args.spec).resolve())
-    plan, settings = Plan(), blind_check.Settings()
+    only = tuple(f for f in args.only.split(",") if f)
+    unknown = [f for f in only if f not in _library_forms()]
+    if unknown:
+        parser.error(f"--only: unknown forms {unknown}; known: {_library_forms()}")
+    plan, settings = replace(PLANS[args.battery], only=only), own.Settings()
     started = clock.perf_counter()
     cases = battery(plan, args.quick)
     run_by = None
@@ -472,10 +574,12 @@ def main() -> int:
         # the cases were run by whoever ran them, not by this process
         run_by = earlier.cases_run_by.model_dump()
     else:
+        run_by = provenance(_command(template, args.gear, plan))   # before the cases run
         outcomes = run_battery(template, args.gear, plan, settings, cases, args.workers)
-    document = record(template, args.gear, plan, settings, cases, outcomes, run_by)
+    document = record(template, args.gear, plan, settings, cases, outcomes, run_by,
+                      rescored=args.rescore is not None)
     args.out.mkdir(parents=True, exist_ok=True)
-    blind_check.write_blind_check(document, args.out)
+    write_blind_check(document, args.out)
     for name, metric in document["metrics"].items():
         print(f"{name}: {metric['value']} ({metric['count']}/{metric['cases']}) target "
               f"{metric['direction']} {metric['target']} met {metric['met']}")

@@ -194,7 +194,7 @@ def _read(text: str, expected: str, kind: str) -> pint.Quantity:
     if not match:
         hint = (f" (at most {MAX_TEXT} characters)" if len(text) > MAX_TEXT else
                 " (write a decimal point, not a comma)" if "," in text else
-                f' (write one decimal number and a unit, e.g. "300 {_example_unit(kind)}")'
+                f' (write one decimal number and a unit, e.g. "300 {example_unit(kind)}")'
                 if kind != "dimensionless" else " (write one decimal number, e.g. 4.4 or \"10 %\")")
         raise QuantityError(f"expected {expected}, got {shown(text)}{hint}")
     magnitude = float(match.group(1))
@@ -260,7 +260,7 @@ def parse_quantity(value: object, kind: str) -> SpecQuantity:
     if isinstance(value, bool) or not isinstance(value, (str, int, float)):
         raise QuantityError(f"expected {expected} with its unit, got {shown(value)}")
     if not isinstance(value, str):
-        example = (f' (write the unit, e.g. "{value} {_example_unit(kind)}")'
+        example = (f' (write the unit, e.g. "{value} {example_unit(kind)}")'
                    if len(shown(value)) < 30 else "")
         raise QuantityError(f"expected {expected} with its unit, got the bare number "
                             f"{shown(value)}{example}")
@@ -270,7 +270,7 @@ def parse_quantity(value: object, kind: str) -> SpecQuantity:
         if str(quantity.units) == "dimensionless":
             raise QuantityError(
                 f'expected {expected} with its unit, got {shown(text)} without a unit '
-                f'(e.g. "{text} {_example_unit(kind)}")')
+                f'(e.g. "{text} {example_unit(kind)}")')
         raise QuantityError(f"expected {expected}, got {shown(text)} (a pure number or ratio)")
     if kind == "frequency" and _ANGULAR.search(text):
         raise QuantityError(f"expected a frequency in Hz, got {shown(text)} (an angular rate)")
@@ -293,7 +293,7 @@ def parse_quantity(value: object, kind: str) -> SpecQuantity:
     return SpecQuantity(si, unit, text)
 
 
-def _example_unit(kind: str) -> str:
+def example_unit(kind: str) -> str:
     return {"length": "mm", "area": "m^2", "volume": "L", "mass": "kg", "force": "N",
             "pressure": "MPa", "energy": "J", "time": "s", "frequency": "Hz",
             "velocity": "m/s", "acceleration": "m/s^2", "angle": "deg", "weight": "kg",

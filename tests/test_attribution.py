@@ -156,7 +156,8 @@ def test_a_load_cell_reading_low_is_named_and_a_delayed_crosstalk_is_not(tmp_pat
     late = _load_rewritten(_truth(tmp_path_factory, "crosstalk", [], duration=2.0), crosstalk)
     diagnosis = _diagnosis(late)
     assert "load-cell gain" not in diagnosis.answer, diagnosis.statement
-    decisions = [d.status for step in diagnosis.refit_decisions for d in step
+    from certkit.gap.statements import decision_words
+    decisions = [decision_words(d) for step in diagnosis.refit_decisions for d in step
                  if d.name.startswith("load-cell gain")]
     assert any("fits the residual better 12 ms later" in d for d in decisions), decisions
 
@@ -205,12 +206,14 @@ def test_gap_command_on_the_example_names_effects_of_its_truth(physics_campaign)
     assert outcome.exit_code == 2 and "no run has time histories" in outcome.output
 
 
-def test_each_candidate_decision_names_the_rule_that_made_it():
+def test_each_candidate_decision_names_the_rule_that_made_it(monkeypatch):
     from types import SimpleNamespace as Form
 
-    from certkit.gap.attribution import Attribution, Score
-    from certkit.gap.selection import (DETECTABLE, GAIN, LEADING, RELEVANT, TIE_COST, _decisions,
-                                       _refit_decisions, _refused)
+    from certkit.gap.attribution import Attribution, Decision, Score
+    from certkit.gap import selection
+    from certkit.gap.selection import (DETECTABLE, GAIN, LEADING, RELEVANT, TIE_COST, judge,
+                                       refit_decisions)
+    from certkit.gap.statements import RULES, decision_words
 
     scores = (Score("a", 9.0, 1.0, 1.0, 0.9), Score("b", 4.0, 1.0, 1.0, 0.5),
               Score("c", 0.0, -1.0, 1.0, 0.0), Score("d", 0.1, 1.0, 1.0, 0.01),
@@ -218,51 +221,78 @@ def test_each_candidate_decision_names_the_rule_that_made_it():
     names = {"a": Form(name="A"), "a2": Form(name="A"), "b": Form(name="B"),
              "c": Form(name="C"), "d": Form(name="D"), "e": Form(name="E"),
              "f": Form(name="F")}
-    attribution = Attribution(scores, {}, 1.0)
-    decided = {d.name: d.status for d in _decisions(attribution, {"a", "a2", "b"}, ["a"],
-                                                        names)}
-    assert decided["a"] == "refitted"
-    assert decided["a2"].startswith("relevant; another form of this effect")
-    assert decided["b"] == f"relevant, not among the {LEADING} effects with the best profiles"
-    assert decided["c"].startswith("its score points the other way") and \
-        decided["c"].endswith("not relevant")
-    assert decided["d"].startswith(f"not a form with {RELEVANT:g} σ or more of the {LEADING} "
-                                   f"effects with the best scores")
-    # refits: the named one, one that gains too little, one that gains but lost to it
+    # the candidates' decisions are made where the rule lives (selection) ...
+    decided = {d.name: d for d in selection._decisions(Attribution(scores, {}, 1.0),
+                                                         {"a", "a2", "b"}, ["a"], names)}
+    assert {k: d.rule for k, d in decided.items()} == {
+        "a": "refitted", "a2": "other form refitted", "b": "not leading",
+        "c": "points the other way", "d": "not relevant"}
+    # ... and the sentences state the thresholds the rule recorded
+    assert decision_words(decided["b"]) == \
+        f"relevant, not among the {LEADING} effects with the best profiles"
+    assert decision_words(decided["d"]).startswith(
+        f"not a form with {RELEVANT:g} σ or more of the {LEADING} effects with the best scores")
+    # refits, against a cost of 1: the named one (cost 0.5), one that gains too little
+    # (0.95), one admissible but dearer than the named (0.6), one that harms a channel
     from types import SimpleNamespace as Fit
     fits = [Fit(effects=("a",), training_cost=0.5), Fit(effects=("b",), training_cost=0.95),
             Fit(effects=("e",), training_cost=0.6), Fit(effects=("f",), training_cost=0.55)]
     harm = {("a",): [], ("b",): [], ("e",): [], ("f",): ["stroke"]}
     removed = {("a",): 9.0, ("b",): 1.0, ("e",): 5.0, ("f",): 5.0}
-    timely = {f.effects: None for f in fits}
 
     def judged(refits):
-        return {f.effects: _refused(f, 1.0, harm.get(f.effects, []), removed[f.effects],
-                                    timely.get(f.effects)) for f in refits}
+        return {f.effects: judge(f, 1.0, harm.get(f.effects, []), removed[f.effects], None)
+                for f in refits}
 
-    outcomes = [d.status for d in _refit_decisions(fits, judged(fits), fits[0], (), names, {})]
-    assert outcomes[0] == "named"
-    assert outcomes[1].endswith("not named") and f"less than {100 * GAIN:.0f} %" in outcomes[1]
-    assert outcomes[2] == (f"cuts the training cost by {100 * GAIN:.0f} % or more, but less "
-                           f"than the named effect: not named")
-    assert outcomes[3] == "makes the training stroke error worse beyond its noise: not named"
+    outcomes = refit_decisions(fits, judged(fits), fits[0], (), names, {}, 1.0)
+    assert [d.rule for d in outcomes] == ["named", "gain", "outranked", "harm"]
+    assert outcomes[0].figures["cut"] == 0.5           # 1 − 0.5/1
+    assert abs(outcomes[1].figures["cut"] - 0.05) < 1e-12 and outcomes[1].figures["gain"] == GAIN
+    assert decision_words(outcomes[1]) == f"cuts the training cost by 5 %, less than " \
+        f"{100 * GAIN:.0f} %: not named"
+    assert outcomes[2].figures == {"cost": 0.6, "named": "A", "named_cost": 0.5}
+    assert decision_words(outcomes[3]) == \
+        "makes the training stroke error worse beyond its noise: not named"
     # a refit that gains enough but removes less than DETECTABLE noise variances
     small = Fit(effects=("g",), training_cost=0.5)
     names["g"] = Form(name="G")
     removed[("g",)] = DETECTABLE / 2
-    lost = _refit_decisions([small], judged([small]), None, (), names, {})[0].status
-    assert lost == (f"removes {DETECTABLE / 2:.2g} noise variances from the training records, "
-                    f"fewer than {DETECTABLE:g}: not told apart from the nominal model's own "
-                    f"floor, not named")
-    # a tie: neither is named, and each says why
+    lost = refit_decisions([small], judged([small]), None, (), names, {}, 1.0)[0]
+    assert lost.rule == "detectable" and lost.figures["removed"] == DETECTABLE / 2
+    # a tie: neither is named, and each names the other
     pair = fits[:1] + fits[2:3]
-    tied = [d.status for d in _refit_decisions(pair, judged(pair), None, ("A", "E"), names, {})]
-    assert tied == [f"within {100 * (TIE_COST - 1):.0f} % of another effect's training "
-                    f"cost: a tie, not named"] * 2
-    # a near-tie the missing force broke for the refit with the higher cost: the one with
-    # the lower cost lost to the missing force's mark, not to the cost, and says so
-    broken = {("a",): "within 10 % of each other's training cost with E; the mark: not named",
-              ("e",): "within 10 % of each other's training cost with A; the mark: named"}
-    outcomes = [d.status for d in _refit_decisions(pair, judged(pair), fits[2], (), names,
-                                                   broken)]
-    assert outcomes == [broken[("a",)], broken[("e",)]]
+    tied = refit_decisions(pair, judged(pair), None, ("A", "E"), names, {}, 1.0)
+    assert [(d.rule, d.figures["other"]) for d in tied] == [("tie", "E"), ("tie", "A")]
+    assert decision_words(tied[0]) == (f"within {100 * (TIE_COST - 1):.0f} % of the training "
+                                       f"cost of E: a tie, not named")
+    # a near-tie the missing force broke for the refit with the HIGHER cost (e, 0.6): the
+    # cheaper one (a, 0.5) lost to the missing force's mark, not to the cost, and says so
+    monkeypatch.setattr(selection, "pointed_effects", lambda evidence: {"E": 0.4})
+    winner, broken = selection._break_tie(fits[0], fits[2], names, [])
+    assert winner is fits[2]
+    outcomes = refit_decisions(pair, judged(pair), winner, (), names, broken, 1.0)
+    assert [(d.rule, d.figures["named"]) for d in outcomes] == [("tie broken", False),
+                                                                ("tie broken", True)]
+    assert decision_words(outcomes[0]) == (
+        f"within {100 * (TIE_COST - 1):.0f} % of the training cost of E; the missing force "
+        f"shows the mark of E (40 % of its variance) and not of A: not named")
+    # every rule a decision carried is a listed rule
+    for decision in list(decided.values()) + list(outcomes) + [lost] + list(tied):
+        assert decision.rule in RULES
+
+
+def test_every_rule_has_its_sentence_and_no_sentence_without_a_rule():
+    import pytest
+
+    from certkit.gap.attribution import Decision
+    from certkit.gap.statements import RULES, decision_words
+
+    figures = {"leading": 2, "gain": 0.1, "relevant": 0.3, "why": "no tyre", "cut": 0.2,
+               "channels": ["load"], "removed": 1.0, "detectable": 2.0, "channel": "load",
+               "shift_s": 0.012, "share": 0.3, "timing_share": 0.1, "cost": 0.6,
+               "named": True, "named_cost": 0.5, "other": "E", "tie_cost": 1.05,
+               "marked": "E", "unmarked": "A", "tie": ["A", "E"]}
+    for rule in RULES:
+        assert decision_words(Decision("x", rule, figures)).strip()
+    with pytest.raises(ValueError, match="no words for the rule"):
+        decision_words(Decision("x", "a rule nobody wrote", figures))

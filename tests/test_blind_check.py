@@ -1,18 +1,30 @@
-"""The blind check: its battery, its truths withheld and sized, its scoring by hand, and the
-same outcome on a process pool and on a dask cluster."""
+"""The blind check (benchmarks/blindcheck, benchmarks/blind_*.py: battery machinery kept out of
+certkit): its battery, its truths withheld and sized, its scoring by hand, and the same
+outcome on a process pool and on a dask cluster."""
 
 import json
 import statistics
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from certkit import load_campaign
-from certkit.gap.blind_check import (TRUTHS, Case, Settings, battery, blind_check,
-                                 run_case, score, size_for, write_case)
-from certkit.compliance.clauses import ideal_impact_velocity
-from certkit.physics.gear_model import drop_model_for
-from certkit.physics.simulation import simulate_reference
+BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
+sys.path.insert(0, str(BENCHMARKS))
+
+from blindcheck.battery import (TRUTHS, Case, Settings, battery, blind_check,  # noqa: E402
+                                run_case, size_for, write_case)
+from blindcheck.scoring import score as _score  # noqa: E402
+
+from certkit import load_campaign  # noqa: E402
+from certkit.compliance.clauses import ideal_impact_velocity  # noqa: E402
+from certkit.physics.gear_model import drop_model_for  # noqa: E402
+from certkit.physics.simulation import simulate_reference  # noqa: E402
+
+
+def score(outcomes, effects=tuple(TRUTHS)):
+    return _score(outcomes, effects)
 
 EXAMPLE = "campaigns/seed-amphibian/campaign.yaml"
 
@@ -209,7 +221,7 @@ def test_an_effect_whose_score_points_the_wrong_way_is_found_by_its_profile():
 
 
 def test_wilson_intervals_match_their_closed_forms():
-    from certkit.gap.blind_check import wilson
+    from blindcheck.scoring import wilson
 
     z2 = 1.959964 ** 2
     # none of n: upper bound z²/(n + z²); all of n: lower bound n/(n + z²)
@@ -226,7 +238,7 @@ def test_the_record_and_its_case_table_are_written_as_the_report_reads_them(pool
                                                                             tmp_path):
     import csv
 
-    from certkit.gap.blind_check import write_blind_check
+    from blindcheck.record import write_blind_check
     from certkit.spec.blind_record import BlindCheckRecord
 
     _, document = pool_outcome
@@ -248,13 +260,33 @@ def test_the_record_and_its_case_table_are_written_as_the_report_reads_them(pool
 
 @pytest.mark.parametrize("option, value", [("--seeds", "one,two"), ("--ratios", "")])
 def test_bad_battery_options_exit_2_with_a_message(option, value):
-    from typer.testing import CliRunner
+    import subprocess
 
-    from certkit.cli import app
+    done = subprocess.run([sys.executable, str(BENCHMARKS / "blind_own.py"), EXAMPLE,
+                           option, value, "-o", "unused"], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 2
+    assert option in done.stderr and "comma-separated numbers" in done.stderr
 
-    result = CliRunner().invoke(app, ["gap", EXAMPLE, "--blind-check", option, value])
-    assert result.exit_code == 2
-    assert option in result.output and "comma-separated numbers" in result.output
+
+def test_battery_options_are_checked_before_the_battery_runs(tmp_path, monkeypatch, capsys):
+    import blind_own
+
+    def ran(*args, **kwargs):
+        raise AssertionError("the battery ran before its options were checked")
+
+    monkeypatch.setattr(blind_own, "blind_check", ran)
+    monkeypatch.setattr(sys, "argv", ["blind_own.py", EXAMPLE, "--workers", "0",
+                                      "-o", str(tmp_path / "bc")])
+    with pytest.raises(SystemExit) as stop:
+        blind_own.main()
+    assert stop.value.code == 2
+    assert "--workers: expected a whole number ≥ 1, found 0" in capsys.readouterr().err
+    # an output folder that would swallow the campaign is refused at once, not after hours
+    monkeypatch.setattr(sys, "argv", ["blind_own.py", EXAMPLE, "-o",
+                                      str(Path(EXAMPLE).parent)])
+    assert blind_own.main() == 2
+    assert "would contain the input" in capsys.readouterr().err
 
 
 RECORD = "campaigns/seed-amphibian/blind-check/blind-check.json"
@@ -266,15 +298,12 @@ def test_the_examples_blind_check_record_is_what_this_code_gives():
     about 100 cases, 10 minutes) is spot-checked: two of its cases are run again here, and
     its metrics are those its score() gives for its cases (a check that the file was not
     edited by hand)."""
-    import sys
-    from pathlib import Path
-
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
     import blind_independent as independent
 
     with open(RECORD, encoding="utf-8") as handle:
         record = json.load(handle)
-    from certkit.spec.blind_record import code_fingerprint, template_fingerprint
+    from certkit.gap.code import code_fingerprint
+    from certkit.spec.blind_record import template_fingerprint
 
     # made from this spec (its content without the key naming the record); whether by this
     # code the report says in words (code_fingerprint), the two cases below check outcomes
@@ -304,29 +333,26 @@ def test_the_examples_blind_check_record_is_what_this_code_gives():
     assert rescored["confusion"] == record["confusion"]
 
 
-def test_a_template_the_diagnosis_cannot_use_exits_2_before_any_case_runs():
-    from typer.testing import CliRunner
+def test_a_template_the_diagnosis_cannot_use_exits_2_before_any_case_runs(monkeypatch, capsys,
+                                                                          tmp_path):
+    import blind_own
 
-    from certkit.cli import app
-
-    result = CliRunner().invoke(app, ["gap", EXAMPLE, "--blind-check", "-g", "nose"])
-    assert result.exit_code == 2
-    assert "gear unit nose has no drop with time histories" in result.output
-    assert "Traceback" not in result.output
+    monkeypatch.setattr(sys, "argv", ["blind_own.py", EXAMPLE, "-g", "nose",
+                                      "-o", str(tmp_path / "bc")])
+    assert blind_own.main() == 2
+    assert "gear unit nose has no drop with time histories" in capsys.readouterr().err
+    assert not (tmp_path / "bc").exists()
 
 
 def test_a_rescore_keeps_who_ran_the_cases(tmp_path, monkeypatch):
     """A record scored again by other code still says who ran its cases: the run's
     fingerprint, commit and date stay, and only scored_by is the scoring certkit's."""
-    import sys
-    from pathlib import Path
-
-    from certkit.spec.blind_record import code_fingerprint, read_blind_check
-
-    root = Path(__file__).resolve().parents[1]
-    example = root / EXAMPLE
-    sys.path.insert(0, str(root / "benchmarks"))
     import blind_independent as independent
+
+    from certkit.gap.code import code_fingerprint
+    from certkit.spec.blind_record import read_blind_check
+
+    example = BENCHMARKS.parent / EXAMPLE
 
     committed = example.parent / "blind-check" / "blind-check.json"
     earlier = json.loads(committed.read_text(encoding="utf-8"))
@@ -349,7 +375,8 @@ def test_a_rescore_keeps_who_ran_the_cases(tmp_path, monkeypatch):
 
 def test_the_report_names_the_files_that_differ_from_the_running_certkit():
     from certkit.evidence.gap_view import _made_by
-    from certkit.spec.blind_record import Provenance, code_files, code_fingerprint
+    from certkit.gap.code import code_files, code_fingerprint
+    from certkit.spec.blind_record import Provenance
 
     files = code_files()
     now = Provenance(certkit="0.1.0", code=code_fingerprint(), files=files, date="2026-11-26")

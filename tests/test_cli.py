@@ -56,22 +56,6 @@ def test_timeseries_campaign_reports_with_exit_0(timeseries_campaign, tmp_path):
     assert "gear_units[0].strut.pneumatic_area" in html
 
 
-def test_blind_check_options_are_checked_before_the_battery_runs(tmp_path, monkeypatch):
-    import certkit.gap.blind_check
-
-    def battery(*args, **kwargs):
-        raise AssertionError("the battery ran before its options were checked")
-
-    monkeypatch.setattr(certkit.gap.blind_check, "blind_check", battery)
-    result = runner.invoke(app, ["gap", str(SEED), "--blind-check", "--workers", "0",
-                                 "-o", str(tmp_path / "bc")])
-    assert result.exit_code == 2 and "--workers: expected a whole number ≥ 1, found 0" \
-        in result.output
-    # an output folder that would swallow the campaign is refused at once, not after hours
-    result = runner.invoke(app, ["gap", str(SEED), "--blind-check", "-o", str(SEED.parent)])
-    assert result.exit_code == 2 and "would contain the input" in result.output
-
-
 def test_validate_exits_2_with_located_messages_in_a_real_process(timeseries_campaign):
     text = timeseries_campaign.read_text(encoding="utf-8")
     text = text.replace("drop_height: 300 mm", "drop_heigth: 300 mm")

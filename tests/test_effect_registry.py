@@ -10,17 +10,23 @@ import typing
 import numpy as np
 import pytest
 
-from certkit.gap.attribution import CANDIDATES as DIAGNOSIS_CANDIDATES
-from certkit.gap.blind_check import TRUTHS as BLIND_TRUTHS
-from certkit.gap.blind_check import Settings
-from certkit.physics.calibration import DEFAULT_KNOBS, KNOBS
-from certkit.physics.effects import BY_NAME, CANDIDATES, EFFECTS, TRUTHS, LoadCellGain
-from certkit.physics.gear_model import drop_model_for
-from certkit.physics.simulation import simulate_batch, simulate_reference
-from certkit.spec.campaign import load_campaign
-from certkit.spec.schema import CalibrationParameter, Effect
+import sys
+from pathlib import Path
 
-from .test_drop_model import seed_gear
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+
+from blindcheck.battery import TRUTHS as BLIND_TRUTHS  # noqa: E402
+from blindcheck.battery import Settings  # noqa: E402
+
+from certkit.gap.attribution import CANDIDATES as DIAGNOSIS_CANDIDATES  # noqa: E402
+from certkit.physics.calibration import DEFAULT_KNOBS, KNOBS  # noqa: E402
+from certkit.physics.effects import BY_NAME, CANDIDATES, EFFECTS, TRUTHS, LoadCellGain  # noqa: E402
+from certkit.physics.gear_model import drop_model_for  # noqa: E402
+from certkit.physics.simulation import simulate_batch, simulate_reference  # noqa: E402
+from certkit.spec.campaign import load_campaign  # noqa: E402
+from certkit.spec.schema import CalibrationParameter, Effect  # noqa: E402
+
+from .test_drop_model import seed_gear  # noqa: E402
 
 G = 9.80665
 

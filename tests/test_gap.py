@@ -261,7 +261,8 @@ def test_the_gap_section_lays_out_the_diagnosis(diagnosed, with_hysteresis):
     assert f"would remove at least {RELEVANT:g} σ" in section
     # no blind check recorded for this campaign: the section says how to make one
     assert "has not been recorded for this campaign" in section
-    assert f"certkit gap --blind-check {with_hysteresis.name} -o DIR" in section
+    assert f"python benchmarks/blind_independent.py {with_hysteresis.name} -g GEAR -o DIR" \
+        in section
 
 
 # --------------------------------------------------------------------------- blind check
@@ -331,8 +332,8 @@ def test_the_report_summarises_the_blind_check_and_says_what_falls_short(with_hy
 
 
 def test_the_report_states_the_recorded_decisions_and_derives_none():
-    # statuses no rule of the attribution could produce: the report must print them as
-    # recorded, so a change of the rules can never be mis-described by the report
+    # decisions whose figures and thresholds no rule of today's code has: the report must
+    # state them as recorded, so a change of the rules can never be mis-described by it
     from types import SimpleNamespace
 
     from certkit.evidence.gap_view import _gap_steps
@@ -343,17 +344,24 @@ def test_the_report_states_the_recorded_decisions_and_derives_none():
         scores=(Score("seal friction", 12.0, 1.0, 1.0, 0.5),
                 Score("tyre hysteresis", 3.0, -1.0, 1.0, 0.1)),
         confusability={}, sigma2=1.0, profiles=None, relevant=(),
-        decisions=(Decision("seal friction", "RECORDED: refitted, by decree"),
-                   Decision("tyre hysteresis", "RECORDED: set aside")),
-        no_refit="RECORDED: why nothing was refitted")
+        decisions=(Decision("seal friction", "not leading", {"leading": 7}),
+                   Decision("tyre hysteresis", "points the other way", {"gain": 0.77})),
+        no_refit=Decision("", "none refitted", {"relevant": 4.5, "gain": 0.66}))
     fit = SimpleNamespace(effects=("seal friction",), strengths=(1.0,), strength_errors=(0.1,),
                           training_cost=0.95)
     diagnosis = SimpleNamespace(steps=[(attribution, [fit])], step_costs=(1.0,),
-                                refit_decisions=((Decision("seal friction", "RECORDED: named"),),),
+                                refit_decisions=((Decision("seal friction", "gain",
+                                                           {"cut": 0.05, "gain": 0.33}),),),
                                 answer=())
     gap = SimpleNamespace(diagnosis=diagnosis, refit_held_out={})
     step = _gap_steps(gap, DisplayUnits())[0]
-    assert [s["status"] for s in step["scores"]] == ["RECORDED: refitted, by decree",
-                                                     "RECORDED: set aside"]
-    assert step["refits"][0]["outcome"] == "RECORDED: named"
-    assert step["no_refit"] == "RECORDED: why nothing was refitted"
+    statuses = {s["effect"]: s["status"] for s in step["scores"]}
+    assert statuses["tyre hysteresis"] == ("its score points the other way and its profile "
+                                           "cuts the training cost by less than 77 %: not "
+                                           "relevant")
+    assert statuses["seal friction"] == ("relevant, not among the 7 effects with the best "
+                                         "profiles")
+    assert step["refits"][0]["outcome"] == ("cuts the training cost by 5 %, less than 33 %: "
+                                            "not named")
+    assert step["no_refit"] == ("No candidate would remove 4.5 σ or more, nor cut the training "
+                                "cost by 66 % in its profile: none was refitted.")

@@ -186,7 +186,8 @@ def test_model_section_is_reproducible_and_says_the_data_are_synthetic(full_repo
     assert "has not been recorded for this campaign" not in html
     assert "it matches this campaign&#39;s spec" in html   # (escaped apostrophe)
     # whether the record was made by this diagnosis code is said, either way
-    from certkit.spec.blind_record import code_fingerprint, read_blind_check
+    from certkit.gap.code import code_fingerprint
+    from certkit.spec.blind_record import read_blind_check
     record = read_blind_check(SEED.parent / "blind-check" / "blind-check.json")
     if record.template.code == code_fingerprint():
         assert "with this certkit&#39;s diagnosis code." in html

@@ -38,19 +38,15 @@ from .forms import FORMS
 G = 9.80665
 P_ATM = 101325.0
 MAX_STEP = 2e-5
-LEG_MASS = 6.0            # kg, the strut cylinder when the leg flexes above the strut
-WHEEL_SHARE = 0.6         # the wheel's share of the unsprung mass when the axle flexes
-LEG_DAMPING_RATIO = 0.03
-BLOW_OFF_SPEED = 0.25     # m/s
-LINEAR_SPEED = 0.3        # m/s
 
 # state slots
 X1, V1, X2, V2, XL, VL, Z, W = range(8)
 # parameter slots
 (M1, M2, ML, LIFT, LEG_MODE, K_LEG, C_LEG, AREA, VOLUME, PRECHARGE, EXPONENT, BETA, K_COMP,
  K_REB, REB_FORM, REB_SIZE, PAD_K, HANG, FRIC_FORM, FRIC_SIZE, TYRE_P, TYRE_D, TYRE_B,
- TYRE_C, TYRE_SHAPE, HYST_FORM, HYST_SIZE, HYST_W0) = range(28)
-SLOTS = 28
+ TYRE_C, TYRE_SHAPE, HYST_FORM, HYST_SIZE, HYST_W0, FRIC_RATIO, FRIC_VS, FRIC_BRISTLE,
+ FRIC_VISC, DAHL_X, HYST_BETA, BLOW_SPEED, LIN_SPEED, LIN_SHARE) = range(37)
+SLOTS = 37
 
 
 @dataclass(frozen=True)
@@ -135,26 +131,26 @@ def _derivatives(p, y, dy):
         speed = -v
         extra = 0.0
         if p[REB_FORM] == 1.0:
-            if speed <= BLOW_OFF_SPEED:
+            if speed <= p[BLOW_SPEED]:
                 extra = p[REB_SIZE] * p[K_REB] * speed * speed
             else:
-                extra = p[REB_SIZE] * p[K_REB] * BLOW_OFF_SPEED * speed
+                extra = p[REB_SIZE] * p[K_REB] * p[BLOW_SPEED] * speed
         elif p[REB_FORM] == 2.0:
-            extra = p[REB_SIZE] * p[K_REB] * (0.5 * speed * speed
-                                              + 0.5 * LINEAR_SPEED * speed)
+            extra = p[REB_SIZE] * p[K_REB] * ((1.0 - p[LIN_SHARE]) * speed * speed
+                                              + p[LIN_SHARE] * p[LIN_SPEED] * speed)
         strut -= p[K_REB] * speed * speed + extra
 
     dy[Z] = 0.0
     if p[FRIC_FORM] == 1.0:                # LuGre
         fc = p[FRIC_SIZE]
-        sigma0 = fc / 1e-4
-        g = fc + 0.4 * fc * math.exp(-(v / 0.02) ** 2)
+        sigma0 = fc / p[FRIC_BRISTLE]
+        g = fc + (p[FRIC_RATIO] - 1.0) * fc * math.exp(-(v / p[FRIC_VS]) ** 2)
         dy[Z] = v - sigma0 * abs(v) * y[Z] / g
-        strut += sigma0 * y[Z] + 0.15 * fc * v
+        strut += sigma0 * y[Z] + p[FRIC_VISC] * fc * v
     elif p[FRIC_FORM] == 2.0:              # Dahl, the state is the force
         fc = p[FRIC_SIZE]
         sign = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
-        dy[Z] = fc / 3e-4 * v * (1.0 - y[Z] * sign / fc)
+        dy[Z] = fc / p[DAHL_X] * v * (1.0 - y[Z] * sign / fc)
         strut += y[Z]
 
     tyre = 0.0
@@ -166,7 +162,8 @@ def _derivatives(p, y, dy):
         if p[HYST_FORM] != 0.0:
             w0 = p[HYST_W0]
             same = 1.0 if rate * y[W] > 0.0 else 0.0
-            dy[W] = rate * (1.0 - (0.5 * same + 0.5) * abs(y[W]) / w0)
+            beta = p[HYST_BETA]
+            dy[W] = rate * (1.0 - (beta * same + (1.0 - beta)) * abs(y[W]) / w0)
             if p[HYST_FORM] == 1.0:
                 tyre += p[HYST_SIZE] * y[W] / w0
             else:
@@ -233,24 +230,33 @@ def _parameters(gear: Gear, truths, nuisances: Nuisances, drop_index: int) -> np
     p[TYRE_SHAPE] = nuisances.tyre_shape
     for truth in truths:
         size = truth.size
-        if truth.form in ("lugre", "dahl"):
-            p[FRIC_FORM], p[FRIC_SIZE] = (1.0 if truth.form == "lugre" else 2.0), size
+        if truth.form == "lugre":
+            p[FRIC_FORM], p[FRIC_SIZE] = 1.0, size
+            p[FRIC_RATIO], p[FRIC_VS] = truth.value("static_ratio"), truth.value("stribeck_speed")
+            p[FRIC_BRISTLE], p[FRIC_VISC] = truth.value("bristle"), truth.value("viscous")
+        elif truth.form == "dahl":
+            p[FRIC_FORM], p[FRIC_SIZE], p[DAHL_X] = 2.0, size, truth.value("presliding")
         elif truth.form in ("tyre-bouc-wen", "tyre-proportional"):
-            bouc_wen = truth.form == "tyre-bouc-wen"
-            p[HYST_FORM], p[HYST_SIZE] = (1.0 if bouc_wen else 2.0), size
-            p[HYST_W0] = 3e-3 if bouc_wen else 1.5e-3
+            p[HYST_FORM] = 1.0 if truth.form == "tyre-bouc-wen" else 2.0
+            p[HYST_SIZE], p[HYST_W0] = size, truth.value("w0")
+            p[HYST_BETA] = truth.value("beta")
         elif truth.form in ("leg-above", "leg-axle"):
             stiffness = 1.0 / size
             if truth.form == "leg-above":
-                p[LEG_MODE], p[ML] = 1.0, LEG_MASS
-                p[M1] = gear.upper_mass - LEG_MASS
+                leg_mass = truth.value("leg_mass")
+                p[LEG_MODE], p[ML] = 1.0, leg_mass
+                p[M1] = gear.upper_mass - leg_mass
             else:
-                p[LEG_MODE], p[ML] = 2.0, WHEEL_SHARE * gear.lower_mass
-                p[M2] = (1.0 - WHEEL_SHARE) * gear.lower_mass
+                share = truth.value("wheel_share")
+                p[LEG_MODE], p[ML] = 2.0, share * gear.lower_mass
+                p[M2] = (1.0 - share) * gear.lower_mass
             p[K_LEG] = stiffness
-            p[C_LEG] = 2.0 * LEG_DAMPING_RATIO * math.sqrt(stiffness * p[ML])
-        elif truth.form in ("blow-off", "linear-quadratic"):
-            p[REB_FORM], p[REB_SIZE] = (1.0 if truth.form == "blow-off" else 2.0), size
+            p[C_LEG] = 2.0 * truth.value("damping_ratio") * math.sqrt(stiffness * p[ML])
+        elif truth.form == "blow-off":
+            p[REB_FORM], p[REB_SIZE], p[BLOW_SPEED] = 1.0, size, truth.value("blow_off_speed")
+        elif truth.form == "linear-quadratic":
+            p[REB_FORM], p[REB_SIZE] = 2.0, size
+            p[LIN_SPEED], p[LIN_SHARE] = truth.value("linear_speed"), truth.value("linear_share")
         elif truth.form == "gas-drift":
             p[PRECHARGE] *= 1.0 + size * drop_index
         elif truth.form not in FORMS:
@@ -264,22 +270,28 @@ def _parameters(gear: Gear, truths, nuisances: Nuisances, drop_index: int) -> np
     return p
 
 
-def _lag(signal_in: np.ndarray, rate: float, form: str, size: float) -> np.ndarray:
+def _delayed(signal_in: np.ndarray, rate: float, delay: float) -> np.ndarray:
+    """A record delayed by ``delay`` [s] (linear interpolation, steady at its first value)."""
+    index = np.arange(signal_in.size, dtype=float) - delay * rate
+    return np.interp(index, np.arange(signal_in.size, dtype=float), signal_in)
+
+
+def _lag(signal_in: np.ndarray, rate: float, truth) -> np.ndarray:
     """A recorded channel through the form's filter and delay (steady at its first value)."""
+    size = truth.size
+    order = int(round(truth.value("order")))
     cutoff = 1.0 / (2.0 * math.pi * size)
     nyquist = 0.5 * rate
     if cutoff >= 0.95 * nyquist:            # beyond the logger's band: the delay only
         filtered = signal_in.copy()
     else:
-        if form == "bessel-delay":
-            b, a = signal.bessel(4, cutoff / nyquist, norm="delay")
+        if truth.form == "bessel-delay":
+            b, a = signal.bessel(order, cutoff / nyquist, norm="delay")
         else:
-            b, a = signal.butter(2, cutoff / nyquist)
+            b, a = signal.butter(order, cutoff / nyquist)
         zi = signal.lfilter_zi(b, a) * signal_in[0]
         filtered, _ = signal.lfilter(b, a, signal_in, zi=zi)
-    delay = size / 2.0 if form == "bessel-delay" else size / 4.0
-    index = np.arange(signal_in.size, dtype=float) - delay * rate
-    return np.interp(index, np.arange(signal_in.size, dtype=float), filtered)
+    return _delayed(filtered, rate, size * truth.value("delay_share"))
 
 
 def simulate(gear: Gear, contact_velocity: float, rate: float, duration: float = 2.0,
@@ -306,10 +318,12 @@ def simulate(gear: Gear, contact_velocity: float, rate: float, duration: float =
     for truth in truths:
         if truth.form in ("bessel-delay", "butterworth-delay"):
             load, stroke, tyre, acceleration, displacement = (
-                _lag(x, rate, truth.form, truth.size)
-                for x in (load, stroke, tyre, acceleration, displacement))
+                _lag(x, rate, truth) for x in (load, stroke, tyre, acceleration, displacement))
         elif truth.form == "crosstalk":
-            shift = int(round(0.012 * rate))
+            shift = int(round(truth.value("delay") * rate))
             earlier = np.concatenate([np.full(shift, load[0]), load[:-shift]])
             load = load + truth.size * earlier
+        elif truth.form == "gain-skew":
+            sign = 1.0 if truth.value("sign") >= 0 else -1.0
+            load = (1.0 + sign * truth.size) * _delayed(load, rate, truth.value("skew"))
     return Record(time, load, stroke, tyre, acceleration, displacement)

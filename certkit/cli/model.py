@@ -1,4 +1,4 @@
-"""Commands on a campaign's drop model: simulate, calibrate, identify, gap (and its blind check).
+"""Commands on a campaign's drop model: simulate, calibrate, identify, gap.
 
 Each command imports the model stage it needs (physics, ident, gap) inside its body, the one
 place in certkit where imports are lazy on purpose: importing them at the top would load the
@@ -16,58 +16,14 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
-from certkit.cli.app import SpecArgument, bad_option, command, err, fail, out, warning
+from certkit.cli.app import SpecArgument, command, fail, out, warning
 from certkit.display import display
 from certkit.display import parameter as parameter_text
 from certkit.display import with_unit
 from certkit.evidence.gap_view import largest_disagreement
-from certkit.outputs import (check_file_target, check_target, staged_folder,
-                             write_text_atomically, writing_failure)
+from certkit.outputs import check_file_target, write_text_atomically, writing_failure
 from certkit.spec.campaign import load_campaign
 from certkit.spec.rundata import CHANNEL_LABELS
-
-
-def _numbers(text: str, key: str, kind=float) -> tuple:
-    try:
-        values = tuple(kind(v) for v in text.split(",") if v.strip())
-    except ValueError:
-        values = ()
-    if not values:
-        bad_option(key, "comma-separated numbers", repr(text))
-    return values
-
-
-def _blind_check(spec: Path, gear: str | None, output: Path, workers, scheduler, seeds: str,
-                 ratios: str) -> None:
-    from certkit.gap.blind_check import Settings, blind_check, write_blind_check
-
-
-
-    settings = Settings(ratios=_numbers(ratios, "ratios"), seeds=_numbers(seeds, "seeds", int))
-    if workers is not None and workers < 1:
-        bad_option("workers", "a whole number ≥ 1", workers)
-    own = {"blind-check.json", "blind-check-cases.csv"}
-    check_target(output, [spec], own)   # the output folder is checked before the battery
-
-    def progress(outcome):
-        named = ", ".join(outcome["named"]) or "(none)"
-        err.print(f"{outcome['id']}: named {named}")
-
-    document = blind_check(spec, gear, settings, workers=workers, scheduler=scheduler,
-                           progress=progress)
-    with staged_folder(output, [spec], own) as folder:
-        write_blind_check(document, folder)
-    table = Table(title=f"blind check of the gap diagnosis ({len(document['cases'])} cases)")
-    for column in ("metric", "measured", "cases", "target", "met"):
-        table.add_column(column, justify="left" if column == "metric" else "right")
-    for name, metric in document["metrics"].items():
-        value = "n/a" if metric["value"] is None else f"{100 * metric['value']:.0f} %"
-        target = "" if metric["target"] is None else \
-            f"{metric['direction']} {100 * metric['target']:.0f} %"
-        met = {True: "yes", False: "NO", None: ""}[metric["met"]]
-        table.add_row(name.replace("_", " "), value, str(metric["cases"]), target, met)
-    out.print(table)
-    out.print(f"written: {output}")
 
 
 def _check_json_target(path: Path | None, campaign) -> None:
@@ -209,30 +165,9 @@ def identify(spec: SpecArgument,
 def gap(spec: SpecArgument,
         gear: Annotated[list[str] | None, typer.Option(
             "-g", "--gear", help="gear unit (repeat); default: every recorded one")] = None,
-        blind: Annotated[bool, typer.Option(
-            "--blind-check", help="check the diagnosis blind on synthetic campaigns simulated "
-                                  "from SPEC with withheld effects, and score it")] = False,
-        output: Annotated[Path, typer.Option(
-            "-o", "--output", help="blind check: the folder for blind-check.json and "
-                                   "blind-check-cases.csv")] = Path("blind-check"),
-        workers: Annotated[int | None, typer.Option(
-            help="blind check: local worker processes (default: one per core)")] = None,
-        scheduler: Annotated[str | None, typer.Option(
-            help="blind check: a dask.distributed scheduler address to run the cases on "
-                 "(needs certkit\\[cluster])")] = None,
-        seeds: Annotated[str, typer.Option(
-            help="blind check: seeds of the single-effect cases, comma-separated")] = "21,22,23",
-        ratios: Annotated[str, typer.Option(
-            help="blind check: effect sizes, multiples of the load noise RMS")] = "1,2,5",
         ) -> None:
     """Where the nominal model disagrees with the runs, and which effect explains it."""
     from certkit.gap.diagnosis import gap_diagnosis
-
-
-    if blind:
-        _blind_check(spec, gear[0] if gear else None, output, workers, scheduler, seeds, ratios)
-        return
-
 
     campaign = load_campaign(spec)
     recorded = [g.id for g in campaign.spec.gear_units

@@ -18,8 +18,8 @@ from certkit.evidence.methods import gap_method, unit_size
 from certkit.evidence.model_view import origins
 from certkit.evidence.sections import BlindSection, GapSection
 from certkit.physics.drops import MIDDLE_FROM
-from certkit.spec.blind_record import (METRICS, code_fingerprint, differing_files,
-                                       template_fingerprint)
+from certkit.gap.code import code_fingerprint, differing_files
+from certkit.spec.blind_record import METRICS, template_fingerprint
 from certkit.spec.rundata import CHANNEL_LABELS
 
 
@@ -68,6 +68,7 @@ def _gap_largest(gap_map, units) -> str:
 
 def _gap_steps(gap, units) -> list[dict]:
     from certkit.gap.selection import CANDIDATES, TIE_COST
+    from certkit.gap.statements import decision_words
 
     diagnosis = gap.diagnosis
     sizes = {c.key: unit_size(c, units) for c in CANDIDATES}
@@ -80,11 +81,12 @@ def _gap_steps(gap, units) -> list[dict]:
             if score.name not in attribution.relevant:
                 # forms not relevant for the same reason share a row (every form's numbers
                 # are in results.json)
-                alike.setdefault(decision.status, []).append(score)
+                alike.setdefault(decision_words(decision), []).append(score)
                 continue
             profile = profiles.get(score.name)
             scores.append({"effect": score.name, "statistic": number(score.statistic),
-                           "explained": number(score.explained, 3), "status": decision.status,
+                           "explained": number(score.explained, 3),
+                           "status": decision_words(decision),
                            "profile": "—" if not profile else
                            f"{number(profile[1])} at strength {number(profile[0], 3)}"})
         for status, group in alike.items():
@@ -97,7 +99,7 @@ def _gap_steps(gap, units) -> list[dict]:
                            f"{number(profile[1])} at strength {number(profile[0], 3)}",
                            "status": status})
         scores += [{"effect": skipped.name, "statistic": "—", "explained": "—",
-                    "profile": "—", "status": skipped.status}
+                    "profile": "—", "status": decision_words(skipped)}
                    for skipped in attribution.skipped]
         pair = ""
         if len(attribution.scores) >= 2:
@@ -125,13 +127,14 @@ def _gap_steps(gap, units) -> list[dict]:
                            "cost": number(fit.training_cost),
                            "change": percent(fit.training_cost / beat - 1, signed=True)
                            if beat else "—",
-                           "outcome": decision.status, "held_out": held or "—"})
+                           "outcome": decision_words(decision), "held_out": held or "—"})
         title = ("Step 1: candidates against the calibrated bare model" if index == 0 else
                  f"Step {index + 1}: candidates against the model with "
                  f"{' and '.join(diagnosis.answer[:index])}")
         steps.append({"title": title, "beat": number(beat), "scores": scores, "pair": pair,
                       "refits": refits,
-                      "no_refit": attribution.no_refit})
+                      "no_refit": decision_words(attribution.no_refit)
+                      if attribution.no_refit else ""})
     return steps
 
 
@@ -187,14 +190,18 @@ def _blind_view(campaign, units) -> dict:
     """The blind check's record (model.gap.blind_check) in words and tables, or how to make
     one."""
 
-    command = f"certkit gap --blind-check {campaign.spec_path.name} -o DIR"
+    command = (f"python benchmarks/blind_independent.py {campaign.spec_path.name} -g GEAR "
+               f"-o DIR")
     record = campaign.blind_check
     if record is None:
         return BlindSection(**{"recorded": False, "command": command,
                 "absent": "The blind check has not been recorded for this campaign, so this "
                           "report gives no measured evidence of how often the diagnosis names "
-                          "the right effect. To record it, run the command below and name the "
-                          "JSON file it writes in the spec's model.gap.blind_check."})
+                          "the right effect. To record it, run the command below in a checkout of "
+                          "certkit's source (the battery machinery lives in its benchmarks "
+                          "folder, outside the installed package; about 10 minutes on 2 "
+                          "cores) and name the JSON file it writes in the spec's "
+                          "model.gap.blind_check."})
     from certkit.evidence.figures import blind_curve
 
     now, code = template_fingerprint(campaign), code_fingerprint()

@@ -14,7 +14,7 @@ Lagrange multiplier tests in econometrics", Handbook of Econometrics II, ch. 13,
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -43,10 +43,10 @@ class Attribution:
     sigma2: float
     profiles: dict | None = None   # name -> (best strength of STARTS, its profile cost)
     relevant: tuple = ()           # the names that qualified for a refit (see diagnose)
-    #: what became of each candidate at this step, in score order (see :func:`_decisions`)
+    #: what became of each candidate at this step, in score order (a Decision each)
     decisions: tuple = ()
-    #: why no candidate was refitted at this step ("" when some were)
-    no_refit: str = ""
+    #: why no candidate was refitted at this step (a Decision; None when some were)
+    no_refit: object = None
     #: the forms not scored at this step because they cannot be added to the model (a
     #: Decision each, with the form's own reason: :meth:`Candidate.why_not`)
     skipped: tuple = ()
@@ -55,10 +55,13 @@ class Attribution:
 @dataclass(frozen=True)
 class Decision:
     """What the diagnosis decided about one candidate, or one refit, and why: recorded where
-    the rule is applied, so the report states it and never re-derives it."""
+    the rule is applied (:mod:`certkit.gap.selection`), so the report only puts it in words
+    (:func:`certkit.gap.statements.decision_words`) and never re-derives it."""
 
     name: str        # the candidate, or the refit's effects joined by " + "
-    status: str      # the decision in words, with the thresholds that made it
+    rule: str        # the rule that decided (see certkit.gap.statements.RULES)
+    #: the figures and thresholds the rule compared, as it compared them (JSON-ready)
+    figures: dict = field(default_factory=dict)
 
 
 def score_candidates(residuals, models: list[DropModel], nominal_jacobian: np.ndarray,

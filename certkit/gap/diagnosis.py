@@ -17,8 +17,8 @@ explains it and how far it shrinks once that effect is added.
    effects, on every run.
 
 :func:`gap_diagnosis` does all four; the CLI and the report call it.  The blind check
-(:mod:`certkit.gap.blind_check`) calls :func:`certkit.gap.selection.diagnose`, the choice and
-its held-out errors, which is what it scores.
+(benchmarks/blindcheck, outside the package) calls :func:`certkit.gap.selection.diagnose`,
+the choice and its held-out errors, which is what it scores.
 Data flow: this module uses :mod:`certkit.gap.selection` and :mod:`certkit.gap.holdout`, never
 the reverse.
 """
@@ -34,6 +34,7 @@ from certkit.gap.missing_force import campaign_missing_forces
 from certkit.gap.phases import segment
 from certkit.gap.residuals import BANDS, Cell, band_shares, describe, largest, residual_cells
 from certkit.gap.selection import CANDIDATES, GAIN, LEADING, RELEVANT, TIE_COST, Diagnosis, diagnose
+from certkit.gap.statements import decision_words
 from certkit.physics.calibration import (CHANNEL_UNITS, GearCalibration, aligned_records,
                                          calibrate_gear)
 from certkit.physics.drops import MIDDLE_FROM
@@ -233,6 +234,12 @@ def _map_document(gap: GapMap | None) -> dict | None:
                                for name, low, high in BANDS]}
 
 
+def _decision_document(decision) -> dict:
+    """One recorded decision: the rule that made it, the figures it compared, in words."""
+    return {"candidate": decision.name, "rule": decision.rule, "figures": decision.figures,
+            "words": decision_words(decision)}
+
+
 def gap_document(gap: GapDiagnosis) -> dict:
     """Plain, JSON-ready account of one gear unit's gap diagnosis (SI)."""
     diagnosis = gap.diagnosis
@@ -245,6 +252,11 @@ def gap_document(gap: GapDiagnosis) -> dict:
             "scores": [{"effect": s.name, "lm_statistic": s.statistic,
                         "direction": s.direction, "projected_norm": s.projected_norm,
                         "explained_rms_noise_units": s.explained} for s in attribution.scores],
+            "decisions": [_decision_document(d) for d in
+                          attribution.decisions + attribution.skipped
+                          + ((attribution.no_refit,) if attribution.no_refit else ())],
+            "refit_decisions": [_decision_document(d) for d in diagnosis.refit_decisions[index]]
+            if index < len(diagnosis.refit_decisions) else [],
             "confusability": [{"a": a, "b": b, "cosine": c}
                               for (a, b), c in attribution.confusability.items()],
             "refits": [{"effects": list(f.effects), "strengths": list(f.strengths),

@@ -25,7 +25,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from certkit.display import percent
+from certkit.gap import statements
 from certkit.gap.attribution import (Attribution, Decision, Refit, central_jacobian, configured,
                                      nominal_jacobian, profiles, refit, score_candidates)
 from certkit.gap.holdout import split_for
@@ -37,7 +37,7 @@ from certkit.physics.effects import CANDIDATES, Candidate
 from certkit.threads import one_blas_thread
 
 __all__ = ["CANDIDATES", "DETECTABLE", "GAIN", "LEADING", "RELEVANT", "TIE_COST", "TIMING_SHARE",
-           "Diagnosis", "diagnose"]
+           "Diagnosis", "diagnose", "judge", "refit_decisions"]
 
 #: A candidate is considered only if it would remove at least this RMS (in noise units).
 RELEVANT = 0.3
@@ -116,10 +116,6 @@ def pooled(rmse: dict) -> dict:
     for (_, channel), value in rmse.items():
         out.setdefault(channel, []).append(value * value)
     return {channel: float(np.sqrt(np.mean(values))) for channel, values in out.items()}
-
-
-def _form_words(candidate: Candidate) -> str:
-    return f"{candidate.name} ({candidate.form} form)" if candidate.form else candidate.name
 
 
 def _best_scored(attribution: Attribution) -> list[str]:
@@ -207,7 +203,8 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
         # a form that cannot be added to this model (its family is empty there) is not
         # scored, and the reason is recorded: it would only fail to build
         unfit = {c.key: c.why_not(models[0]) for c in remaining}
-        skipped = tuple(Decision(key, f"not scored: {why}") for key, why in unfit.items() if why)
+        skipped = tuple(Decision(key, "cannot be added", {"why": why})
+                        for key, why in unfit.items() if why)
         remaining = [c for c in remaining if not unfit[c.key]]
         attribution = replace(score_candidates(residuals, models, jacobian, remaining),
                               skipped=skipped)
@@ -222,7 +219,8 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
                 for n in leading]
         attribution = replace(attribution, relevant=tuple(sorted(relevant)),
                               decisions=_decisions(attribution, relevant, leading, names),
-                              no_refit="" if fits else _NO_REFIT)
+                              no_refit=None if fits else Decision(
+                                  "", "none refitted", {"relevant": RELEVANT, "gain": GAIN}))
         steps.append((attribution, fits))
         base = residuals.evaluate([models])[0]
         fitted = residuals.evaluate([configured(residuals, calibration.knobs,
@@ -236,8 +234,8 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
         mistimed = {f.effects: _mistimed(residuals, base, r, names[f.effects[-1]])
                     for f, r in zip(fits, fitted)}
         # each refit is judged once; the filter and the record both read the judgement
-        refused = {f.effects: _refused(f, cost, harm[f.effects], removed[f.effects],
-                                       mistimed[f.effects]) for f in fits}
+        refused = {f.effects: judge(f, cost, harm[f.effects], removed[f.effects],
+                                    mistimed[f.effects]) for f in fits}
         useful = sorted((f for f in fits if refused[f.effects] is None),
                         key=lambda f: f.training_cost)
         evidence.append(tuple(signatures(campaign_missing_forces(
@@ -252,19 +250,17 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
             if best is None:
                 tie = (names[useful[0].effects[-1]].name, names[useful[1].effects[-1]].name)
                 statement = _tie_statement(chosen, useful[0], useful[1], names, attribution)
-        refit_notes.append(_refit_decisions(fits, refused, best if not tie else None, tie,
-                                            names, broken))
+        refit_notes.append(refit_decisions(fits, refused, best if not tie else None, tie,
+                                           names, broken, cost))
         if tie:
             break
         if best is None:
-            if not chosen:
-                statement = "No effect in the library explains the gap."
             break
         chosen.append(names[best.effects[-1]])
         current, cost = best, best.training_cost
     answer = tuple(c.name for c in chosen)
-    if answer and not statement:
-        statement = "The gap is explained by " + " and ".join(map(_form_words, chosen)) + "."
+    if not statement:
+        statement = statements.answer_words(chosen)
     before, measured = _held_out(campaign, gear_id, held, calibration.apply)
     rmse = {("nominal",) + key: value for key, value in before.items()}
     noise = {channel: noise_level(records) for channel, records in measured.items()}
@@ -279,7 +275,7 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
                                       noise[channel]) for channel in pooled_before}
         caveats = tuple(channel for channel in pooled_before
                         if harmed(pooled_before[channel], pooled_after[channel], noise[channel]))
-        statement += _held_out_words(shares, caveats, len(answer))
+        statement += statements.held_out_words(shares, caveats, len(answer), FLOOR_CHANNEL)
     return Diagnosis(gear_id, tuple(training), tuple(held), answer, statement, steps, rmse,
                      calibration, current, tuple(chosen), tuple(step_costs),
                      tuple(refit_notes), tuple(c.form for c in chosen), noise, shares,
@@ -287,54 +283,34 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
 
 
 def _break_tie(best: Refit, other: Refit, names: dict, evidence) -> tuple:
-    """(the refit to name, or None for a tie; {effects: why} for the two refits when the
+    """(the refit to name, or None for a tie; {effects: Decision} for the two refits when the
     tie was broken): the model-free missing force decides a near-tie when it shows the mark
     of one of the two effects and not of the other, whichever has the lower training cost."""
     pointed = pointed_effects(list(evidence))
     a, b = names[best.effects[-1]].name, names[other.effects[-1]].name
     if (a in pointed) == (b in pointed):
         return None, {}
-    (winner, effect), (loser, lost) = ((best, a), (other, b)) if a in pointed \
+    (winner, marked), (loser, unmarked) = ((best, a), (other, b)) if a in pointed \
         else ((other, b), (best, a))
-    within = f"within {percent(TIE_COST - 1, 0)} of each other's training cost"
-    mark = f"the missing force shows the mark of {effect} " \
-           f"({percent(pointed[effect], 0)} of its variance) and not of {lost}"
-    return winner, {winner.effects: f"{within} with {lost}; {mark}: named",
-                    loser.effects: f"{within} with {effect}; {mark}: not named"}
+    figures = {"marked": marked, "unmarked": unmarked, "share": float(pointed[marked]),
+               "tie_cost": TIE_COST}
+    return winner, {
+        winner.effects: Decision(_joined(winner), "tie broken",
+                                 {**figures, "named": True, "other": unmarked}),
+        loser.effects: Decision(_joined(loser), "tie broken",
+                                {**figures, "named": False, "other": marked})}
 
 
 def _tie_statement(chosen, best: Refit, other: Refit, names: dict,
                    attribution: Attribution) -> str:
     a, b = best.effects[-1], other.effects[-1]
     cosine = attribution.confusability.get((a, b), attribution.confusability.get((b, a), 0.0))
-    tie = (f"{names[a].name} and {names[b].name} cannot be told apart with these channels "
-           f"(training costs {best.training_cost:.4g} and {other.training_cost:.4g}, within "
-           f"{percent(TIE_COST - 1, 0)}; signature cosine {cosine:.2f}).")
-    if not chosen:
-        return tie
-    return (f"The gap is explained by {' and '.join(map(_form_words, chosen))}; as a second "
-            f"effect, {tie}")
+    return statements.tie_words(chosen, names[a].name, names[b].name,
+                                (best.training_cost, other.training_cost), cosine, TIE_COST)
 
 
-def _held_out_words(shares: dict, caveats: tuple, count: int) -> str:
-    """The floor and the caveats, as the statement's last sentences."""
-    subject, verb = ("the named effects", "") if count > 1 else ("the named effect", "s")
-    words = ""
-    if FLOOR_CHANNEL in shares:
-        share = shares[FLOOR_CHANNEL]
-        words += (f" Of the held-out {FLOOR_CHANNEL} error beyond its noise, {subject} "
-                  f"close{verb} {percent(share[0], 0)} and {percent(share[1], 0)} stays unexplained."
-                  if share is not None else
-                  f" The held-out {FLOOR_CHANNEL} error lay within its noise before any "
-                  f"effect was added.")
-    if caveats:
-        words += (f" Caveat: {subject} make{verb} the held-out " + " and ".join(caveats)
-                  + " error worse beyond its noise.")
-    return words
-
-
-_NO_REFIT = (f"No candidate would remove {RELEVANT:g} σ or more, nor cut the training cost "
-             f"by {percent(GAIN, 0)} in its profile: none was refitted.")
+def _joined(refitted: Refit) -> str:
+    return " + ".join(refitted.effects)
 
 
 def _decisions(attribution: Attribution, relevant: set, leading: list, names: dict) -> tuple:
@@ -344,69 +320,67 @@ def _decisions(attribution: Attribution, relevant: set, leading: list, names: di
     decisions = []
     for score in attribution.scores:
         if score.name in leading:
-            status = "refitted"
+            decision = Decision(score.name, "refitted")
         elif score.name in relevant and any(names[k].name == names[score.name].name
                                             for k in leading):
-            status = "relevant; another form of this effect profiled better and was refitted"
+            decision = Decision(score.name, "other form refitted")
         elif score.name in relevant:
-            status = f"relevant, not among the {LEADING} effects with the best profiles"
+            decision = Decision(score.name, "not leading", {"leading": LEADING})
         elif score.direction < 0:
-            status = ("its score points the other way and its profile cuts the training "
-                      f"cost by less than {percent(GAIN, 0)}: not relevant")
+            decision = Decision(score.name, "points the other way", {"gain": GAIN})
         else:
-            status = (f"not a form with {RELEVANT:g} σ or more of the {LEADING} effects with "
-                      f"the best scores, and its profile cuts the training cost by less than "
-                      f"{percent(GAIN, 0)}: not relevant")
-        decisions.append(Decision(score.name, status))
+            decision = Decision(score.name, "not relevant",
+                                {"relevant": RELEVANT, "leading": LEADING, "gain": GAIN})
+        decisions.append(decision)
     return tuple(decisions)
 
 
-def _refused(refitted: Refit, cost: float, harm: list, removed: float,
-             mistimed: tuple | None) -> str | None:
+def judge(refitted: Refit, cost: float, harm: list, removed: float,
+          mistimed: tuple | None) -> Decision | None:
     """Why a refit cannot be named, by the first rule it fails (None: it can be): it must
     cut the training cost by :data:`GAIN`, harm no training channel beyond its noise,
     remove :data:`DETECTABLE` noise variances, and, for an error of a recorded channel, fit
     the residual at the same instant (:data:`TIMING_SHARE`)."""
+    name = _joined(refitted)
+    cut = 1.0 - refitted.training_cost / cost if cost > 0 else 0.0
     if refitted.training_cost > (1 - GAIN) * cost:
-        return f"cuts the training cost by less than {percent(GAIN, 0)}: not named"
+        return Decision(name, "gain", {"cut": float(cut), "gain": GAIN})
     if harm:
-        return "makes the training " + ", ".join(harm) + " error worse beyond its noise: not named"
+        return Decision(name, "harm", {"channels": list(harm)})
     if removed < DETECTABLE:
-        return (f"removes {removed:.2g} noise variances from the training records, fewer than "
-                f"{DETECTABLE:g}: not told apart from the nominal model's own floor, not named")
+        return Decision(name, "detectable", {"removed": float(removed), "detectable": DETECTABLE})
     if mistimed is not None:
         channel, shift, share = mistimed
-        return (f"its correction of the recorded {channel} fits the residual better "
-                f"{abs(shift) * 1e3:.3g} ms {'later' if shift > 0 else 'earlier'} than at the "
-                f"same instant (the shift removes {percent(share, 0)} of the {channel}'s "
-                f"remaining mean square; {percent(TIMING_SHARE, 0)} or more is a timing "
-                f"error): an error without memory acts at the same instant, so the {channel} "
-                f"record's error is not this one: not named")
+        return Decision(name, "timing", {"channel": channel, "shift_s": float(shift),
+                                         "share": float(share), "timing_share": TIMING_SHARE})
     return None
 
 
-def _refit_decisions(fits: list, refused: dict, named: Refit | None, tie: tuple, names: dict,
-                     broken: dict) -> tuple:
-    """What became of each refit of one step, with the reason that decided it: refused by
-    a rule (``refused``), named, one of a tie, one of a tie the missing force broke
-    (``broken``), or admissible with a higher training cost than the named refit."""
+def refit_decisions(fits: list, refused: dict, named: Refit | None, tie: tuple, names: dict,
+                    broken: dict, cost: float) -> tuple:
+    """What became of each refit of one step: refused by a rule (``refused``, from
+    :func:`judge`), broken out of a near-tie by the missing force (``broken``), named, one of
+    a tie, or admissible with a higher training cost than the named refit."""
     decisions = []
     for refitted in fits:
         effect = names[refitted.effects[-1]].name
+        name = _joined(refitted)
         if refitted.effects in broken:
-            status = broken[refitted.effects]
-        elif named is not None and refitted is named:
-            status = "named"
+            decision = broken[refitted.effects]
         elif refused[refitted.effects] is not None:
-            status = refused[refitted.effects]
+            decision = refused[refitted.effects]
+        elif named is not None and refitted is named:
+            decision = Decision(name, "named",
+                                {"cut": float(1.0 - refitted.training_cost / cost)})
         elif effect in tie:
-            status = (f"within {percent(TIE_COST - 1, 0)} of another effect's training cost: "
-                      f"a tie, not named")
+            other = tie[1] if effect == tie[0] else tie[0]
+            decision = Decision(name, "tie", {"other": other, "tie_cost": TIE_COST})
         elif named is not None:
-            status = (f"cuts the training cost by {percent(GAIN, 0)} or more, but less than "
-                      f"the named effect: not named")
+            decision = Decision(name, "outranked",
+                                {"cost": float(refitted.training_cost),
+                                 "named": names[named.effects[-1]].name,
+                                 "named_cost": float(named.training_cost)})
         else:
-            status = (f"admissible, but the step ended in a tie of {tie[0]} and {tie[1]}: "
-                      f"not named")
-        decisions.append(Decision(" + ".join(refitted.effects), status))
+            decision = Decision(name, "after a tie", {"tie": list(tie)})
+        decisions.append(decision)
     return tuple(decisions)

@@ -13,7 +13,7 @@ import numpy as np
 from scipy import linalg
 
 from certkit.ident.experiments import DataInputError, order, positive_number, signal
-from certkit.ident.lssvm import (CHUNK_ENTRIES, KernelModel, _kernel_expansion,
+from certkit.ident.lssvm import (CHUNK_ENTRIES, KernelModel, kernel_expansion,
                                  feature_matrix, rbf_kernel)
 
 CUBIC_TERMS = ("cubes", "all")
@@ -323,5 +323,5 @@ class FixedSizeLSSVM(KernelModel):
     def _predict_rows(self, X: np.ndarray) -> np.ndarray:
         """ŷ(x) = Σ_j α_j K(x, p_j) + βᵀx + θᵀc(x) + b for checked rows X."""
         theta = np.concatenate([self.linear_ if self.linear else [], self.cubic_, [0.0]])
-        return (_kernel_expansion(X, self.support_, self.alpha_, self.b_, self.sigma2)
+        return (kernel_expansion(X, self.support_, self.alpha_, self.b_, self.sigma2)
                 + self._parametric(X) @ theta)

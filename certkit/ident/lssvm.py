@@ -56,7 +56,7 @@ def feature_matrix(name: str, x) -> np.ndarray:
 
 
 
-def _kernel_expansion(x: np.ndarray, centres: np.ndarray, coef: np.ndarray, bias: float,
+def kernel_expansion(x: np.ndarray, centres: np.ndarray, coef: np.ndarray, bias: float,
                       sigma2: float) -> np.ndarray:
     """Σ_j coef_j K(x, c_j) + bias, in row chunks so memory stays bounded."""
     rows = max(1, CHUNK_ENTRIES // max(1, centres.shape[0]))
@@ -93,7 +93,7 @@ class KernelModel:
 
     def _predict_rows(self, X: np.ndarray) -> np.ndarray:
         """The model on checked rows (a model with more terms adds them here)."""
-        return _kernel_expansion(X, self.support_, self.alpha_, self.b_, self.sigma2)
+        return kernel_expansion(X, self.support_, self.alpha_, self.b_, self.sigma2)
 
 
 

@@ -1,7 +1,8 @@
 """The record of a blind check of the gap diagnosis, as a campaign input.
 
-`certkit gap --blind-check` runs the diagnosis on synthetic campaigns whose withheld effect
-is known and writes what it measured as JSON (``kind: "certkit blind check"``).  A campaign
+The batteries in benchmarks/ (``blind_independent.py``, ``blind_own.py``) run the diagnosis
+on synthetic campaigns whose withheld effect is known and write what they measured as JSON
+(``kind: "certkit blind check"``).  A campaign
 names that file in ``model.gap.blind_check``; it is then an input like a data file (hashed,
 attached to the PDF) and the report's gap section summarises it.  This module is the
 record's schema: one place that reads and checks it.
@@ -11,7 +12,6 @@ Fractions are fractions here (0.9, not 90 %); the report shows them as percentag
 
 from __future__ import annotations
 
-import datetime as dt
 import hashlib
 import json
 from pathlib import Path
@@ -21,7 +21,6 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 
 from certkit.errors import shown
 from certkit.spec.jsonsource import JsonSourceError, load_json
-from certkit.version import VERSION, git_commit
 
 KIND = "certkit blind check"
 
@@ -67,17 +66,6 @@ METRICS = {
 }
 
 
-#: The modules whose code decides a blind check's outcome (simulation, data, diagnosis);
-#: a folder stands for every module in it.
-DIAGNOSIS_CODE = ("gap/attribution.py", "gap/selection.py", "gap/missing_force.py",
-                  "gap/blind_check.py",
-                  "physics/calibration.py",
-                  "physics/drop_model.py", "physics/dynamics.py", "physics/effects/",
-                  "physics/fitting.py", "gap/holdout.py", "compliance/measures.py",
-                  "gap/phases.py", "gap/residuals.py", "spec/rundata.py",
-                  "physics/simulation.py", "physics/synthetic.py", "compliance/servicing.py")
-
-
 def template_fingerprint(campaign) -> str:
     """SHA-256 of the spec's content (canonical JSON of the validated spec) without
     ``model.gap.blind_check`` and without the data-quality audit's thresholds (``audit``),
@@ -93,49 +81,6 @@ def template_fingerprint(campaign) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
-def code_fingerprint() -> str:
-    """SHA-256 over the source of :data:`DIAGNOSIS_CODE`: a record made by other code (other
-    thresholds, another simulator) says so in the report."""
-    digest = hashlib.sha256()
-    folder = Path(__file__).resolve().parent.parent   # the certkit package
-    for entry in DIAGNOSIS_CODE:
-        names = ([f"{entry}{path.name}" for path in sorted((folder / entry).glob("*.py"))]
-                 if entry.endswith("/") else [entry])
-        for name in names:
-            digest.update(name.encode("utf-8") + b"\0" + (folder / name).read_bytes())
-    return digest.hexdigest()
-
-
-def code_files() -> dict[str, str]:
-    """SHA-256 of each module of :data:`DIAGNOSIS_CODE` (path under certkit/): a record
-    keeps them so that the report can say which files differ from the running certkit."""
-    folder = Path(__file__).resolve().parent.parent
-    files = {}
-    for entry in DIAGNOSIS_CODE:
-        names = ([f"{entry}{path.name}" for path in sorted((folder / entry).glob("*.py"))]
-                 if entry.endswith("/") else [entry])
-        for name in names:
-            files[name] = hashlib.sha256((folder / name).read_bytes()).hexdigest()
-    return files
-
-
-def provenance(command: str) -> dict:
-    """Who did a step of a blind check (ran its cases, or scored them): certkit's version
-    and commit, the diagnosis code's fingerprint and per-file hashes, the date, the
-    command."""
-    return {"certkit": VERSION, "commit": git_commit(), "code": code_fingerprint(),
-            "files": code_files(), "date": dt.date.today().isoformat(), "command": command}
-
-
-def differing_files(recorded: dict[str, str] | None) -> list[str] | None:
-    """The modules of the diagnosis code whose content differs from ``recorded`` (added or
-    removed ones too); None when the record keeps no per-file hashes."""
-    if recorded is None:
-        return None
-    now = code_files()
-    return sorted(name for name in set(now) | set(recorded) if now.get(name) != recorded.get(name))
-
-
 class _Record(BaseModel):
     # written by another program, possibly a newer certkit: extra keys are ignored, the
     # documented ones must be present and of the right type
@@ -146,16 +91,19 @@ class Template(_Record):
     spec: str
     sha256: str
     gear: str
-    code: str | None = None     # code_fingerprint() of the certkit that made it
+    code: str | None = None     # certkit.gap.code.code_fingerprint() of the certkit that made it
 
 
 class Provenance(_Record):
-    """Who ran a blind check's cases, or scored them (:func:`provenance`)."""
+    """Who ran a blind check's cases, or scored them: certkit's version and commit, the
+    diagnosis code's fingerprint and per-file hashes (:mod:`certkit.gap.code`), the battery
+    code's per-file hashes (under benchmarks/), the date and the command."""
 
     certkit: str
     code: str | None
     commit: str | None = None
     files: dict[str, str] | None = None
+    battery_files: dict[str, str] | None = None
     date: str | None = None
     command: str | None = None
 
@@ -291,7 +239,7 @@ def read_blind_check(path: Path) -> BlindCheckRecord:
     if not isinstance(raw, dict) or raw.get("kind") != KIND:
         found = raw.get("kind") if isinstance(raw, dict) else type(raw).__name__
         raise BlindRecordError([("kind", f"expected {KIND!r} (a file written by "
-                                         f"`certkit gap --blind-check`), got {shown(found)}")])
+                                         f"benchmarks/blind_independent.py), got {shown(found)}")])
     try:
         return BlindCheckRecord.model_validate(raw)
     except ValidationError as error:

@@ -543,7 +543,7 @@ class GapSpec(SpecBlock):
                         "(default: every drop at the highest drop height, and the middle "
                         "height's when there are four heights or more)")
     blind_check: Text | None = Field(
-        None, description="the JSON file written by `certkit gap --blind-check`, relative to "
+        None, description="the JSON file written by benchmarks/blind_independent.py, relative to "
                           "this spec file and inside its folder; the report summarises it and "
                           "hashes it with the other inputs")
 

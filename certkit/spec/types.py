@@ -19,7 +19,7 @@ from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, PlainSerial
 from pydantic_core import PydanticCustomError
 
 from certkit.errors import shown
-from certkit.units import (QuantityError, SpecQuantity, _example_unit, kind_phrase, parse_quantity,
+from certkit.units import (QuantityError, SpecQuantity, example_unit, kind_phrase, parse_quantity,
                            parse_unit)
 
 
@@ -55,7 +55,7 @@ def quantity(kind: str, description: str | None = None, minimum: float | None = 
     else:
         schema = {"type": "string",
                   "description": description or f"{kind_phrase(kind)} with its unit, "
-                                                 f"e.g. '1 {_example_unit(kind)}'"}
+                                                 f"e.g. '1 {example_unit(kind)}'"}
     return Annotated[SpecQuantity, PlainValidator(validate),
                      PlainSerializer(lambda q: q.text, return_type=str),
                      WithJsonSchema(schema)]

@@ -56,10 +56,14 @@ from certkit.physics.effects import TRUTHS, Truth
 from certkit.physics.gear_model import drop_model_for
 from certkit.physics.simulation import simulate_batch
 from certkit.physics.synthetic import NO_SENSOR_EFFECTS, SensorModel, simulate_campaign
-from certkit.spec.blind_record import code_fingerprint, provenance, template_fingerprint
+from certkit.gap.code import code_fingerprint
+from certkit.spec.blind_record import template_fingerprint
 from certkit.spec.campaign import load_campaign
 from certkit.units import STANDARD_GRAVITY
 from certkit.version import VERSION
+
+from blindcheck.record import provenance
+from blindcheck.scoring import SCORED_FROM, score
 
 #: How far a sized effect's load change may miss its target (a share).
 SIZE_TOLERANCE = 0.05
@@ -335,122 +339,6 @@ def _gap_to_truth(clean, gear_id: str, diagnosis) -> tuple[float, float]:
     return out[0], out[1]
 
 
-# --------------------------------------------------------------------------- scoring
-#: The targets the diagnosis is held to (at effect/noise ≥ 2): (value, "at least" | "at most").
-TARGETS = {"top1": (0.85, "at least"), "false_attribution": (0.10, "at most"),
-           "median_shrink": (0.50, "at least"), "harm_rate": (0.10, "at most")}
-SCORED_FROM = 2.0
-TIED = "cannot tell apart"
-FAILED = "failed"
-
-
-def wilson(count: int, cases: int, z: float = 1.959964) -> list[float] | None:
-    """95 % Wilson score interval of a proportion count/cases (None without cases)."""
-    if not cases:
-        return None
-    p, n = count / cases, cases
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    return [max(0.0, centre - half), min(1.0, centre + half)]
-
-
-def _metric(name: str, value, count, cases) -> dict:
-    target, direction = TARGETS.get(name, (None, None))
-    met = None
-    if target is not None and value is not None:
-        met = bool(value >= target) if direction == "at least" else bool(value <= target)
-    return {"value": value, "count": count, "cases": cases, "target": target,
-            "direction": direction, "met": met,
-            "interval": wilson(count, cases) if count is not None else None}
-
-
-def _named_label(outcome: dict) -> str:
-    if outcome.get("error"):
-        return FAILED
-    if outcome["named"]:
-        return outcome["named"][0]
-    return TIED if "cannot be told apart" in outcome["statement"] else "none"
-
-
-def score(outcomes: list[dict], effects=tuple(TRUTHS)) -> dict:
-    """The blind check's metrics from case outcomes (see :func:`run_case`).
-
-    - top-1 accuracy: single-effect cases at effect/noise ≥ :data:`SCORED_FROM` whose first
-      named effect is the truth (an abstention, a tie or a failure is wrong);
-    - exact: the same cases whose answer is the truth and nothing else;
-    - false attribution: no-effect cases that do not end in a clean abstention (an effect
-      named, a tie declared, or a failure);
-    - set precision / recall: two-effect cases, pooled over the cases;
-    - median held-out shrink: 1 − RMSE_after/RMSE_before of the held-out load channel,
-      against the noisy measurement, over the single-effect cases at ratio ≥
-      :data:`SCORED_FROM` (an abstention shrinks 0); the two-effect cases separately;
-    - median gap closed: the same shrink of the load RMSE against the noise-free truth
-      (what a model can remove; the noise cannot be);
-    - harm rate: of the cases in which an effect was named, those in which it made the
-      held-out load error worse beyond its noise (:func:`certkit.gap.residuals.harmed`);
-      and on any held-out channel;
-    - the curve: top-1 and median shrink of the single-effect cases at every ratio;
-    - the confusion matrix of truth (single effect or none) against first named effect.
-
-    A case whose effect cannot be sized as asked on this campaign (``skipped``) is not
-    scored; it is listed.  Proportions carry 95 % Wilson intervals, which treat the cases
-    as independent (each has its own noise, offsets and scatter).
-    """
-    skipped = [o["id"] for o in outcomes if o.get("skipped")]
-    outcomes = [o for o in outcomes if not o.get("skipped")]
-    single = [o for o in outcomes if len(o["truth"]) == 1]
-    scored = [o for o in single if o["ratio"] >= SCORED_FROM]
-    null = [o for o in outcomes if not o["truth"]]
-    pairs = [o for o in outcomes if len(o["truth"]) == 2]
-    named = [o for o in outcomes if o["named"]]
-
-    def rate(hits, cases):
-        return hits / len(cases) if cases else None
-
-    def median(values):
-        return statistics.median(values) if values else None
-
-    correct = sum(o["named"][:1] == o["truth"] for o in scored)
-    exact = sum(o["named"] == o["truth"] for o in scored)
-    false = sum(_named_label(o) != "none" for o in null)
-    right = sum(len(set(o["named"]) & set(o["truth"])) for o in pairs)
-    said = sum(len(o["named"]) for o in pairs)
-    wanted = sum(len(o["truth"]) for o in pairs)
-    harm_count = sum(bool(o.get("harmed")) for o in named)
-    harmed_any = sum(bool(o.get("harmed_any")) for o in named)
-    failed = [o["id"] for o in outcomes if o.get("error")]
-    shrinks = [o["shrink"] for o in scored]
-    closed = [o["closed"] if o.get("closed") is not None else 0.0 for o in scored]
-    metrics = {
-        "top1": _metric("top1", rate(correct, scored), correct, len(scored)),
-        "exact": _metric("exact", rate(exact, scored), exact, len(scored)),
-        "false_attribution": _metric("false_attribution", rate(false, null), false, len(null)),
-        "set_precision": _metric("set_precision", right / said if said else None, right, said),
-        "set_recall": _metric("set_recall", right / wanted if wanted else None, right, wanted),
-        "median_shrink": _metric("median_shrink", median(shrinks), None, len(shrinks)),
-        "median_gap_closed": _metric("median_gap_closed", median(closed), None, len(closed)),
-        "median_shrink_pairs": _metric("median_shrink_pairs",
-                                       median([o["shrink"] for o in pairs]), None, len(pairs)),
-        "harm_rate": _metric("harm_rate", rate(harm_count, named), harm_count, len(named)),
-        "harm_any_channel": _metric("harm_any_channel", rate(harmed_any, named), harmed_any,
-                                    len(named)),
-    }
-    curve = []
-    for ratio in sorted({o["ratio"] for o in single}):
-        at = [o for o in single if o["ratio"] == ratio]
-        curve.append({"ratio": ratio, "cases": len(at),
-                      "top1": sum(o["named"][:1] == o["truth"] for o in at) / len(at),
-                      "median_shrink": statistics.median(o["shrink"] for o in at)})
-    truths = [e for e in effects if any(o["truth"] == [e] for o in single)] + ["none"]
-    columns = list(effects) + ["none", TIED, FAILED]
-    counts = [[0] * len(columns) for _ in truths]
-    for o in single + null:
-        row = truths.index(o["truth"][0] if o["truth"] else "none")
-        counts[row][columns.index(_named_label(o))] += 1
-    return {"metrics": metrics, "curve": curve, "failed": failed, "skipped": skipped,
-            "confusion": {"truths": truths, "named": columns, "counts": counts}}
-
-
 # --------------------------------------------------------------------------- the battery
 def _executor(workers: int | None, scheduler: str | None):
     """A concurrent.futures executor: local processes, or a dask.distributed cluster's."""
@@ -518,7 +406,7 @@ def blind_check(template: str | Path, gear_id: str | None = None,
             outcomes.append(future.result())
             if progress:
                 progress(outcomes[-1])
-    command = f"certkit gap --blind-check {Path(template).name} -g {gear_id}"
+    command = f"benchmarks/blind_own.py {Path(template).name} -g {gear_id}"
     document = {"kind": "certkit blind check", "certkit": VERSION,
                 "template": {"spec": Path(template).name,
                              "sha256": template_fingerprint(campaign),
@@ -540,21 +428,3 @@ def blind_check(template: str | Path, gear_id: str | None = None,
     return document
 
 
-def write_blind_check(document: dict, folder: str | Path) -> None:
-    """``blind-check.json`` (the whole document) and ``blind-check-cases.csv`` (a row per
-    case: truth, size, what was named, held-out load RMSE before and after)."""
-
-    folder = Path(folder)
-    text = json.dumps(document, indent=1, sort_keys=True, ensure_ascii=False) + "\n"
-    (folder / "blind-check.json").write_text(text, encoding="utf-8")
-    with (folder / "blind-check-cases.csv").open("w", encoding="utf-8", newline="") as handle:
-        writer = csv.writer(handle, lineterminator="\n")
-        writer.writerow(["case", "truth", "effect/noise", "seed", "named", "statement",
-                         "held-out load RMSE before [N]", "after [N]", "shrink [%]"])
-        for o in document["cases"]:
-            writer.writerow([o["id"], " + ".join(o["truth"]) or "none",
-                             "" if o["ratio"] is None else f"{o['ratio']:g}", o["seed"],
-                             " + ".join(o["named"]) or "none", o["statement"],
-                             "" if o["before"] is None else f"{o['before']:.6g}",
-                             "" if o["after"] is None else f"{o['after']:.6g}",
-                             f"{100 * o['shrink']:.4g}"])

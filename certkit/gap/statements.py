@@ -1,0 +1,138 @@
+"""The gap diagnosis's decisions and answer in words.
+
+:mod:`certkit.gap.selection` decides (its rules, each applied once) and records every
+decision as a :class:`~certkit.gap.attribution.Decision`: the rule that decided and the
+figures it compared, thresholds included.  This module only puts those records into
+sentences, for the report, the CLI and results.json; it decides nothing and reads no
+threshold of its own, so a sentence can never state another rule than the one applied.
+"""
+
+from __future__ import annotations
+
+from certkit.display import percent
+
+#: Every rule a Decision can name, with the figures it carries (see :func:`decision_words`).
+RULES = {
+    # candidates at one step (scored, then some refitted)
+    "refitted": "the best form of one of the leading relevant effects",
+    "other form refitted": "relevant; another form of the same effect was refitted",
+    "not leading": "relevant, but not of the leading effects (leading)",
+    "points the other way": "score of the wrong sign, profile gains too little (gain)",
+    "not relevant": "explains too little and its profile gains too little "
+                    "(relevant, leading, gain)",
+    "cannot be added": "the form cannot be added to this model (why)",
+    "none refitted": "no candidate qualified for a refit (relevant, gain)",
+    # refits at one step
+    "named": "the admissible refit with the lowest training cost (cut)",
+    "gain": "cuts the training cost by too little (cut, gain)",
+    "harm": "makes a training channel worse beyond its noise (channels)",
+    "detectable": "removes too few noise variances (removed, detectable)",
+    "timing": "a memoryless correction that fits better shifted in time "
+              "(channel, shift_s, share, timing_share)",
+    "outranked": "admissible, with a higher training cost than the named refit "
+                 "(cost, named, named_cost)",
+    "tie": "within the tie ratio of another admissible refit (other, tie_cost)",
+    "tie broken": "a near-tie the missing force decided (named, other, marked, unmarked, "
+                  "share, tie_cost)",
+    "after a tie": "admissible, but the step ended in a tie (tie)",
+}
+
+
+def form_words(candidate) -> str:
+    """An effect with its form ("seal friction (Stribeck form)")."""
+    return f"{candidate.name} ({candidate.form} form)" if candidate.form else candidate.name
+
+
+def decision_words(decision) -> str:
+    """The sentence for one recorded decision (its rule, with its figures)."""
+    f = decision.figures
+    rule = decision.rule
+    if rule == "refitted":
+        return "refitted"
+    if rule == "other form refitted":
+        return "relevant; another form of this effect profiled better and was refitted"
+    if rule == "not leading":
+        return f"relevant, not among the {f['leading']} effects with the best profiles"
+    if rule == "points the other way":
+        return ("its score points the other way and its profile cuts the training cost by "
+                f"less than {percent(f['gain'], 0)}: not relevant")
+    if rule == "not relevant":
+        return (f"not a form with {f['relevant']:g} σ or more of the {f['leading']} effects "
+                f"with the best scores, and its profile cuts the training cost by less than "
+                f"{percent(f['gain'], 0)}: not relevant")
+    if rule == "cannot be added":
+        return f"not scored: {f['why']}"
+    if rule == "none refitted":
+        return (f"No candidate would remove {f['relevant']:g} σ or more, nor cut the training "
+                f"cost by {percent(f['gain'], 0)} in its profile: none was refitted.")
+    if rule == "named":
+        return f"cuts the training cost by {percent(f['cut'], 0)}, the most of the admissible " \
+               "refits: named"
+    if rule == "gain":
+        return (f"cuts the training cost by {percent(f['cut'], 0)}, less than "
+                f"{percent(f['gain'], 0)}: not named")
+    if rule == "harm":
+        return ("makes the training " + ", ".join(f["channels"])
+                + " error worse beyond its noise: not named")
+    if rule == "detectable":
+        return (f"removes {f['removed']:.2g} noise variances from the training records, fewer "
+                f"than {f['detectable']:g}: not told apart from the nominal model's own floor, "
+                f"not named")
+    if rule == "timing":
+        channel, shift = f["channel"], f["shift_s"]
+        return (f"its correction of the recorded {channel} fits the residual better "
+                f"{abs(shift) * 1e3:.3g} ms {'later' if shift > 0 else 'earlier'} than at the "
+                f"same instant (the shift removes {percent(f['share'], 0)} of the {channel}'s "
+                f"remaining mean square; {percent(f['timing_share'], 0)} or more is a timing "
+                f"error): an error without memory acts at the same instant, so the {channel} "
+                f"record's error is not this one: not named")
+    if rule == "outranked":
+        return (f"admissible, but its training cost {f['cost']:.4g} is above the "
+                f"{f['named_cost']:.4g} of {f['named']}, which was named: not named")
+    if rule == "tie":
+        return (f"within {percent(f['tie_cost'] - 1, 0)} of the training cost of "
+                f"{f['other']}: a tie, not named")
+    if rule == "tie broken":
+        within = f"within {percent(f['tie_cost'] - 1, 0)} of the training cost of {f['other']}"
+        mark = (f"the missing force shows the mark of {f['marked']} "
+                f"({percent(f['share'], 0)} of its variance) and not of {f['unmarked']}")
+        return f"{within}; {mark}: " + ("named" if f["named"] else "not named")
+    if rule == "after a tie":
+        return (f"admissible, but the step ended in a tie of {f['tie'][0]} and {f['tie'][1]}: "
+                f"not named")
+    raise ValueError(f"no words for the rule {rule!r}")   # a rule added without its sentence
+
+
+def tie_words(chosen, a: str, b: str, costs: tuple, cosine: float, tie_cost: float) -> str:
+    """The answer when a step ended in a tie of the effects ``a`` and ``b``."""
+    tie = (f"{a} and {b} cannot be told apart with these channels (training costs "
+           f"{costs[0]:.4g} and {costs[1]:.4g}, within {percent(tie_cost - 1, 0)}; signature "
+           f"cosine {cosine:.2f}).")
+    if not chosen:
+        return tie
+    return (f"The gap is explained by {' and '.join(map(form_words, chosen))}; as a second "
+            f"effect, {tie}")
+
+
+def answer_words(chosen) -> str:
+    """The answer when the diagnosis named ``chosen`` (Candidates) or abstained."""
+    if not chosen:
+        return "No effect in the library explains the gap."
+    return "The gap is explained by " + " and ".join(map(form_words, chosen)) + "."
+
+
+def held_out_words(shares: dict, caveats: tuple, count: int, channel: str) -> str:
+    """The floor on ``channel`` and the caveats, as the statement's last sentences."""
+    subject, verb = ("the named effects", "") if count > 1 else ("the named effect", "s")
+    words = ""
+    if channel in shares:
+        share = shares[channel]
+        words += (f" Of the held-out {channel} error beyond its noise, {subject} "
+                  f"close{verb} {percent(share[0], 0)} and {percent(share[1], 0)} stays "
+                  f"unexplained." if share is not None else
+                  f" The held-out {channel} error lay within its noise before any "
+                  f"effect was added.")
+    if caveats:
+        words += (f" Caveat: {subject} make{verb} the held-out " + " and ".join(caveats)
+                  + " error worse beyond its noise.")
+    return words
