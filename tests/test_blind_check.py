@@ -392,3 +392,44 @@ def test_the_report_names_the_files_that_differ_from_the_running_certkit():
     older = Provenance(certkit="0.0.9", code="f" * 64)     # a record from before per-file hashes
     assert "which files differ is not recorded" in _made_by("Its cases were run", older,
                                                             code_fingerprint())
+
+
+def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
+    import blind_independent as independent
+    import truthgen
+
+    development, sealed = independent.PLANS["development"], independent.PLANS["sealed"]
+    dev_cases, sealed_cases = independent.battery(development), independent.battery(sealed)
+    # at least as many cases; no seed, no case id in common
+    assert len(sealed_cases) >= len(dev_cases) >= 98
+    assert not {c.seed for c in dev_cases} & {c.seed for c in sealed_cases}
+    assert not {c.id for c in dev_cases} & {c.id for c in sealed_cases}
+    # the development battery uses every form's development shape and nuisances
+    for case in dev_cases[:5]:
+        shapes, nuisances = independent.draws(case, development)
+        assert all(shape == () for shape in shapes) and nuisances == truthgen.Nuisances()
+    # a sealed case draws every shape parameter inside its declared range, and the same again
+    drawn = {}
+    for case in sealed_cases:
+        shapes, nuisances = independent.draws(case, sealed)
+        assert (shapes, nuisances) == independent.draws(case, sealed)
+        for form_id, shape in zip(case.forms, shapes):
+            ranges = {n: (lo, hi) for n, lo, hi in truthgen.FORMS[form_id].shape_ranges}
+            assert set(dict(shape)) == set(ranges)
+            for name, value in shape:
+                assert ranges[name][0] - 0.5 <= value <= ranges[name][1] + 0.5 \
+                    if name == "order" else ranges[name][0] <= value <= ranges[name][1]
+                drawn.setdefault((form_id, name), set()).add(value)
+        for name, low, high in independent.NUISANCE_RANGES:
+            assert low <= getattr(nuisances, name) <= high
+    # ... and not one value: the shapes vary from case to case
+    assert all(len(values) > 1 for values in drawn.values()), drawn
+
+
+def test_a_truth_reads_its_own_shape_or_its_forms_development_value():
+    import truthgen
+
+    default = truthgen.Truth("lugre", 10.0)
+    assert default.value("static_ratio") == 1.4 and default.value("stribeck_speed") == 0.02
+    own = truthgen.Truth("lugre", 10.0, (("static_ratio", 1.9),))
+    assert own.value("static_ratio") == 1.9 and own.value("stribeck_speed") == 0.02

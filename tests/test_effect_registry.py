@@ -104,3 +104,20 @@ def test_a_spec_switches_the_gain_on_and_calibration_fits_it(seed_copy):
     assert model.effect("load-cell gain") == LoadCellGain(0.0)   # starts at no error
     assert "load-cell-gain" in DEFAULT_KNOBS                     # and is fitted by default
     assert KNOBS["load-cell-gain"].bounds(0.0) == (-0.1, 0.1)
+
+
+def test_a_load_channel_skew_delays_the_load_record_only():
+    # a ramp delayed by half a sample (0.5 ms at 1 kHz) reads k − 0.5 from its second
+    # sample on, its first held; times (1 + ε) with ε = 0.1
+    ramp = np.arange(6.0)
+    term = LoadCellGain(0.1, 0.5e-3)
+    assert np.allclose(term.recorded(1e-3, "load", ramp),
+                       1.1 * np.array([0.0, 0.5, 1.5, 2.5, 3.5, 4.5]))
+    # a negative skew (the load ahead): k + 0.5, the last held
+    ahead = LoadCellGain(0.0, -0.5e-3).recorded(1e-3, "load", ramp)
+    assert np.allclose(ahead, [0.5, 1.5, 2.5, 3.5, 4.5, 5.0])
+    # rows of a batch alike; other channels untouched
+    batch = np.vstack([ramp, 2 * ramp])
+    assert np.allclose(term.recorded(1e-3, "load", batch)[1],
+                       2.2 * np.array([0.0, 0.5, 1.5, 2.5, 3.5, 4.5]))
+    assert np.array_equal(term.recorded(1e-3, "stroke", ramp), ramp)

@@ -365,3 +365,42 @@ def test_the_report_states_the_recorded_decisions_and_derives_none():
                                             "not named")
     assert step["no_refit"] == ("No candidate would remove 4.5 σ or more, nor cut the training "
                                 "cost by 66 % in its profile: none was refitted.")
+
+
+def test_the_report_gives_the_sealed_figures_beside_the_development_ones(with_hysteresis,
+                                                                           tmp_path):
+    from certkit.evidence.model_evidence import ModelEvidence
+    from certkit.physics.calibration import Calibration
+
+    development = json.loads(BLIND.read_text(encoding="utf-8"))
+    development["battery"] = "development"
+    sealed = json.loads(BLIND.read_text(encoding="utf-8"))
+    sealed["battery"] = "sealed"
+    # the sealed battery's top-1: 17 of 25 = 68.0 % (interval from the record as written)
+    sealed["metrics"]["top1"].update(value=0.68, count=17, cases=25, interval=[0.485, 0.83])
+    folder = with_hysteresis.parent / "blind"
+    folder.mkdir(exist_ok=True)
+    (folder / "dev.json").write_text(json.dumps(development), encoding="utf-8")
+    (folder / "sealed.json").write_text(json.dumps(sealed), encoding="utf-8")
+    spec = variant(with_hysteresis, "blind-sealed.yaml",
+                   gap="{blind_check: blind/dev.json, sealed_blind_check: blind/sealed.json}")
+    campaign = load_campaign(spec)
+    # both records are hashed inputs
+    assert {"blind/dev.json", "blind/sealed.json"} <= {i.name for i in campaign.inputs}
+    out = tmp_path / "out"
+    render_report(assess(campaign), out, model=ModelEvidence(Calibration((), ()), ""))
+    html = (out / "report.html").read_text(encoding="utf-8")
+    section = html[html.index("Sealed battery (held out) beside the development battery"):]
+    row = section[section.index("top-1 accuracy"):section.index("</tr>",
+                                                                section.index("top-1 accuracy"))]
+    # development 24 of 30 (the record's), sealed 17 of 25 with its interval; the sealed
+    # verdict against at least 85 %
+    assert "80.0 % (24 of 30" in row and "68.0 % (17 of 25; 95 % interval 48.5 %–83.0 %)" in row
+    assert "NOT met" in row
+    assert "These cases are a sealed battery" in html
+    results = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    assert results["model"]["gap"]["sealed_blind_check"]["metrics"]["top1"]["count"] == 17
+    assert results["model"]["gap"]["sealed_blind_check"]["battery"] == "sealed"
+    # naming the records leaves the template's fingerprint as it was
+    from certkit.spec.blind_record import template_fingerprint
+    assert template_fingerprint(campaign) == template_fingerprint(load_campaign(with_hysteresis))

@@ -192,7 +192,10 @@ def _blind_view(campaign, units) -> dict:
 
     command = (f"python benchmarks/blind_independent.py {campaign.spec_path.name} -g GEAR "
                f"-o DIR")
-    record = campaign.blind_check
+    record, name = campaign.blind_check, campaign.spec.model.gap.blind_check
+    sealed = campaign.sealed_blind_check
+    if record is None and sealed is not None:       # a sealed record alone is the record
+        record, name, sealed = sealed, campaign.spec.model.gap.sealed_blind_check, None
     if record is None:
         return BlindSection(**{"recorded": False, "command": command,
                 "absent": "The blind check has not been recorded for this campaign, so this "
@@ -205,9 +208,7 @@ def _blind_view(campaign, units) -> dict:
     from certkit.evidence.figures import blind_curve
 
     now, code = template_fingerprint(campaign), code_fingerprint()
-    name = campaign.spec.model.gap.blind_check
-    resolved = (campaign.root / name).resolve()
-    item = next((i for i in campaign.inputs if i.path == resolved), None)
+    item = _input(campaign, name)
     metrics, short = [], []
     keys = [k for k in METRICS if k in record.metrics] + [k for k in record.metrics
                                                           if k not in METRICS]
@@ -282,7 +283,58 @@ def _blind_view(campaign, units) -> dict:
                       "rows": [{"truth": truth, "cells": [str(n) for n in row]}
                                for truth, row in zip(confusion.truths, confusion.counts)]},
         "cases": str(len(record.cases)) if record.cases else "not listed",
-        "forms": [_form_row(row, units) for row in record.forms]})
+        "forms": [_form_row(row, units) for row in record.forms],
+        **_sealed_beside(campaign, record, sealed, now, code)})
+
+
+def _input(campaign, name: str):
+    """The campaign's input item of a record the spec names (None if not among them)."""
+    resolved = (campaign.root / name).resolve()
+    return next((i for i in campaign.inputs if i.path == resolved), None)
+
+
+def _measured(metric) -> str:
+    """A metric's value with its count and 95 % interval, in words."""
+    if metric is None:
+        return "not in this record"
+    value = "not measured" if metric.value is None else percent(metric.value)
+    counted = (f"{metric.count} of {metric.cases}" if metric.count is not None
+               else f"{metric.cases} cases")
+    if metric.interval:
+        low, high = metric.interval
+        counted += f"; 95 % interval {percent(low)}–{percent(high)}"
+    return f"{value} ({counted})"
+
+
+def _sealed_beside(campaign, development, sealed, now: str, code: str) -> dict:
+    """The sealed battery's figures beside the development battery's, metric by metric, and
+    where the sealed record comes from ({} when the spec names no sealed record)."""
+    if sealed is None:
+        return {}
+    name = campaign.spec.model.gap.sealed_blind_check
+    item = _input(campaign, name)
+    keys = [k for k in METRICS if k in development.metrics or k in sealed.metrics]
+    rows = []
+    for key in keys:
+        label = METRICS[key][0]
+        theirs = sealed.metrics.get(key)
+        target = "no target" if theirs is None or theirs.target is None else \
+            f"{theirs.direction} {percent(theirs.target)}"
+        judged = None if theirs is None else theirs.judged
+        rows.append({"label": label, "development": _measured(development.metrics.get(key)),
+                     "sealed": _measured(theirs), "target": target,
+                     "verdict": {True: "met", False: "NOT met", None: "—"}[judged],
+                     "css": {True: "pass", False: "fail", None: ""}[judged]})
+    origin = (f"Sealed record {name} (SHA-256 {item.sha256 if item else ''}), written by "
+              f"{sealed.command}, on gear unit {sealed.template.gear} of "
+              f"{sealed.template.spec}"
+              + ("" if sealed.template.sha256 == now else
+                 " (from another version of this spec)") + ". "
+              + _made_by("Its cases were run", sealed.cases_run_by, code)
+              + _battery_words(sealed.battery)
+              + " The development figures are in-sample; the sealed ones are the measure "
+                "of the diagnosis on cases it was not tuned on, and the verdicts are theirs.")
+    return {"sealed": origin, "comparison": rows}
 
 
 def _form_row(row, units) -> dict:

@@ -41,9 +41,17 @@ def _gap_results(model, campaign) -> dict:
                  "template": record.template.model_dump(),
                  "metrics": {key: dict(metric.model_dump(), met=metric.judged)
                              for key, metric in record.metrics.items()}}
+    sealed = campaign.sealed_blind_check
+    if sealed is not None:
+        sealed = {"file": campaign.spec.model.gap.sealed_blind_check, "command": sealed.command,
+                  "battery": sealed.battery, "template": sealed.template.model_dump(),
+                  "metrics": {key: dict(metric.model_dump(), met=metric.judged)
+                              for key, metric in sealed.metrics.items()}}
+    if blind is not None:
+        blind["battery"] = record.battery
     return {"thresholds": THRESHOLDS, "notes": list(model.gap_notes),
             "gear_units": [gap_document(g) for g in model.gap.values()],
-            "blind_check": blind}
+            "blind_check": blind, "sealed_blind_check": sealed}
 
 
 def results_document(assessment: Assessment, record: dict, model=None) -> dict:

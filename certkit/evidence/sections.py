@@ -97,6 +97,9 @@ class BlindSection:
     curve: list[dict] = field(default_factory=list)
     curve_figure: dict | None = None
     forms: list[dict] = field(default_factory=list)
+    #: the sealed battery's record beside the development one ("" / []: none named)
+    sealed: str = ""
+    comparison: list[dict] = field(default_factory=list)
 
 
 @dataclass(frozen=True)

@@ -123,15 +123,40 @@ def central_jacobian(residuals, values, models_at, relative: float = 1e-4) -> np
     return np.column_stack([(r[2 * i] - r[2 * i + 1]) / (2 * h) for i, h in enumerate(steps)])
 
 
+def form_knobs(candidates) -> list:
+    """The knobs the candidate forms fit with their strengths (:attr:`Candidate.knobs`), in
+    order."""
+    return [knob for candidate in candidates for knob, _ in candidate.knobs]
+
+
+def form_starts(candidates) -> list[float]:
+    """Where :func:`form_knobs` start (the first of each knob's profile points)."""
+    return [float(starts[0]) for candidate in candidates for _, starts in candidate.knobs]
+
+
+def _own_points(candidate) -> list[list[float]]:
+    """Every combination of the profile points of a candidate's own knobs ([[]]: none)."""
+    points = [[]]
+    for _, starts in candidate.knobs:
+        points = [p + [float(s)] for p in points for s in starts]
+    return points
+
+
 def configured(residuals, knobs, candidates, x) -> list[DropModel]:
-    """The runs' models with the knobs at x[:k] and the candidates at strengths x[k:]."""
+    """The runs' models at x = [the knobs, the candidates' own knobs (:func:`form_knobs`),
+    the candidates' strengths]: the knobs written, the candidates added, then their own
+    knobs written (they set parameters of the added terms)."""
     models = []
+    extras = form_knobs(candidates)
+    n, e = len(knobs), len(extras)
     for base in residuals.models:
         model = base
-        for knob, value in zip(knobs, x[:len(knobs)]):
+        for knob, value in zip(knobs, x[:n]):
             model = knob.write(model, float(value))
-        for candidate, strength in zip(candidates, x[len(knobs):]):
+        for candidate, strength in zip(candidates, x[n + e:]):
             model = candidate.add(model, float(strength))
+        for knob, value in zip(extras, x[n:n + e]):
+            model = knob.write(model, float(value))
         models.append(model)
     return models
 
@@ -150,16 +175,25 @@ class Refit:
     effects: tuple[str, ...]
     strengths: tuple[float, ...]
     strength_errors: tuple[float, ...]
-    values: tuple[float, ...]          # nominal knobs, calibrated again
+    #: nominal knobs, calibrated again, then the forms' own knobs (:func:`form_knobs`)
+    values: tuple[float, ...]
     training_cost: float               # RMS normalised residual on the training runs
     fit: object                        # certkit.physics.fitting.FitResult
 
     def apply(self, knobs, model: DropModel, candidates) -> DropModel:
-        for knob, value in zip(knobs, self.values):
-            model = knob.write(model, float(value))
-        for candidate, strength in zip(candidates, self.strengths):
-            model = candidate.add(model, float(strength))
-        return model
+        return configured(_One(model), knobs, candidates,
+                          list(self.values) + list(self.strengths))[0]
+
+
+@dataclass(frozen=True)
+class _One:
+    """One model, as :func:`configured` reads runs' models."""
+
+    model: DropModel
+
+    @property
+    def models(self):
+        return [self.model]
 
 
 #: Strengths (in units of a candidate's unit size) at which every candidate is profiled,
@@ -191,7 +225,8 @@ def profiles(residuals, calibration, chosen: list[Candidate], candidates: list[C
     q, _ = np.linalg.qr(jacobian)
     best = {}
     for candidate in candidates:
-        points = [np.array(values + strengths + [s]) for s in STARTS]
+        points = [np.array(values + own + strengths + [s]) for own in _own_points(candidate)
+                  for s in STARTS]
         # a batch per strength: the stiffest strength of a stiff candidate (a stiff leg, a
         # fast heat exchange) sets only its own integration step
         vectors = [residuals.evaluate([configured(residuals, calibration.knobs,
@@ -212,14 +247,20 @@ def refit(residuals, calibration, candidates: list[Candidate],
     strengths; default: the calibration's estimate and every candidate at its probe)."""
 
     knobs = calibration.knobs
+    extras = form_knobs(candidates)
     if start is None:
-        start = list(calibration.fit.estimate) + [c.probe for c in candidates]
+        start = (list(calibration.fit.estimate) + form_starts(candidates)
+                 + [c.probe for c in candidates])
     start = [float(v) for v in start]
     parameters = [FitParameter(p.name, p.unit, min(max(v, p.lower), p.upper), p.lower, p.upper)
                   for p, v in zip(calibration.fit.parameters, start)]
+    for knob, v in zip(extras, start[len(knobs):len(knobs) + len(extras)]):
+        lower, upper = knob.bounds(0.0)
+        parameters.append(FitParameter(knob.name, knob.unit, min(max(v, lower), upper),
+                                       lower, upper))
     parameters += [FitParameter(f"{c.key} strength", "1", min(max(v, 0.0), max_strength), 0.0,
                                 max_strength)
-                   for c, v in zip(candidates, start[len(knobs):])]
+                   for c, v in zip(candidates, start[len(knobs) + len(extras):])]
 
     def many(matrix):
         return residuals.evaluate([configured(residuals, knobs, candidates, x)
@@ -229,7 +270,7 @@ def refit(residuals, calibration, candidates: list[Candidate],
     # truncation error, and cost half the simulations of central ones
     result = fit(lambda x: many(np.asarray(x)[None, :])[0], parameters, residuals_many=many,
                  max_evaluations=40, tolerance=REFIT_TOLERANCE, differences="forward")
-    k = len(knobs)
+    k = len(knobs) + len(extras)
     return Refit(tuple(c.key for c in candidates), tuple(map(float, result.estimate[k:])),
                  tuple(map(float, result.standard_error[k:])),
                  tuple(map(float, result.estimate[:k])), result.cost, result)

@@ -139,8 +139,9 @@ def write_campaign(campaign: Campaign, out_dir: str | Path,
     if rate is None:
         rate = spec.instrumentation.sampling_rate.si if spec.instrumentation else 1000.0
     raw, _ = load_yaml(campaign.spec_path, str(campaign.spec_path))  # read as it was loaded
-    # the new campaign has no blind-check record of its own (the file is not copied)
-    (raw.get("model") or {}).get("gap", {}).pop("blind_check", None)
+    # the new campaign has no blind-check record of its own (the files are not copied)
+    for key in ("blind_check", "sealed_blind_check"):
+        (raw.get("model") or {}).get("gap", {}).pop(key, None)
     files = {"campaign.yaml"} | {f"data/{run.id}.csv" for run in spec.runs}
     inputs = [item.path for item in campaign.inputs]
     with staged_folder(out_dir, inputs, files) as staging:

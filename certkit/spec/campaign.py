@@ -45,6 +45,7 @@ class Campaign:
     series: dict[str, RunSeries | None]
     inputs: list[InputFile]
     blind_check: BlindCheckRecord | None = None   # model.gap.blind_check, read and checked
+    sealed_blind_check: BlindCheckRecord | None = None   # model.gap.sealed_blind_check
 
     @property
     def gear_units(self) -> dict[str, GearUnit]:
@@ -255,13 +256,14 @@ def _input_name(relative: str, resolved: Path, root: Path) -> str:
     return given
 
 
-def _blind_check(spec: CampaignSpec, root: Path, display: str, lines: LineMap
-                 ) -> tuple[BlindCheckRecord | None, Path | None]:
-    """The blind-check record the spec names (model.gap.blind_check), read and checked."""
-    relative = spec.model.gap.blind_check
+def _blind_check(spec: CampaignSpec, root: Path, display: str, lines: LineMap,
+                 key: str = "blind_check") -> tuple[BlindCheckRecord | None, Path | None]:
+    """A blind-check record the spec names (model.gap.blind_check, or ``key``), read and
+    checked."""
+    relative = getattr(spec.model.gap, key)
     if relative is None:
         return None, None
-    location = ("model", "gap", "blind_check")
+    location = ("model", "gap", key)
     path = _resolve_data_path(root, relative, display, location, lines,
                               what="blind-check record")
     try:
@@ -330,16 +332,20 @@ def load_campaign(path: str | Path) -> Campaign:
         name = _input_name(run.data.file, data_path, root)
         if name not in {item.name for item in inputs}:
             inputs.append(InputFile(name, _sha256(data_path), data_path.stat().st_size, data_path))
-    try:
-        blind_check, blind_path = _blind_check(spec, root, display, lines)
-    except CertkitInputError as error:
-        errors.extend(error.problems)
-        blind_check, blind_path = None, None
-    if blind_path is not None:
-        name = _input_name(spec.model.gap.blind_check, blind_path, root)
-        if name not in {item.name for item in inputs}:
-            inputs.append(InputFile(name, _sha256(blind_path), blind_path.stat().st_size,
-                                    blind_path))
+    records = {}
+    for key in ("blind_check", "sealed_blind_check"):
+        try:
+            record, record_path = _blind_check(spec, root, display, lines, key)
+        except CertkitInputError as error:
+            errors.extend(error.problems)
+            record, record_path = None, None
+        records[key] = record
+        if record_path is not None:
+            name = _input_name(getattr(spec.model.gap, key), record_path, root)
+            if name not in {item.name for item in inputs}:
+                inputs.append(InputFile(name, _sha256(record_path), record_path.stat().st_size,
+                                        record_path))
     if errors:
         raise CertkitInputError(errors)
-    return Campaign(spec, spec_path, root, lines, series, inputs, blind_check)
+    return Campaign(spec, spec_path, root, lines, series, inputs, records["blind_check"],
+                    records["sealed_blind_check"])

@@ -52,6 +52,10 @@ class Candidate:
     #: the quantities ``unit_size`` states in SI, (its words for one, value [SI], SI unit):
     #: a report shows them in the campaign's display units
     quantities: tuple = ()
+    #: parameters of the form fitted with its strength when it is refitted, as (Knob, the
+    #: values its profile tries: the first is the refit's default start) pairs, written after
+    #: the form is added (a load channel's skew beside its gain)
+    knobs: tuple = ()
 
     def why_not(self, model: DropModel) -> str:
         """"" when the form can be added to ``model``, else why not, in words."""
