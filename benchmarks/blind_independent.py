@@ -453,7 +453,9 @@ def _by_form(outcomes: list[dict]) -> list[dict]:
 
 def score(outcomes: list[dict]) -> dict:
     inside = [o for o in outcomes if not o.get("outside")]
-    effects = sorted({e for o in inside for e in o["truth"]})
+    # every effect a case was made of or named (a battery of one form can name another)
+    effects = sorted({e for o in inside for e in o["truth"]}
+                     | {e for o in inside for e in o["named"]})
     document = scoring.score(inside, tuple(effects))
     metrics = document["metrics"]
     for name, metric in metrics.items():      # issue 14's targets, not issue 5's

@@ -316,7 +316,7 @@ def test_the_examples_blind_check_record_is_what_this_code_gives():
     assert [o["id"] for o in record["cases"]] == list(cases)
     picked = [c for c in cases.values()
               if (c.forms, c.ratio, c.seed) in ((("dahl",), 2.0, 31),
-                                                (("blow-off", "lugre"), 5.0, 32))]
+                                                (("blow-off", "gain-skew"), 5.0, 32))]
     assert len(picked) == 2
     template = str(Path(EXAMPLE).resolve())
     sizes = independent.size_table(template, "left-main", plan, Settings().load_noise)
@@ -331,6 +331,33 @@ def test_the_examples_blind_check_record_is_what_this_code_gives():
     assert json.dumps(rescored["metrics"], sort_keys=True) == json.dumps(record["metrics"],
                                                                         sort_keys=True)
     assert rescored["confusion"] == record["confusion"]
+
+
+SEALED_RECORD = "campaigns/seed-amphibian/blind-check-sealed/blind-check.json"
+
+
+@pytest.mark.slow
+def test_the_examples_sealed_record_is_what_this_code_gives():
+    """The sealed record (run once): its cases are the sealed plan's, one drawn case run
+    again gives its answer and numbers, and its metrics are what score() gives."""
+    import blind_independent as independent
+
+    with open(SEALED_RECORD, encoding="utf-8") as handle:
+        record = json.load(handle)
+    assert record["battery"] == "sealed"
+    plan = independent.PLANS["sealed"]
+    cases = {c.id: c for c in independent.battery(plan)}
+    assert [o["id"] for o in record["cases"]] == list(cases)
+    case = next(c for c in cases.values() if (c.forms, c.ratio, c.seed) == (("lugre",), 5.0, 7102))
+    kept = next(o for o in record["cases"] if o["id"] == case.id)
+    template = str(Path(EXAMPLE).resolve())
+    again = independent.run_case(template, "left-main", case, {}, plan, Settings())
+    assert again["named"] == kept["named"] and again["shapes"] == kept["shapes"]
+    for key in ("before", "after", "shrink"):
+        assert again[key] == pytest.approx(kept[key], rel=1e-6), key
+    rescored = independent.score(record["cases"])
+    assert json.dumps(rescored["metrics"], sort_keys=True) == json.dumps(record["metrics"],
+                                                                        sort_keys=True)
 
 
 def test_a_template_the_diagnosis_cannot_use_exits_2_before_any_case_runs(monkeypatch, capsys,
@@ -389,6 +416,12 @@ def test_the_report_names_the_files_that_differ_from_the_running_certkit():
     assert sentence.startswith("They were scored by certkit 0.0.9 at commit 1234567890ab, "
                                "with other diagnosis code than this certkit's (the files that "
                                "differ: gap/phases.py, gap/selection.py)")
+    # a run from a source tree with uncommitted changes says so (the commit alone would not)
+    dirty = Provenance(certkit="0.1.0", code=code_fingerprint(), files=files,
+                       commit="1234567890abcdef-dirty")
+    assert _made_by("Its cases were run", dirty, code_fingerprint()) == (
+        "Its cases were run by certkit 0.1.0 at commit 1234567890ab (with uncommitted changes "
+        "in the source tree), with this certkit's diagnosis code.")
     older = Provenance(certkit="0.0.9", code="f" * 64)     # a record from before per-file hashes
     assert "which files differ is not recorded" in _made_by("Its cases were run", older,
                                                             code_fingerprint())

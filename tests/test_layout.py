@@ -120,3 +120,26 @@ def test_the_checks_see_what_they_check():
                                                    MODULES["certkit.cli.campaign"])
     assert _stage("certkit.errors") == 0 and _stage("certkit.cli.app") == len(STAGES)
     assert _stage("certkit.spec.schema") < _stage("certkit.physics.dynamics")
+
+
+def test_no_module_imports_another_modules_private_names():
+    """A name with a leading underscore is its module's own (ARCHITECTURE.md): another
+    module that needs it asks for it to be made public."""
+    found = []
+    for name, path in MODULES.items():
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("certkit"):
+                found += [f"{name} imports {node.module}.{alias.name}" for alias in node.names
+                          if alias.name.startswith("_") and not alias.name.startswith("__")]
+    assert not found, found
+
+
+def test_the_package_does_not_reach_into_the_benchmarks():
+    """The blind check's batteries live in benchmarks/; certkit only reads their records."""
+    reaching = [name for name, path in MODULES.items()
+                if any(isinstance(node, (ast.Import, ast.ImportFrom)) and any(
+                    (alias.name if isinstance(node, ast.Import) else node.module or "")
+                    .split(".")[0] in ("blindcheck", "truthgen", "blind_independent",
+                                       "blind_own") for alias in node.names)
+                    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))))]
+    assert not reaching, reaching

@@ -173,8 +173,12 @@ def _battery_words(battery: str | None) -> str:
 def _made_by(step: str, who, code: str) -> str:
     """One sentence on who did a step of the blind check and whether it is this certkit's
     diagnosis code (fingerprint of the simulation and diagnosis modules)."""
-    when = "".join(part for part in (f" on {who.date}" if who.date else "",
-                                     f" at commit {who.commit[:12]}" if who.commit else ""))
+    commit = ""
+    if who.commit:
+        dirty = who.commit.endswith("-dirty")
+        commit = f" at commit {who.commit[:12]}" + (
+            " (with uncommitted changes in the source tree)" if dirty else "")
+    when = (f" on {who.date}" if who.date else "") + commit
     sentence = f"{step} by certkit {who.certkit}{when}"
     if who.code == code:
         return sentence + ", with this certkit's diagnosis code."
