@@ -246,6 +246,8 @@ def _blind_view(campaign, units) -> dict:
             return "; ".join(f"{k}: {plain(v, depth + 1)}" for k, v in value.items())
         if isinstance(value, list):
             return (" + " if depth else ", ").join(plain(v, depth + 1) for v in value)
+        if value is None:
+            return "—"
         return f"{value:g}" if isinstance(value, float) else str(value)
 
     # each metric's target is in the metrics table: a record's words for them are not repeated
