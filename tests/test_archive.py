@@ -120,7 +120,8 @@ def test_two_archives_of_the_same_inputs_are_identical(bag, seed_copy, tmp_path)
 def test_an_intact_bag_verifies(bag):
     result = runner.invoke(app, ["verify", str(bag)])
     assert result.exit_code == 0, result.output
-    assert "intact — 17 payload file(s)" in result.output
+    # 18: the campaign's 6 inputs (spec, 3 data files, 2 blind-check records) and the outputs
+    assert "intact — 18 payload file(s)" in result.output
     assert check_bag(bag) == []
 
 
@@ -131,7 +132,8 @@ def _payload(bag: Path) -> list[str]:
 
 def test_a_tampered_byte_in_any_payload_file_is_detected(bag, tmp_path):
     names = _payload(bag)
-    assert len(names) == 17
+    assert len(names) == 18
+    assert "data/campaign/blind-check-sealed/blind-check.json" in names
     for index, name in enumerate(names):
         copy = tmp_path / f"copy{index}"
         shutil.copytree(bag, copy)
