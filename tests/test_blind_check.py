@@ -183,6 +183,7 @@ def pool_outcome():
     return case, blind_check(EXAMPLE, "left-main", cases=[case], workers=1)
 
 
+@pytest.mark.slow   # a battery case, tens of seconds: CI runs it
 def test_a_strong_effect_is_named_and_the_held_out_error_shrinks(pool_outcome):
     _, document = pool_outcome
     outcome = document["cases"][0]
@@ -204,12 +205,14 @@ def test_a_dask_cluster_gives_the_same_outcome_as_the_process_pool(pool_outcome)
     assert json.dumps(remote, sort_keys=True) == json.dumps(document, sort_keys=True)
 
 
+@pytest.mark.slow   # a battery case, tens of seconds: CI runs it
 def test_run_case_without_an_effect_abstains():
     outcome = run_case(EXAMPLE, "left-main", Case("case-002", (), None, 100))
     assert outcome["named"] == [], outcome["statement"]
     assert outcome["after"] == outcome["before"]
 
 
+@pytest.mark.slow   # a battery case, tens of seconds: CI runs it
 def test_an_effect_whose_score_points_the_wrong_way_is_found_by_its_profile():
     """Fast heat exchange of a γ = 1.4 gas: at zero strength the candidate's signature
     (γ = the calibrated n) points away from the residual, so the score test ranks it last;
@@ -234,6 +237,7 @@ def test_wilson_intervals_match_their_closed_forms():
     assert wilson(0, 0) is None
 
 
+@pytest.mark.slow   # a battery case, tens of seconds: CI runs it
 def test_the_record_and_its_case_table_are_written_as_the_report_reads_them(pool_outcome,
                                                                             tmp_path):
     import csv

@@ -68,6 +68,7 @@ def hidden_state_record(n, pole=0.9, seed=1):
 
 
 # ------------------------------------------------------------------ tuning
+@pytest.mark.slow   # 20 s of fold fits: CI runs it
 def test_blocked_fold_tuning_finds_the_hidden_filter_pole():
     u, y = hidden_state_record(800)
     model, surface = tune_free_run(
