@@ -435,7 +435,9 @@ def _by_form(outcomes: list[dict]) -> list[dict]:
             continue
 
         def right(o) -> bool:
-            return (not o["named"] and not o.get("error")) if form.effect is None \
+            # outside the library only a clean abstention is right (not a tie, not a
+            # failure): the same count as the no-effect cases' false attribution
+            return scoring.named_label(o) == "none" if form.effect is None \
                 else o["named"][:1] == o["truth"]
 
         scored = [o for o in mine if o["ratio"] >= scoring.SCORED_FROM]
@@ -463,7 +465,7 @@ def score(outcomes: list[dict]) -> dict:
     scored = [o for o in inside if len(o["truth"]) == 1 and o["ratio"] >= scoring.SCORED_FROM
               and not o.get("skipped")]
     outside = [o for o in outcomes if o.get("outside") and not o.get("skipped")]
-    abstained = sum(not o["named"] and not o.get("error") for o in outside)
+    abstained = sum(scoring.named_label(o) == "none" for o in outside)
     metrics["abstention_out_of_library"] = _metric(
         "abstention_out_of_library", abstained / len(outside) if outside else None, abstained,
         len(outside))

@@ -251,7 +251,7 @@ def test_each_candidate_decision_names_the_rule_that_made_it(monkeypatch):
     assert [d.rule for d in outcomes] == ["named", "gain", "outranked", "harm"]
     assert outcomes[0].figures["cut"] == 0.5           # 1 − 0.5/1
     assert abs(outcomes[1].figures["cut"] - 0.05) < 1e-12 and outcomes[1].figures["gain"] == GAIN
-    assert decision_words(outcomes[1]) == f"cuts the training cost by 5 %, less than " \
+    assert decision_words(outcomes[1]) == f"cuts the training cost by 5.0 %, less than " \
         f"{100 * GAIN:.0f} %: not named"
     assert outcomes[2].figures == {"cost": 0.6, "named": "A", "named_cost": 0.5}
     assert decision_words(outcomes[3]) == \
@@ -290,12 +290,58 @@ def test_every_rule_has_its_sentence_and_no_sentence_without_a_rule():
     from certkit.gap.attribution import Decision
     from certkit.gap.statements import RULES, decision_words
 
-    figures = {"leading": 2, "gain": 0.1, "relevant": 0.3, "why": "no tyre", "cut": 0.2,
-               "channels": ["load"], "removed": 1.0, "detectable": 2.0, "channel": "load",
-               "shift_s": 0.012, "share": 0.3, "timing_share": 0.1, "cost": 0.6,
-               "named": True, "named_cost": 0.5, "other": "E", "tie_cost": 1.05,
-               "marked": "E", "unmarked": "A", "tie": ["A", "E"]}
+    # distinctive figures, so that each sentence can be seen to quote the ones it records
+    figures = {"leading": 3, "gain": 0.37, "relevant": 0.45, "why": "no tyre", "cut": 0.231,
+               "channels": ["stroke"], "removed": 1.7, "detectable": 2.5, "channel": "load",
+               "shift_s": 0.012, "share": 0.29, "timing_share": 0.13, "cost": 0.6,
+               "named": True, "named_cost": 0.5, "other": "E", "tie_cost": 1.07,
+               "marked": "E", "unmarked": "A", "tie": ["A", "Z"]}
+    quoted = {"refitted": [], "other form refitted": [], "not leading": ["3 effects"],
+              "points the other way": ["37 %"], "not relevant": ["0.45 σ", "3 effects", "37 %"],
+              "cannot be added": ["no tyre"], "none refitted": ["0.45 σ", "37 %"],
+              "named": ["23 %"], "gain": ["23.1 %", "37 %"], "harm": ["stroke"],
+              "detectable": ["1.7", "2.5"], "timing": ["12 ms later", "29 %", "13 %"],
+              "outranked": ["0.6", "0.5", "E"], "tie": ["7 %", "E"],
+              "tie broken": ["7 %", "mark of E", "not of A"], "after a tie": ["A and Z"]}
+    assert set(quoted) == set(RULES)
     for rule in RULES:
-        assert decision_words(Decision("x", rule, figures)).strip()
+        # "named" is the named effect for "outranked", whether this refit won for a broken tie
+        own = {**figures, "named": "E"} if rule == "outranked" else figures
+        words = decision_words(Decision("x", rule, own))
+        assert words.strip() and all(part in words for part in quoted[rule]), (rule, words)
     with pytest.raises(ValueError, match="no words for the rule"):
         decision_words(Decision("x", "a rule nobody wrote", figures))
+
+
+def test_a_load_cell_gain_with_a_channel_skew_is_named_with_its_skew(tmp_path_factory):
+    """A load chain reading 3 % high whose record lags the other channels by 0.4 ms (its
+    amplifier's group delay): the gain's refit fits the skew with it (the form's own knob)
+    and names the gain; the refit's values, applied, are the configured model."""
+    import numpy as np
+
+    from certkit.gap.attribution import configured, form_knobs
+    from certkit.physics.calibration import RunResiduals
+
+    def skewed(t, f):
+        return 1.03 * np.interp(t - 0.0004, t, f, left=f[0])
+
+    spec = _load_rewritten(_truth(tmp_path_factory, "gain-skew", [], duration=2.0), skewed)
+    diagnosis = _diagnosis(spec)
+    assert diagnosis.answer == ("load-cell gain",), diagnosis.statement
+    assert diagnosis.forms == ("reading high",)
+    knobs = form_knobs(diagnosis.chosen)
+    assert [k.name for k in knobs] == ["load-channel-skew"]
+    calibration_knobs = len(diagnosis.calibration.knobs)
+    skew = diagnosis.refit.values[calibration_knobs]
+    gain = 0.05 * diagnosis.refit.strengths[0]
+    # the skew within a quarter sample (1 kHz) and the gain within 0.3 % of the truth's
+    assert skew == pytest.approx(0.0004, abs=0.00025)
+    assert gain == pytest.approx(0.03, abs=0.003)
+    # Refit.apply gives the model configured() builds from the same vector
+    campaign = load_campaign(spec)
+    residuals = RunResiduals(campaign, "left-main", list(diagnosis.training), effects=[])
+    built = configured(residuals, diagnosis.calibration.knobs, list(diagnosis.chosen),
+                       list(diagnosis.refit.values) + list(diagnosis.refit.strengths))
+    applied = [diagnosis.configure(m) for m in residuals.models]
+    assert [m.effect("load-cell gain") for m in built] == \
+        [m.effect("load-cell gain") for m in applied]

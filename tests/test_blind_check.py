@@ -454,8 +454,9 @@ def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
             ranges = {n: (lo, hi) for n, lo, hi in truthgen.FORMS[form_id].shape_ranges}
             assert set(dict(shape)) == set(ranges)
             for name, value in shape:
-                assert ranges[name][0] - 0.5 <= value <= ranges[name][1] + 0.5 \
-                    if name == "order" else ranges[name][0] <= value <= ranges[name][1]
+                assert ranges[name][0] <= value <= ranges[name][1], (form_id, name, value)
+                if name == "order":
+                    assert value == int(value)       # a filter's order is a whole number
                 drawn.setdefault((form_id, name), set()).add(value)
         for name, low, high in independent.NUISANCE_RANGES:
             assert low <= getattr(nuisances, name) <= high

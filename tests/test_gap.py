@@ -361,7 +361,7 @@ def test_the_report_states_the_recorded_decisions_and_derives_none():
                                            "relevant")
     assert statuses["seal friction"] == ("relevant, not among the 7 effects with the best "
                                          "profiles")
-    assert step["refits"][0]["outcome"] == ("cuts the training cost by 5 %, less than 33 %: "
+    assert step["refits"][0]["outcome"] == ("cuts the training cost by 5.0 %, less than 33 %: "
                                             "not named")
     assert step["no_refit"] == ("No candidate would remove 4.5 σ or more, nor cut the training "
                                 "cost by 66 % in its profile: none was refitted.")

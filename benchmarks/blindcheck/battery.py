@@ -56,7 +56,6 @@ from certkit.physics.effects import TRUTHS, Truth
 from certkit.physics.gear_model import drop_model_for
 from certkit.physics.simulation import simulate_batch
 from certkit.physics.synthetic import NO_SENSOR_EFFECTS, SensorModel, simulate_campaign
-from certkit.gap.code import code_fingerprint
 from certkit.spec.blind_record import template_fingerprint
 from certkit.spec.campaign import load_campaign
 from certkit.units import STANDARD_GRAVITY
@@ -399,6 +398,8 @@ def blind_check(template: str | Path, gear_id: str | None = None,
     split_for(campaign, gear_id)     # the template itself must allow a diagnosis
     cases = battery(settings) if cases is None else cases
     outcomes = []
+    command = f"benchmarks/blind_own.py {Path(template).name} -g {gear_id}"
+    run_by = provenance(command)        # who runs the cases, taken before they run
     owner, pool = _executor(workers, scheduler)
     with owner, pool:
         futures = [pool.submit(run_case, template, gear_id, case, settings) for case in cases]
@@ -406,17 +407,16 @@ def blind_check(template: str | Path, gear_id: str | None = None,
             outcomes.append(future.result())
             if progress:
                 progress(outcomes[-1])
-    command = f"benchmarks/blind_own.py {Path(template).name} -g {gear_id}"
     document = {"kind": "certkit blind check", "certkit": VERSION,
                 "template": {"spec": Path(template).name,
                              "sha256": template_fingerprint(campaign),
                              "fingerprint": "SHA-256 of the spec's content as validated "
-                                            "(canonical JSON) without model.gap.blind_check "
-                                            "and the audit's thresholds",
-                             "code": code_fingerprint(),
+                                            "(canonical JSON) without model.gap.blind_check, "
+                                            "model.gap.sealed_blind_check and the audit's "
+                                            "thresholds",
+                             "code": run_by["code"],
                              "gear": gear_id},
-                "command": command, "run_by": provenance(command),
-                "scored_by": provenance(command),
+                "command": command, "run_by": run_by, "scored_by": provenance(command),
                 "settings": {**{k: v for k, v in asdict(settings).items()
                                 if not isinstance(v, tuple) or k in ("ratios", "seeds")},
                              "effects": list(settings.effects),

@@ -24,7 +24,7 @@ def battery_files() -> dict[str, str]:
     for folder in ("blindcheck", "truthgen"):
         for path in sorted((BENCHMARKS / folder).glob("*.py")):
             files[f"{folder}/{path.name}"] = hashlib.sha256(path.read_bytes()).hexdigest()
-    for name in ("blind_independent.py",):
+    for name in ("blind_independent.py", "blind_own.py"):
         files[name] = hashlib.sha256((BENCHMARKS / name).read_bytes()).hexdigest()
     return files
 

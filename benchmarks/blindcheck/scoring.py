@@ -36,7 +36,8 @@ def _metric(name: str, value, count, cases) -> dict:
             "interval": wilson(count, cases) if count is not None else None}
 
 
-def _named_label(outcome: dict) -> str:
+def named_label(outcome: dict) -> str:
+    """What a case's answer counts as: its first named effect, a tie, a failure or none."""
     if outcome.get("error"):
         return FAILED
     if outcome["named"]:
@@ -85,7 +86,7 @@ def score(outcomes: list[dict], effects: tuple) -> dict:
 
     correct = sum(o["named"][:1] == o["truth"] for o in scored)
     exact = sum(o["named"] == o["truth"] for o in scored)
-    false = sum(_named_label(o) != "none" for o in null)
+    false = sum(named_label(o) != "none" for o in null)
     right = sum(len(set(o["named"]) & set(o["truth"])) for o in pairs)
     said = sum(len(o["named"]) for o in pairs)
     wanted = sum(len(o["truth"]) for o in pairs)
@@ -119,6 +120,6 @@ def score(outcomes: list[dict], effects: tuple) -> dict:
     counts = [[0] * len(columns) for _ in truths]
     for o in single + null:
         row = truths.index(o["truth"][0] if o["truth"] else "none")
-        counts[row][columns.index(_named_label(o))] += 1
+        counts[row][columns.index(named_label(o))] += 1
     return {"metrics": metrics, "curve": curve, "failed": failed, "skipped": skipped,
             "confusion": {"truths": truths, "named": columns, "counts": counts}}

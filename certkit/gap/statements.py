@@ -69,7 +69,8 @@ def decision_words(decision) -> str:
         return f"cuts the training cost by {percent(f['cut'], 0)}, the most of the admissible " \
                "refits: named"
     if rule == "gain":
-        return (f"cuts the training cost by {percent(f['cut'], 0)}, less than "
+        # one decimal: a cut of 9.6 % must not read "10 %, less than 10 %"
+        return (f"cuts the training cost by {percent(f['cut'], 1)}, less than "
                 f"{percent(f['gain'], 0)}: not named")
     if rule == "harm":
         return ("makes the training " + ", ".join(f["channels"])
@@ -80,12 +81,12 @@ def decision_words(decision) -> str:
                 f"not named")
     if rule == "timing":
         channel, shift = f["channel"], f["shift_s"]
-        return (f"its correction of the recorded {channel} fits the residual better "
-                f"{abs(shift) * 1e3:.3g} ms {'later' if shift > 0 else 'earlier'} than at the "
-                f"same instant (the shift removes {percent(f['share'], 0)} of the {channel}'s "
-                f"remaining mean square; {percent(f['timing_share'], 0)} or more is a timing "
-                f"error): an error without memory acts at the same instant, so the {channel} "
-                f"record's error is not this one: not named")
+        return (f"its correction of the recorded {channel} (with the channel skew its refit "
+                f"fits, if the form has one) fits the residual better shifted "
+                f"{abs(shift) * 1e3:.3g} ms {'later' if shift > 0 else 'earlier'} (the shift "
+                f"removes {percent(f['share'], 0)} of the {channel}'s remaining mean square; "
+                f"{percent(f['timing_share'], 0)} or more is a timing error the form cannot "
+                f"make): the {channel} record's error is not this one: not named")
     if rule == "outranked":
         return (f"admissible, but its training cost {f['cost']:.4g} is above the "
                 f"{f['named_cost']:.4g} of {f['named']}, which was named: not named")

@@ -543,13 +543,14 @@ class GapSpec(SpecBlock):
                         "(default: every drop at the highest drop height, and the middle "
                         "height's when there are four heights or more)")
     blind_check: Text | None = Field(
-        None, description="the JSON file written by benchmarks/blind_independent.py, relative to "
+        None, description="the JSON file written by benchmarks/blind_independent.py --battery development, relative to "
                           "this spec file and inside its folder; the report summarises it and "
                           "hashes it with the other inputs")
     sealed_blind_check: Text | None = Field(
         None, description="the record of the SEALED battery (benchmarks/blind_independent.py "
-                          "--battery sealed): the report gives its held-out figures beside "
-                          "the development record's in-sample ones (model.gap.blind_check)")
+                          "--battery sealed), relative to this spec file and inside its "
+                          "folder: the report gives its held-out figures beside the "
+                          "development record's in-sample ones (model.gap.blind_check)")
 
 
 class ModelSettings(SpecBlock):
