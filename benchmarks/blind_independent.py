@@ -414,13 +414,8 @@ def run_case(template: str, gear_id: str, case: Case, sizes: dict, plan: Plan,
 
 # --------------------------------------------------------------------------- scoring
 def _metric(name: str, value, count, cases) -> dict:
-    target, direction = TARGETS.get(name, (None, None))
-    met = None
-    if target is not None and value is not None:
-        met = bool(value >= target) if direction == "at least" else bool(value <= target)
-    return {"value": value, "count": count, "cases": cases, "target": target,
-            "direction": direction, "met": met,
-            "interval": scoring.wilson(count, cases) if count is not None else None}
+    """A metric against this battery's targets (:data:`TARGETS`)."""
+    return scoring.metric(name, value, count, cases, TARGETS)
 
 
 def _by_form(outcomes: list[dict]) -> list[dict]:

@@ -404,3 +404,18 @@ def test_the_report_gives_the_sealed_figures_beside_the_development_ones(with_hy
     # naming the records leaves the template's fingerprint as it was
     from certkit.spec.blind_record import template_fingerprint
     assert template_fingerprint(campaign) == template_fingerprint(load_campaign(with_hysteresis))
+
+
+def test_a_bad_sealed_record_is_an_input_error_naming_its_own_key(with_hysteresis, tmp_path):
+    record = json.loads(BLIND.read_text(encoding="utf-8"))
+    record["kind"] = "something else"
+    folder = with_hysteresis.parent / "blind"
+    folder.mkdir(exist_ok=True)
+    (folder / "bad-sealed.json").write_text(json.dumps(record), encoding="utf-8")
+    spec = variant(with_hysteresis, "bad-sealed.yaml",
+                   gap="{sealed_blind_check: blind/bad-sealed.json}")
+    with pytest.raises(CertkitInputError) as error:
+        load_campaign(spec)
+    problem = error.value.problems[0]
+    assert problem.key == "model.gap.sealed_blind_check" and problem.line is not None
+    assert "expected 'certkit blind check'" in problem.message

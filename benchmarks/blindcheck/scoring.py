@@ -26,8 +26,10 @@ def wilson(count: int, cases: int, z: float = 1.959964) -> list[float] | None:
     return [max(0.0, centre - half), min(1.0, centre + half)]
 
 
-def _metric(name: str, value, count, cases) -> dict:
-    target, direction = TARGETS.get(name, (None, None))
+def metric(name: str, value, count, cases, targets: dict | None = None) -> dict:
+    """One metric with its target (from ``targets``, default :data:`TARGETS`), whether it
+    is met, and the Wilson interval of its proportion."""
+    target, direction = (TARGETS if targets is None else targets).get(name, (None, None))
     met = None
     if target is not None and value is not None:
         met = bool(value >= target) if direction == "at least" else bool(value <= target)
@@ -96,17 +98,17 @@ def score(outcomes: list[dict], effects: tuple) -> dict:
     shrinks = [o["shrink"] for o in scored]
     closed = [o["closed"] if o.get("closed") is not None else 0.0 for o in scored]
     metrics = {
-        "top1": _metric("top1", rate(correct, scored), correct, len(scored)),
-        "exact": _metric("exact", rate(exact, scored), exact, len(scored)),
-        "false_attribution": _metric("false_attribution", rate(false, null), false, len(null)),
-        "set_precision": _metric("set_precision", right / said if said else None, right, said),
-        "set_recall": _metric("set_recall", right / wanted if wanted else None, right, wanted),
-        "median_shrink": _metric("median_shrink", median(shrinks), None, len(shrinks)),
-        "median_gap_closed": _metric("median_gap_closed", median(closed), None, len(closed)),
-        "median_shrink_pairs": _metric("median_shrink_pairs",
+        "top1": metric("top1", rate(correct, scored), correct, len(scored)),
+        "exact": metric("exact", rate(exact, scored), exact, len(scored)),
+        "false_attribution": metric("false_attribution", rate(false, null), false, len(null)),
+        "set_precision": metric("set_precision", right / said if said else None, right, said),
+        "set_recall": metric("set_recall", right / wanted if wanted else None, right, wanted),
+        "median_shrink": metric("median_shrink", median(shrinks), None, len(shrinks)),
+        "median_gap_closed": metric("median_gap_closed", median(closed), None, len(closed)),
+        "median_shrink_pairs": metric("median_shrink_pairs",
                                        median([o["shrink"] for o in pairs]), None, len(pairs)),
-        "harm_rate": _metric("harm_rate", rate(harm_count, named), harm_count, len(named)),
-        "harm_any_channel": _metric("harm_any_channel", rate(harmed_any, named), harmed_any,
+        "harm_rate": metric("harm_rate", rate(harm_count, named), harm_count, len(named)),
+        "harm_any_channel": metric("harm_any_channel", rate(harmed_any, named), harmed_any,
                                     len(named)),
     }
     curve = []
