@@ -1,0 +1,117 @@
+"""Uncertainty propagation and conformance (certkit.compliance.uncertainty), against
+figures worked out apart from the code: by hand, from closed-form distributions, and from
+the published worked examples' set-up (JCGM 101:2008 §9.2, the additive model)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from certkit.compliance.uncertainty import (Input, conformance_probability, gum, monte_carlo,
+                                            tolerance, validated)
+
+SQRT3 = math.sqrt(3.0)
+
+
+def _sum(x):
+    return np.sum(x, axis=0)
+
+
+def test_standard_uncertainties_of_the_distributions_by_hand():
+    assert Input("a", 0.0, "rectangular", 3.0).standard == pytest.approx(3.0 / SQRT3)
+    assert Input("a", 0.0, "triangular", 6.0).standard == pytest.approx(6.0 / math.sqrt(6))
+    # a certificate's U = 0.4 % at k = 2: u = 0.2 %
+    assert Input.expanded("gain", 1.0, 0.004, 2.0).standard == pytest.approx(0.002)
+    for bad in (dict(distribution="lognormal", spread=1.0), dict(distribution="normal",
+                                                                 spread=-1.0)):
+        with pytest.raises(ValueError):
+            Input("x", 0.0, **bad)
+    with pytest.raises(ValueError, match="coverage factor"):
+        Input.expanded("x", 0.0, 1.0, 0.0)
+
+
+def test_additive_model_of_four_normal_inputs():
+    # JCGM 101 §9.2.2 set-up: Y = X1 + X2 + X3 + X4, each N(0, 1).  By hand: u(y) = √4 = 2
+    # and the 95 % interval ±1.959964·2 = ±3.92 (the sum of normals is normal)
+    inputs = [Input(f"X{i}", 0.0, "normal", 1.0) for i in range(1, 5)]
+    result = gum(lambda x: float(np.sum(x)), inputs)
+    assert result.standard == pytest.approx(2.0, rel=1e-9)
+    assert result.interval(0.95)[1] == pytest.approx(3.919928, abs=1e-6)
+    assert result.shares == pytest.approx((0.25,) * 4)
+    check = monte_carlo(_sum, inputs, trials=1_000_000, seed=1)
+    # 10⁶ trials: the standard deviation within a few of its standard error 2/√(2·10⁶)
+    assert check.standard == pytest.approx(2.0, abs=0.005)
+    assert check.interval[1] == pytest.approx(3.92, abs=0.02)
+    ok, delta, _, _ = validated(result, check, digits=2)
+    assert ok and delta == 0.05             # u = 2.0 to 2 digits: δ = ½·10⁻¹
+
+
+def test_additive_model_of_four_rectangular_inputs_against_the_irwin_hall_quantile():
+    # JCGM 101 §9.2.3 set-up: each X_i rectangular with u = 1 (half-width √3).  The sum of
+    # four U(0, 1) has the Irwin–Hall CDF 1 − (4 − s)⁴/24 on [3, 4]: its 97.5 % quantile
+    # is 4 − 0.6^(1/4), so Y's is 2√3·(4 − 0.6^(1/4) − 2) = 3.8795 (the GUM's ±3.92 is wider)
+    exact = 2 * SQRT3 * (2.0 - 0.6 ** 0.25)
+    assert exact == pytest.approx(3.8795, abs=1e-4)
+    inputs = [Input(f"X{i}", 0.0, "rectangular", SQRT3) for i in range(1, 5)]
+    check = monte_carlo(_sum, inputs, trials=1_000_000, seed=2)
+    assert check.standard == pytest.approx(2.0, abs=0.005)
+    # a 2.5 % quantile from 10⁶ draws has a standard error of √(0.025·0.975/10⁶)/f(q) =
+    # 0.0048 (f(q) = (0.6^(1/4))³/6/(2√3) = 0.0328, Y's density there): within 3 of them
+    assert check.interval[0] == pytest.approx(-exact, abs=0.015)
+    assert check.interval[1] == pytest.approx(exact, abs=0.015)
+    # against the exact distribution (a Monte Carlo result of infinitely many trials), the
+    # GUM interval ±3.92 is validated to 2 digits (d = 0.040 ≤ δ = 0.05), not to 3 (δ = 0.005)
+    from certkit.compliance.uncertainty import MonteCarloResult
+    exact_check = MonteCarloResult(0.0, 2.0, (-exact, exact), 0.95, 10 ** 12)
+    result = gum(lambda x: float(np.sum(x)), inputs)
+    ok, delta, d_low, d_high = validated(result, exact_check, digits=2)
+    assert ok and delta == 0.05 and d_low == pytest.approx(0.0405, abs=1e-4) == d_high
+    assert not validated(result, exact_check, digits=3)[0]
+
+
+def test_a_gain_times_a_force_has_the_root_sum_of_relative_uncertainties():
+    # F = g·F_raw: u_rel(F)² = u_rel(g)² + u_rel(F_raw)² (GUM §5.1.6 for a product), by hand
+    # 0.2 % and 0.15 % give 0.25 %; with the force's alone zero, F's relative U equals the
+    # gain's
+    inputs = [Input("gain", 1.0, "normal", 0.002), Input("F", 12000.0, "normal", 18.0)]
+    result = gum(lambda x: x[0] * x[1], inputs)
+    assert result.standard / result.value == pytest.approx(0.0025, rel=1e-6)
+    assert result.sensitivities == pytest.approx((12000.0, 1.0), rel=1e-6)
+    only_gain = gum(lambda x: x[0] * x[1], [inputs[0], Input("F", 12000.0, "normal", 0.0)])
+    assert only_gain.standard / only_gain.value == pytest.approx(0.002, rel=1e-6)
+
+
+def test_one_input_feeding_two_terms_and_correlated_inputs():
+    # y = x1 + x2 with correlation 1 between them: u = u1 + u2 (GUM §5.2.2 note 1)
+    inputs = [Input("a", 1.0, "normal", 0.3), Input("b", 2.0, "normal", 0.4)]
+    full = gum(lambda x: x[0] + x[1], inputs, correlation=np.array([[1.0, 1.0], [1.0, 1.0]]))
+    assert full.standard == pytest.approx(0.7)
+    none = gum(lambda x: x[0] + x[1], inputs)
+    assert none.standard == pytest.approx(0.5)
+
+
+def test_conformance_probability_by_hand():
+    # y = 9.8, u = 0.1 under an upper limit 10: Φ(2) = 0.97725 (JCGM 106 §7.3, one limit)
+    assert conformance_probability(9.8, 0.1, upper=10.0) == pytest.approx(0.977250, abs=1e-6)
+    # a lower limit 9.7 as well: Φ(2) − Φ(−1) = 0.97725 − 0.15866
+    assert conformance_probability(9.8, 0.1, 9.7, 10.0) == pytest.approx(0.818595, abs=1e-6)
+    # on the limit: one half; zero uncertainty: today's verdict exactly
+    assert conformance_probability(10.0, 0.3, upper=10.0) == pytest.approx(0.5)
+    assert conformance_probability(10.0, 0.0, upper=10.0) == 1.0
+    assert conformance_probability(10.0001, 0.0, upper=10.0) == 0.0
+
+
+def test_the_numerical_tolerance_of_jcgm_101_section_8():
+    # u = 0.0754 to 2 digits is 75 × 10⁻³ (0.075): δ = 0.5 × 10⁻³ (JCGM 101 §8.2)
+    assert tolerance(0.0754, 2) == pytest.approx(0.0005)
+    assert tolerance(2.0, 2) == pytest.approx(0.05)
+    assert tolerance(9.96, 2) == pytest.approx(0.5)      # 9.96 → 10 (two digits: 1.0 × 10¹)
+
+
+def test_monte_carlo_gives_the_same_numbers_for_the_same_seed():
+    inputs = [Input("a", 1.0, "triangular", 0.2), Input("b", 2.0, "normal", 0.1)]
+    first = monte_carlo(lambda x: x[0] * x[1], inputs, trials=10_000, seed=7)
+    assert first == monte_carlo(lambda x: x[0] * x[1], inputs, trials=10_000, seed=7)
+    assert first.interval[0] < first.value < first.interval[1]
