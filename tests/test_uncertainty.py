@@ -170,3 +170,41 @@ def test_offsets_and_gains_of_two_channels_combine_as_the_energy_integral_says()
     assert strut.contributions[3] == pytest.approx(0.0, abs=1e-9)    # tyre zero: no effect
     # tyre energy ∫F dδ: an offset of δ moves no dδ, so the tyre's zero adds nothing
     assert result["tyre_energy"].contributions[3] == pytest.approx(0.0, abs=1e-9)
+
+
+# ------------------------------------------------------------------ decision rules
+def test_decision_rules_of_ilac_g8_by_hand():
+    from certkit.compliance.uncertainty import decide
+
+    # a lower limit 100, a value 101 with U = 2 (k = 2, u = 1): p_c = Φ(1) = 0.8413
+    simple = decide(101.0, 2.0, 2.0, lower=100.0)
+    assert (simple.outcome, simple.statement) == ("PASS", "pass")
+    assert simple.conformance == pytest.approx(0.841345, abs=1e-6)
+    # guarded with w = U: acceptance limit 102, so 101 is a conditional pass, binary FAIL
+    guarded = decide(101.0, 2.0, 2.0, lower=100.0, rule="guarded")
+    assert guarded.acceptance == (102.0, None)
+    assert (guarded.outcome, guarded.statement) == ("FAIL", "conditional pass")
+    # 99 is outside the tolerance by 1 < w = 2: a conditional fail; 97 by 3: a fail
+    assert decide(99.0, 2.0, 2.0, lower=100.0, rule="guarded").statement == "conditional fail"
+    assert decide(97.0, 2.0, 2.0, lower=100.0, rule="guarded").statement == "fail"
+    # w = 0.5·U: acceptance at 101, so 101 passes
+    assert decide(101.0, 2.0, 2.0, lower=100.0, rule="guarded", r=0.5).outcome == "PASS"
+    # a required conformance probability of 95 %: 0.84 fails, 104 (Φ(4)) passes
+    assert decide(101.0, 2.0, 2.0, lower=100.0, rule="probability").outcome == "FAIL"
+    assert decide(104.0, 2.0, 2.0, lower=100.0, rule="probability").outcome == "PASS"
+    # no uncertainty stated: simple acceptance is today's verdict, with no p_c
+    plain = decide(100.0, None, 2.0, lower=100.0)
+    assert (plain.outcome, plain.conformance) == ("PASS", None)
+    with pytest.raises(ValueError, match="needs an uncertainty"):
+        decide(100.0, None, 2.0, lower=100.0, rule="probability")
+    with pytest.raises(ValueError, match="not one of"):
+        decide(100.0, 1.0, 2.0, lower=100.0, rule="shared risk")
+
+
+def test_zero_uncertainty_gives_todays_outcomes_exactly():
+    from certkit.compliance.uncertainty import decide
+
+    for value, expected in ((99.999, "FAIL"), (100.0, "PASS"), (250.0, "PASS"),
+                            (300.0, "PASS"), (300.001, "FAIL")):
+        for rule in ("simple", "guarded"):
+            assert decide(value, 0.0, 2.0, 100.0, 300.0, rule).outcome == expected

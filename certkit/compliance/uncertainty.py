@@ -188,3 +188,60 @@ def conformance_probability(value: float, standard: float, lower: float | None =
     above = 1.0 if upper is None else phi((upper - value) / standard)
     below = 0.0 if lower is None else phi((lower - value) / standard)
     return above - below
+
+
+# --------------------------------------------------------------------------- decision rules
+#: The decision rules of ILAC-G8:09/2019 certkit applies (§4.2): simple acceptance (the
+#: guard band w = 0, §4.2.1), guarded acceptance with w = r·U (§4.2.2; r = 1: w = U), and a
+#: required conformance probability (JCGM 106:2012 §8.3: accept when p_c ≥ the required).
+RULES = ("simple", "guarded", "probability")
+
+
+@dataclass(frozen=True)
+class Decision:
+    """A statement of conformity: the binary outcome and, for a guarded rule, the
+    non-binary one of ILAC-G8 §4.2.3 (pass / conditional pass / conditional fail / fail)."""
+
+    outcome: str               # "PASS" | "FAIL"
+    statement: str             # "pass", "conditional pass", "conditional fail", "fail"
+    conformance: float | None  # p_c (None without an uncertainty)
+    acceptance: tuple          # (lower, upper) acceptance limits (None: open side)
+
+
+def decide(value: float, expanded: float | None, k: float, lower: float | None = None,
+           upper: float | None = None, rule: str = "simple", r: float = 1.0,
+           required: float = 0.95) -> Decision:
+    """The statement of conformity of ``value`` (expanded uncertainty ``expanded`` at
+    coverage factor ``k``, a normal PDF assumed for p_c) against the tolerance limits.
+
+    Acceptance limits: the tolerance limits moved inward by the guard band w (0 for simple
+    acceptance, r·U for guarded acceptance).  The binary outcome is PASS inside them.  The
+    non-binary statement (ILAC-G8 §4.2.3) is "pass" when the value is inside the acceptance
+    limits, "conditional pass" inside the tolerance limits but within w of them,
+    "conditional fail" outside by less than w, and "fail" beyond.  Under a required
+    conformance probability, PASS when p_c ≥ ``required``."""
+    if rule not in RULES:
+        raise ValueError(f"decision rule {rule!r} is not one of {', '.join(RULES)}")
+    known = expanded is not None
+    standard = expanded / k if known else 0.0
+    p = conformance_probability(value, standard, lower, upper) if known else None
+    w = r * expanded if (rule == "guarded" and known) else 0.0
+    acceptance = (None if lower is None else lower + w, None if upper is None else upper - w)
+    inside_tolerance = (lower is None or value >= lower) and (upper is None or value <= upper)
+    inside_acceptance = ((acceptance[0] is None or value >= acceptance[0])
+                         and (acceptance[1] is None or value <= acceptance[1]))
+    if rule == "probability":
+        if not known:
+            raise ValueError("a required conformance probability needs an uncertainty")
+        passed = p >= required
+        return Decision("PASS" if passed else "FAIL", "pass" if passed else "fail", p,
+                        acceptance)
+    if inside_acceptance:
+        statement = "pass"
+    elif inside_tolerance:
+        statement = "conditional pass"
+    else:
+        beyond = max((lower - value) if lower is not None else -math.inf,
+                     (value - upper) if upper is not None else -math.inf)
+        statement = "conditional fail" if beyond < w else "fail"
+    return Decision("PASS" if inside_acceptance else "FAIL", statement, p, acceptance)
