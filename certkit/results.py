@@ -94,6 +94,9 @@ class Verdict:
     #: every verdict it holds back (the cover page lists each once), and what would show it
     shortfall: str = ""
     remedy: str = ""
+    #: the margin's measurement uncertainty and the statement of conformity under the
+    #: campaign's decision rule (certkit.compliance.verdict_uncertainty.VerdictUncertainty)
+    uncertainty: object | None = None
 
     def as_dict(self) -> dict:
         return asdict(self)

@@ -73,6 +73,8 @@ class Assessment:
     findings: list[Finding] = field(default_factory=list)
     comparisons: list[Comparison] = field(default_factory=list)
     unchecked: list[Unchecked] = field(default_factory=list)
+    #: the measurement uncertainties (certkit.compliance.verdict_uncertainty.Budgets)
+    uncertainty: object | None = None
 
     @property
     def planning(self) -> bool:

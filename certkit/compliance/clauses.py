@@ -11,6 +11,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from certkit.units import STANDARD_GRAVITY, ureg
 
 
@@ -56,15 +58,31 @@ def required_drop_height(wing_loading: float, coefficient: float, wing_loading_u
     """
     if wing_loading <= 0:
         raise ValueError("wing loading must be positive")
-    loading_in_rule_units = ureg.Quantity(wing_loading, "Pa").to(wing_loading_unit).magnitude
-    height = ureg.Quantity(coefficient * math.sqrt(loading_in_rule_units), height_unit).to("m")
-    formula = float(height.magnitude)
-    required, bound = formula, None
-    if minimum is not None and required < minimum:
-        required, bound = minimum, "minimum"
-    if maximum is not None and required > maximum:
-        required, bound = maximum, "maximum"
+    formula = float(drop_height_formula(wing_loading, coefficient, wing_loading_unit,
+                                        height_unit))
+    required = float(bounded_drop_height(formula, minimum, maximum))
+    bound = (None if required == formula
+             else "minimum" if minimum is not None and required == minimum else "maximum")
     return DropHeight(formula, required, bound)
+
+
+def drop_height_formula(wing_loading, coefficient: float, wing_loading_unit: str,
+                        height_unit: str):
+    """h = coefficient·√(W/S) of 14 CFR 23.725(a) in m, W/S [Pa] a number or an array (the
+    formula's units converted by constant factors)."""
+    to_rule = ureg.Quantity(1.0, "Pa").to(wing_loading_unit).magnitude
+    to_metre = ureg.Quantity(1.0, height_unit).to("m").magnitude
+    return coefficient * np.sqrt(np.asarray(wing_loading) * to_rule) * to_metre
+
+
+def bounded_drop_height(height, minimum: float | None, maximum: float | None):
+    """The drop height after 23.725(a)'s bounds: not less than ``minimum``, and not more
+    than ``maximum`` since the height "need not" exceed it (numbers or arrays) [m]."""
+    if minimum is not None:
+        height = np.maximum(height, minimum)
+    if maximum is not None:
+        height = np.minimum(height, maximum)
+    return height
 
 
 def effective_weight(weight: float, drop_height: float, deflection: float,

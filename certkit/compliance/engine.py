@@ -15,12 +15,13 @@ from dataclasses import replace
 from certkit.compliance import clauses
 from certkit.compliance.assessment import (Assessment, BasisResult, GearResult, RunResult,
                                            is_planning)
-from certkit.compliance.criteria import evaluate
+from certkit.compliance.criteria import evaluate as evaluate_criteria
 from certkit.compliance.drop_conditions import drop_weight_share, lift_force_ratio, lift_ratio
 from certkit.compliance.measures import (SETTLING_BAND, TOUCHDOWN_SHARE, VELOCITY_WINDOW,
                                          GearMeasures, contact_velocity, drop_mass_load_factor,
                                          measure_gear)
 from certkit.compliance.quality import audit
+from certkit.compliance.verdict_uncertainty import budgets
 from certkit.display import SI_UNITS, number, with_unit
 from certkit.results import Value
 from certkit.spec import requirement_sets
@@ -480,9 +481,25 @@ def assess(campaign: Campaign) -> Assessment:
     Returns
     -------
     Assessment
-        Design values, per-run values, verdicts, data-quality findings and the
+        Design values, per-run values, verdicts (each with its measurement uncertainty and
+        its outcome under the campaign's decision rule), data-quality findings and the
         comparison of reported against recomputed values.
     """
+    assessment = evaluate(campaign)
+    found = budgets(assessment, evaluate)
+    assessment.uncertainty = found
+    assessment.verdicts = [replace(verdict, verdict=found.verdicts[verdict.id].outcome,
+                                   uncertainty=found.verdicts[verdict.id])
+                           if verdict.id in found.verdicts else verdict
+                           for verdict in assessment.verdicts]
+    audit(assessment)
+    return assessment
+
+
+def evaluate(campaign: Campaign) -> Assessment:
+    """The values and verdicts of a campaign, without the data-quality audit and the
+    uncertainties: the function every sensitivity of
+    :mod:`certkit.compliance.verdict_uncertainty` is a difference of."""
     design = _design_values(campaign)
     basis = []
     for entry in campaign.spec.certification_basis:
@@ -496,6 +513,5 @@ def assess(campaign: Campaign) -> Assessment:
         for gear in run.gears:
             mark_assumptions(gear)
     for item in basis:
-        assessment.verdicts.extend(evaluate(assessment, item))
-    audit(assessment)
+        assessment.verdicts.extend(evaluate_criteria(assessment, item))
     return assessment

@@ -144,7 +144,14 @@ def monte_carlo(f: Callable[[np.ndarray], np.ndarray], inputs: Sequence[Input],
         raise ValueError(f"trials must be ≥ 1, found {trials}")
     rng = np.random.default_rng(seed)
     draws = np.vstack([item.draws(rng, trials) for item in inputs])
-    values = np.sort(np.asarray(f(draws), dtype=float))
+    return summarise(np.asarray(f(draws), dtype=float), coverage)
+
+
+def summarise(values: np.ndarray, coverage: float = 0.95) -> MonteCarloResult:
+    """The estimate, standard uncertainty and probabilistically symmetric coverage interval
+    of the output values of a Monte Carlo propagation (JCGM 101 §7.6, §7.7)."""
+    values = np.sort(np.asarray(values, dtype=float))
+    trials = values.size
     # §7.7.1: the probabilistically symmetric interval [y_(r), y_(r+q)] of the sorted
     # values (1-based), q = pM (its integer part + 1/2 when pM is not an integer), r =
     # (M − q)/2 when M − q is even and (M − q + 1)/2 when it is odd
@@ -210,7 +217,7 @@ class Decision:
 
 def decide(value: float, expanded: float | None, k: float, lower: float | None = None,
            upper: float | None = None, rule: str = "simple", r: float = 1.0,
-           required: float = 0.95) -> Decision:
+           required: float = 0.95, conformance: float | None = None) -> Decision:
     """The statement of conformity of ``value`` (expanded uncertainty ``expanded`` at
     coverage factor ``k``, a normal PDF assumed for p_c) against the tolerance limits.
 
@@ -219,12 +226,14 @@ def decide(value: float, expanded: float | None, k: float, lower: float | None =
     non-binary statement (ILAC-G8 §4.2.3) is "pass" when the value is inside the acceptance
     limits, "conditional pass" inside the tolerance limits but within w of them,
     "conditional fail" outside by less than w, and "fail" beyond.  Under a required
-    conformance probability, PASS when p_c ≥ ``required``."""
+    conformance probability, PASS when p_c ≥ ``required``.  ``conformance`` replaces the
+    normal p_c (a Monte Carlo one, the share of the draws that conform)."""
     if rule not in RULES:
         raise ValueError(f"decision rule {rule!r} is not one of {', '.join(RULES)}")
     known = expanded is not None
     standard = expanded / k if known else 0.0
-    p = conformance_probability(value, standard, lower, upper) if known else None
+    p = (conformance if conformance is not None
+         else conformance_probability(value, standard, lower, upper) if known else None)
     w = r * expanded if (rule == "guarded" and known) else 0.0
     acceptance = (None if lower is None else lower + w, None if upper is None else upper - w)
     inside_tolerance = (lower is None or value >= lower) and (upper is None or value <= upper)

@@ -56,6 +56,10 @@ class AuditRow:
     message: str
     quantity: str = "ratio"   # physical kind of value, limit and margin (selects display unit)
     comparison: str = ""      # criterion: ≥ or ≤
+    uncertainty: float | None = None   # SI: the margin's expanded uncertainty U
+    conformance: float | None = None   # P(margin ≥ 0), JCGM 106
+    decision: str = ""        # the statement under the decision rule ("pass", "conditional
+                              # pass", ..., "not stated", "exact")
 
     @property
     def failed(self) -> bool:
@@ -77,7 +81,7 @@ def audit_rows(assessment: Assessment) -> list[AuditRow]:
                      "synthetic histories, not compliance evidence")] if assessment.planning else []
     rows += [AuditRow(v.id, "criterion", v.clause, v.title, v.run, v.gear, _number(v.value),
                      _number(v.limit), _number(v.margin), v.unit, v.verdict, v.reason, v.kind,
-                     v.comparison)
+                     v.comparison, *_uncertainty(v))
             for v in assessment.verdicts]
     rows += [AuditRow(f.id, "finding", f.check, f.check.replace("-", " "), f.run, f.gear, None,
                       None, None, "", f.severity, f.message)
@@ -87,6 +91,14 @@ def audit_rows(assessment: Assessment) -> list[AuditRow]:
                       None, "", "not run", u.reason)
              for u in assessment.unchecked]
     return rows
+
+
+def _uncertainty(verdict) -> tuple:
+    """(U, p_c, statement) of a verdict's margin (None, None, "" without a margin)."""
+    found = verdict.uncertainty
+    if found is None:
+        return None, None, ""
+    return _number(found.expanded), _number(found.conformance), found.statement
 
 
 def baseline_rows(changes) -> list[AuditRow]:
@@ -115,7 +127,7 @@ def to_json(rows: list[AuditRow]) -> str:
 
 
 COLUMNS = ("id", "kind", "clause", "title", "run", "gear", "value", "limit", "margin", "unit",
-           "outcome", "message")
+           "uncertainty", "conformance", "decision", "outcome", "message")
 
 
 def to_csv(rows: list[AuditRow]) -> str:

@@ -7,7 +7,9 @@ the data or certkit itself cannot silently move a certified number (the audit's
 archive's results recomputed from its inputs, ``certkit verify --recompute``).
 
 Every number is addressed by a stable path: ``design/<key>``, ``basis/<set>/<key>``,
-``runs/<run>/<key>``, ``runs/<run>/<gear>/<key>`` and ``verdicts/<id>/value|limit|margin``;
+``runs/<run>/<key>``, ``runs/<run>/<gear>/<key>``, ``verdicts/<id>/value|limit|margin`` and
+``verdicts/<id>/uncertainty/expanded|conformance`` (a changed uncertainty is a change as a
+changed value is; each value's ``standard_uncertainty`` is ``<path>#u``);
 verdicts and data-quality findings by their id.  A number drifts when it differs from
 the baseline's by more than the relative tolerance (of the baseline's magnitude); numbers,
 criteria and findings that appear or disappear, units, verdicts, finding severities and
@@ -44,6 +46,8 @@ def numbers(results: dict) -> dict[str, tuple[float | None, str]]:
     def take(prefix: str, values: list) -> None:
         for v in values:
             out[f"{prefix}/{v['key']}"] = (v.get("value"), v.get("unit", ""))
+            if v.get("standard_uncertainty") is not None:
+                out[f"{prefix}/{v['key']}#u"] = (v["standard_uncertainty"], v.get("unit", ""))
 
     take("design", results.get("design", []))
     for basis in results.get("requirement_sets", []):
@@ -56,6 +60,10 @@ def numbers(results: dict) -> dict[str, tuple[float | None, str]]:
         for field in ("value", "limit", "margin"):
             out[f"verdicts/{verdict['id']}/{field}"] = (verdict.get(field),
                                                        verdict.get("unit", ""))
+        found = verdict.get("uncertainty") or {}
+        for field, unit in (("expanded", verdict.get("unit", "")), ("conformance", "1")):
+            if found.get(field) is not None:
+                out[f"verdicts/{verdict['id']}/uncertainty/{field}"] = (found[field], unit)
     return out
 
 

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from certkit.compliance.assessment import Assessment
 from certkit.compliance.equations import EQUATIONS
+from certkit.compliance.verdict_uncertainty import SEED, value_key
 from certkit.evidence.provenance import provenance
 from certkit.results import RESULTS_FORMAT
 
@@ -54,9 +55,45 @@ def _gap_results(model, campaign) -> dict:
             "blind_check": blind, "sealed_blind_check": sealed}
 
 
+def _values(found, values: dict, scope: str, *where) -> list[dict]:
+    """Each value as a dict, with its standard uncertainty from the stated inputs (SI, the
+    value's unit) and the inputs it depends on whose uncertainty is not stated."""
+    out = []
+    for key, value in values.items():
+        item = value.as_dict()
+        if value.value is not None and found is not None:
+            u, missing = found.values.get(value_key(scope, *where, key), (None, ()))
+            item["standard_uncertainty"] = u
+            item["uncertainty_not_stated"] = list(missing)
+        out.append(item)
+    return out
+
+
+def uncertainty_document(found) -> dict | None:
+    """The decision rule, the Monte Carlo settings and every input of the budgets."""
+    if found is None:
+        return None
+    return {"decision_rule": found.rule, "guard_factor": found.guard_factor,
+            "required_probability": found.required, "coverage_probability": found.coverage,
+            "monte_carlo": {"trials": found.trials, "seed": SEED,
+                            "method": "JCGM 101:2008 §7, probabilistically symmetric "
+                                      "interval (§7.7); GUM validated per §8.2"},
+            "gum": "JCGM 100:2008 §5.1.2, sensitivities by ±u(x_i) through the engine "
+                   "(§5.1.3 note 2)",
+            "inputs": [{"key": s.key, "label": s.label, "stated": s.input is not None,
+                        "standard_uncertainty": None if s.input is None else s.input.standard,
+                        "unit": s.unit,
+                        "relative": s.relative, "distribution": None if s.input is None
+                        else s.input.distribution, "stated_as": s.stated_as,
+                        "basis": s.basis, "source": s.origin}
+                       for s in found.sources],
+            "not_stated_but_needed": [s.label for s in found.unstated]}
+
+
 def results_document(assessment: Assessment, record: dict, model=None) -> dict:
     """Every computed number with its SI unit, source and inputs."""
     spec = assessment.campaign.spec
+    found = assessment.uncertainty
     model_part = None
     if model is not None:
         from certkit.ident.protocol import identification_document
@@ -80,18 +117,19 @@ def results_document(assessment: Assessment, record: dict, model=None) -> dict:
         "outcome_reasons": assessment.outcome_reasons(),
         "counts": assessment.counts(),
         "finding_counts": assessment.finding_counts(),
-        "design": [v.as_dict() for v in assessment.design.values()],
+        "design": _values(found, assessment.design, "design"),
         "requirement_sets": [{"id": b.rules.id, "title": b.rules.title,
                               "edition": b.rules.edition, "stated_edition": b.entry.edition,
                               "status": b.rules.status, "status_note": b.rules.status_note,
-                              "values": [v.as_dict() for v in b.values.values()]}
+                              "values": _values(found, b.values, "basis", b.rules.id)}
                              for b in assessment.basis],
         "runs": [{"id": r.run.id, "test_type": r.run.test_type,
-                  "values": [v.as_dict() for v in r.values.values()],
+                  "values": _values(found, r.values, "run", r.run.id),
                   "gears": [{"gear": g.gear_id, "basis": g.basis,
-                             "values": [v.as_dict() for v in g.values.values()]}
+                             "values": _values(found, g.values, "gear", r.run.id, g.gear_id)}
                             for g in r.gears]} for r in assessment.runs],
         "verdicts": [v.as_dict() for v in assessment.verdicts],
+        "uncertainty": uncertainty_document(found),
         "findings": [f.as_dict() for f in assessment.findings],
         "not_checked": [u.as_dict() for u in assessment.unchecked],
         "comparisons": [c.as_dict() for c in assessment.comparisons],

@@ -17,7 +17,7 @@ from certkit.errors import CertkitInputError, Problem, key_path, shown
 from certkit.spec import requirement_sets
 from certkit.spec.blind_record import BlindCheckRecord, BlindRecordError, read_blind_check
 from certkit.spec.rundata import DATA_SUFFIXES, RunSeries, read_run
-from certkit.spec.schema import CampaignSpec, GearUnit
+from certkit.spec.schema import UNCERTAIN_CHANNELS, CampaignSpec, GearUnit
 from certkit.spec.yamlsource import LineMap, line_of, load_yaml
 
 #: Wing loadings above this are typing errors (the heaviest airliners are near 9 kPa).
@@ -130,11 +130,23 @@ def _misspelt_keys(items: list[tuple[tuple, dict]], lines: LineMap) -> dict[tupl
     return likely
 
 
+def _without_tags(location: tuple) -> tuple:
+    """``location`` without the tag pydantic puts after the index of a discriminated union's
+    item (uncertainty.channels[i].<channel>), which is no key of the file."""
+    for index in range(2, len(location) - 1):
+        if (location[index - 2:index] == ("uncertainty", "channels")
+                and isinstance(location[index], int)
+                and location[index + 1] in UNCERTAIN_CHANNELS):
+            return location[:index + 1] + location[index + 2:]
+    return location
+
+
 def _validation_problems(error: ValidationError, display: str, lines: LineMap) -> list[Problem]:
     """One problem per validation error, at the line of its key.  A misspelt key gives one
     problem at its own line naming the likely key, not a second one for that key missing."""
-    items = [(tuple(part for part in item["loc"]
-                    if not (isinstance(part, str) and part.startswith("function-"))), item)
+    items = [(_without_tags(tuple(part for part in item["loc"]
+                                  if not (isinstance(part, str)
+                                          and part.startswith("function-")))), item)
              for item in error.errors()]
     likely = _misspelt_keys(items, lines)
     meant = {location[:-1] + (key,) for location, key in likely.items()}
@@ -201,6 +213,21 @@ def _cross_references(spec: CampaignSpec, display: str, lines: LineMap) -> list[
             if run_id not in run_ids:
                 add(location + (position,),
                     f"unknown run {run_id!r}; declared: {', '.join(run_ids)}")
+    stated: dict[tuple, int] = {}
+    for index, item in enumerate(spec.uncertainty.channels if spec.uncertainty else []):
+        for position, gear_id in enumerate(item.gear_units or []):
+            if gear_id not in gear_ids:
+                add(("uncertainty", "channels", index, "gear_units", position),
+                    f"unknown gear unit {gear_id!r}; declared: {', '.join(gear_ids)}")
+        for gear_id in (item.gear_units or (gear_ids if item.gear_units is None
+                                            and item.channel != "drop_mass_acceleration"
+                                            else [None])):
+            key = (item.channel, gear_id)
+            if key in stated:
+                add(("uncertainty", "channels", index, "channel"),
+                    f"the {item.channel} channel{f' of {gear_id}' if gear_id else ''} already "
+                    f"has its uncertainty in uncertainty.channels[{stated[key]}]")
+            stated.setdefault(key, index)
     reference = spec.reference_results
     if reference is not None and reference.gear is not None and reference.gear not in gear_ids:
         add(("reference_results", "gear"),
