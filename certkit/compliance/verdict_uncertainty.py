@@ -649,21 +649,21 @@ def _decided(verdict: Verdict, u_gum: float | None, mc: _Draws | None, budget, m
         gum_low, gum_high = margin - k_normal * u_gum, margin + k_normal * u_gum
         ok = abs(gum_low - low_high[0]) <= delta and abs(gum_high - low_high[1]) <= delta
         if ok:
-            why = (f"validated by Monte Carlo ({result.trials} draws, JCGM 101 §8.2: interval "
-                   f"ends within δ = {delta:.2g})")
+            why = ("the GUM interval is validated by the Monte Carlo one (JCGM 101 §8.2: both "
+                   "ends agree within δ)")
         else:
             method, standard = "Monte Carlo", result.standard
             expanded = 0.5 * (low_high[1] - low_high[0])
             k = expanded / standard if standard > 0 else None
             conformance = float(np.mean(mc.margins >= 0.0))
-            why = (f"the GUM interval is not validated by Monte Carlo (JCGM 101 §8.2: an end "
-                   f"differs by more than δ = {delta:.2g}), so the Monte Carlo one is used")
+            why = ("the GUM interval is not validated by the Monte Carlo one (JCGM 101 §8.2: "
+                   "an end differs by more than δ), so the Monte Carlo one is used")
     else:
         why = f"GUM only, not validated: {mc.why if mc is not None else 'no Monte Carlo run'}"
     if missing:
         # a stated part only: no conformance probability, the rule cannot be applied
         return VerdictUncertainty(margin, standard, expanded, k, coverage, method,
-                                  why + "; incomplete: " + ", ".join(missing) + " not stated",
+                                  why,
                                   u_gum, low_high, ok, delta, None, found.rule, simple,
                                   "incomplete uncertainty", simple, None, budget, missing)
     if simple == NOT_SHOWN:

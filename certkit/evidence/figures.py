@@ -12,7 +12,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from certkit.display import number, with_unit  # noqa: E402
+from certkit.display import number, pretty, to_display, unit_of, with_unit  # noqa: E402
 from certkit.gap.phases import PHASES
 from certkit.spec.rundata import CHANNEL_LABELS  # noqa: E402
 from certkit.units import convert  # noqa: E402
@@ -487,4 +487,39 @@ def blind_curve(points, target_top1: float | None, target_shrink: float | None,
                  else "The record sets no target for these two measures.")
         return {"title": "Blind check: what the diagnosis gets right against effect size",
                 "caption": "Single-effect cases at each size. " + lines[:1].upper() + lines[1:],
+                "svg": _to_svg(figure)}
+
+
+def conformance_figure(items: list, units, rule: str) -> dict:
+    """The verdicts nearest their limits: each margin's Monte Carlo distribution against the
+    limit (a zero margin) and the acceptance zone (margin ≥ the guard band w).
+
+    ``items``: (verdict id, sorted margin draws [SI], acceptance limit w [SI], kind)."""
+    with _style():
+        figure, axes_row = plt.subplots(1, len(items), figsize=(_WIDTH, _HEIGHT * 0.8),
+                                        squeeze=False)
+        for axes, (verdict_id, draws, acceptance, kind) in zip(axes_row[0], items):
+            unit = pretty(unit_of(kind, units) or "")
+            scale = to_display(1.0, kind, units) if unit_of(kind, units) else 1.0
+            shown = np.asarray(draws) * scale
+            low = min(float(shown.min()), 0.0)
+            high = max(float(shown.max()), acceptance * scale)
+            pad = 0.05 * (high - low or 1.0)
+            axes.axvspan(acceptance * scale, high + pad, color="#d9ead3", zorder=0)
+            axes.hist(shown, bins=40, color="#4a6fa5", zorder=1)
+            axes.axvline(0.0, color="black", linewidth=1.0)
+            if acceptance:
+                axes.axvline(acceptance * scale, color="black", linestyle="--", linewidth=0.8)
+            axes.set_xlim(low - pad, high + pad)
+            axes.set_yticks([])
+            axes.set_xlabel(f"margin [{unit}]" if unit else "margin")
+            axes.set_title(verdict_id, fontsize=6.5)
+        figure.tight_layout()
+        return {"title": "The verdicts nearest their limits: the distribution of each margin",
+                "caption": (f"Monte Carlo draws of each margin (value against limit, positive "
+                            f"when the criterion holds) for the verdicts with the smallest "
+                            f"margin in units of U. Solid line: the limit (margin 0); shaded: "
+                            f"the acceptance zone under {rule}"
+                            + (", from the guard band (dashed)" if any(i[2] for i in items)
+                               else "") + "."),
                 "svg": _to_svg(figure)}

@@ -160,6 +160,7 @@ class ReportView:
     load_factor_columns: dict[str, bool]
     runs: list[dict]
     verdicts: list[dict]
+    uncertainty: dict | None        # the rule, inputs, budgets and figure (uncertainty_view)
     findings: list[dict]
     comparisons: list[dict]
     not_checked: list[dict]

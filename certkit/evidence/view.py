@@ -18,6 +18,7 @@ from certkit.evidence.limits import assumed_mark, cover_reasons, results_assumpt
 from certkit.evidence.model_view import identification_view, model_view, origins
 from certkit.evidence.sections import (AircraftSection, CampaignSection, DocumentSection,
                                        InstrumentationSection, ReportView)
+from certkit.evidence.uncertainty_view import uncertainty_view, verdict_cells
 from certkit.physics.drops import drop_heights
 from certkit.results import PASS, Value
 from certkit.version import VERSION
@@ -118,6 +119,7 @@ def build_view(assessment: Assessment, record: dict, model=None) -> ReportView:
         "load_factor_columns": {column: any(r[column] not in ("", "—") for r in load_factors)
                                 for column in ("stated", "combined", "n_j", "n", "n_energy")},
         "runs": runs, "verdicts": verdicts, "findings": findings, "comparisons": comparisons,
+        "uncertainty": uncertainty_view(assessment, units),
         "not_checked": [{"check": u.check, "where": u.where or "the campaign",
                          "reason": u.reason} for u in assessment.unchecked],
         "equations": sorted(EQUATIONS.items()), "gravity_note": GRAVITY_NOTE,
@@ -183,6 +185,7 @@ SECTIONS = (
     ("matrix", "Test matrix"),
     ("results", "Results per run"),
     ("compliance", "Compliance findings"),
+    ("uncertainty", "Measurement uncertainty and decision rule"),
     ("data-quality", "Data-quality findings"),
     ("run-details", "Run details and derivations"),
     ("methods", "Methods: certkit equations"),
@@ -197,6 +200,11 @@ APPENDICES = (
     ("gap", "Sim-to-real gap: where the model disagrees, which effect explains it, how far "
             "it shrinks"))
 PLANNING_VERDICTS = "Predicted verdicts (planning on synthetic data: not compliance findings)"
+
+
+def section_number(anchor: str) -> int:
+    """The number of a body section (its place in :data:`SECTIONS`)."""
+    return [name for name, _ in SECTIONS].index(anchor) + 1
 
 
 def _headings(planning: bool, appendices: bool = True) -> dict[str, str]:
@@ -437,7 +445,7 @@ def _verdict_rows(assessment: Assessment, units) -> list[dict]:
             "margin": margin(verdict.margin, verdict.limit, kind, units),
             "verdict": verdict.verdict,
             "css": verdict.verdict.replace(" ", "-").lower(), "reason": verdict.reason,
-            "to_confirm": verdict.to_confirm})
+            "to_confirm": verdict.to_confirm, **verdict_cells(verdict, units)})
     return verdicts
 
 
@@ -530,6 +538,9 @@ def _conclusions(assessment: Assessment, setup: list, gear_rows: list,
     unstated += [f"calibration of channel {c.name}" for c in
                  (instrumentation.channels if instrumentation else []) if c.calibration_date is None]
     unstated += [f"{s['role']} sign-off" for s in signatories if s["name"] == NOT_STATED]
+    found = assessment.uncertainty
+    unstated += [f"measurement uncertainty of the {source.label} (a verdict depends on it)"
+                 for source in (found.unstated if found is not None else [])]
     planning = assessment.planning
     return {
         "outcome": assessment.outcome,
@@ -540,7 +551,8 @@ def _conclusions(assessment: Assessment, setup: list, gear_rows: list,
                   for (clause, title), scopes in shown.items()],
         "not_shown": not_shown,
         "findings": (f"{counts['error']} data-quality error(s), {counts['warning']} "
-                     f"warning(s) and {counts['info']} info finding(s) (section 7)"),
+                     f"warning(s) and {counts['info']} info finding(s) (section "
+                     f"{section_number('data-quality')})"),
         "errors": errors,
         "unstated": unstated}
 
