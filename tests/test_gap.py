@@ -245,8 +245,8 @@ def test_the_gap_section_lays_out_the_diagnosis(diagnosed, with_hysteresis):
     # an appendix after the body, which ends with the references
     section = html[html.index('<section id="gap" class="appendix">'):]
     assert html.index('<section id="references">') < html.index('<section id="model"')
-    assert "Appendix C. Sim-to-real gap" in section and "9. Methods" in html
-    assert "11. Provenance" in html
+    assert "Appendix C. Sim-to-real gap" in section and "10. Methods" in html
+    assert "12. Provenance" in html
     assert "This appendix is not compliance evidence" in section
     assert diagnosed.diagnosis.statement in section
     assert "right-main: not diagnosed. Example note." in section

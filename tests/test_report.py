@@ -180,7 +180,7 @@ def test_model_section_is_reproducible_and_says_the_data_are_synthetic(full_repo
     # the gap appendix: both gears diagnosed on the default split, after the body and the
     # other appendices
     assert "Appendix C. Sim-to-real gap" in html and html.count('class="gap-gear"') == 2
-    assert html.index("9. Methods") < html.index("11. Provenance") \
+    assert html.index("10. Methods") < html.index("12. Provenance") \
         < html.index("Appendix B. Identification") < html.index("Appendix C. Sim-to-real gap")
     # the example names its blind-check record, made from this very spec
     assert "has not been recorded for this campaign" not in html

@@ -138,7 +138,7 @@ def test_contents_conclusions_and_references(timeseries_campaign):
     contents = re.findall(r'<li><a href="#([a-z-]+)">(\d+)\. ', html)
     # every numbered section of the body in order, each anchor present, each heading where
     # it points; this report was made without the drop model: no appendix, one line
-    assert [int(n) for _, n in contents] == list(range(1, 13))
+    assert [int(n) for _, n in contents] == list(range(1, 14))
     for anchor, n in contents:
         assert re.search(rf'<(section|nav) id="{anchor}"[^>]*>\s*<h2>{n}\. ', html), anchor
     assert "Appendix" not in html

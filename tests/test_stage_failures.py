@@ -62,7 +62,7 @@ def test_the_report_is_written_with_each_failure_in_its_appendix(failing, tmp_pa
     render_report(assessment, tmp_path / "out", model=stages.model_evidence(failing))
     html = unescape((tmp_path / "out" / "report.html").read_text(encoding="utf-8"))
     # the body, whole
-    for heading in ("5. Results per run", "6. Compliance findings", "10. Conclusions"):
+    for heading in ("5. Results per run", "6. Compliance findings", "7. Measurement uncertainty and decision rule", "11. Conclusions"):
         assert heading in html
     # each appendix states what was not computed, for which unit, why and what to change
     for anchor in ("model", "identification", "gap"):

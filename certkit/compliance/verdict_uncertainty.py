@@ -1,14 +1,8 @@
 """The measurement uncertainty of every verdict and measured value, and the statement of
 conformity under the campaign's decision rule.
 
-Inputs (:func:`sources`).  Each stated uncertainty of the spec's ``uncertainty`` block is an
-input quantity whose estimate is zero: the error of a channel's gain ε (a share: the
-recorded r = (1 + ε)·q + o for the quantity q) and of its zero o, per gear unit, the same
-in every run (one instrument, one calibration: a systematic error, so it is correlated
-between runs by construction); the error of the drop height and of the drop mass of each
-run (set and weighed per drop: independent between runs); the error of each gear unit's
-static weight; the error of the wing area.  An input the spec leaves out is "not stated":
-it is probed (a small error put in and taken out) only to find which verdicts depend on it.
+Inputs: :mod:`certkit.compliance.uncertainty_inputs` (each stated uncertainty an error with
+estimate zero; an input the spec leaves out is probed only to find what depends on it).
 
 Propagation through the engine (:func:`budgets`).  Each input is moved by ±u(x_i) and the
 whole assessment recomputed by the engine itself (``evaluate``, the function that makes the
@@ -18,10 +12,8 @@ recorded signals: the sensitivity c_i = [f(x_i + u_i) − f(x_i − u_i)]/(2·u_
 construction: one input that feeds several measures, such as a load-cell gain, is the same
 input in each of them).
 
-Monte Carlo (:func:`monte_carlo_margins`, JCGM 101:2008 §7).  10⁵ draws of every stated input;
-each verdict's margin recomputed for all draws at once by :mod:`certkit.compliance.clauses`
-on the corrected channel extremes (a maximum of (r − o)/(1 + ε) is (max r − o)/(1 + ε); the
-maximum total travel is taken over every sample near its nominal peak).  That vectorised
+Monte Carlo (JCGM 101:2008 §7).  10⁵ draws of every stated input; each verdict's margin
+recomputed for all draws at once by :mod:`certkit.compliance.margin_draws`.  That vectorised
 model is checked against the engine on the first draws (:data:`ENGINE_CHECKS`); a verdict
 whose model disagrees is propagated by the GUM alone and says so.  The GUM result is used
 where the Monte Carlo one validates it (JCGM 101 §8.2, :func:`validated`), the Monte Carlo
@@ -38,229 +30,30 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from statistics import NormalDist
 
 import numpy as np
 
-from certkit.compliance import clauses
 from certkit.compliance.assessment import Assessment
-from certkit.compliance.uncertainty import (Input, MonteCarloResult, conformance_probability,
-                                            decide, summarise, tolerance)
-from certkit.results import EQUALITY_TOLERANCE, FAIL, NOT_SHOWN, PASS, Verdict
+from certkit.compliance.margin_draws import margin_draws
+from certkit.compliance.uncertainty import (MonteCarloResult, conformance_probability, decide,
+                                            summarise, tolerance)
+from certkit.compliance.uncertainty_inputs import Source, perturbed, sources
+from certkit.results import EQUALITY_TOLERANCE, NOT_SHOWN, Verdict
 from certkit.spec.campaign import Campaign
-from certkit.spec.schema import UncertaintySpec
-from certkit.units import STANDARD_GRAVITY, SpecQuantity
+from certkit.spec.uncertainty import UncertaintySpec
 
-#: Monte Carlo trials per verdict (JCGM 101 §7.2: 10⁶ is often enough for a 95 % interval
-#: to two significant digits; 10⁵ with the adaptive check of §7.9 not run: the validation
-#: of §8 compares intervals to two significant digits of u, which 10⁵ draws resolve for
-#: the margins here; the report states the number).
+#: Monte Carlo trials per verdict.  With 10⁵ draws an end of a 95 % interval of a near-normal
+#: margin scatters by about 0.01·u (the adaptive procedure of JCGM 101 §7.9 is not run), as
+#: much as the tolerance δ of §8.2 at two significant digits: a GUM result is used only when
+#: both ends agree within δ, the Monte Carlo one otherwise.
 TRIALS = 100_000
 SEED = 20_080_901            # JCGM 101's year and month: any fixed seed makes it reproducible
 #: Draws on which the vectorised model is checked against the engine, and the agreement
 #: required (relative to the margin's scale: its magnitude plus its standard uncertainty).
 ENGINE_CHECKS = 4
 ENGINE_AGREEMENT = 1e-6
-#: Share of an unstated input's probe (gain: this share; zero: this share of the channel's
-#: largest reading; a scalar: this share of its value) to find what depends on it.
-PROBE = 1e-3
-#: Travel samples within this share of the nominal peak are searched for the perturbed
-#: maximum of δ + s·cos θ (an error of the channels' gains or zeros above 5 % would be
-#: needed to lift a sample from outside the band).
-TRAVEL_BAND = 0.05
-
-CHANNEL_WORDS = {"vertical_load": "vertical load", "strut_stroke": "strut stroke",
-                 "tyre_deflection": "tyre deflection",
-                 "drop_mass_acceleration": "drop-mass acceleration"}
-_SERIES = {"vertical_load": "load", "strut_stroke": "stroke", "tyre_deflection": "tyre"}
-INPUT_WORDS = {"drop_height": "drop height", "drop_mass": "drop mass",
-               "static_weight": "static weight", "wing_area": "wing area"}
-_INPUT_KINDS = {"drop_height": "length", "drop_mass": "mass", "static_weight": "force",
-                "wing_area": "area"}
-#: The SI unit of an input's spread, by its display kind.
-SI_UNIT = {"length": "m", "force": "N", "mass": "kg", "area": "m^2", "acceleration": "m/s^2",
-           "ratio": "1"}
-_CHANNEL_KINDS = {"vertical_load": "force", "strut_stroke": "length",
-                  "tyre_deflection": "length", "drop_mass_acceleration": "acceleration"}
-
-
-# --------------------------------------------------------------------------- inputs
-@dataclass(frozen=True)
-class Source:
-    """One input quantity of the budgets (estimate 0: an error)."""
-
-    key: str               # "vertical_load gain [left-main]", "drop_height [D300]"
-    label: str             # in words, for the report
-    target: tuple          # ("channel", channel, gear | None, "gain" | "offset") or
-                           # ("input", name, run or gear id | None)
-    relative: bool         # a share of the quantity (gain, or a scalar stated in %)
-    kind: str              # display kind of the spread ("ratio" for a share)
-    input: Input | None    # None: not stated (probed only)
-    probe: float           # the step of a probe (stated: u; not stated: a small error)
-    basis: str = ""        # certificate | assumed
-    origin: str = ""       # the certificate's reference, or what the assumption rests on
-    stated_as: str = ""    # "U = 0.5 % (k = 2, normal)" as typed
-
-    @property
-    def unit(self) -> str:
-        """The SI unit of the input's spread ("1" for a share)."""
-        return SI_UNIT[self.kind]
-
-
-def _stated_as(part) -> str:
-    if part.distribution == "normal":
-        return f"U = {part.expanded.text} (k = {part.k.text}, normal)"
-    return f"± {part.half_width.text} ({part.distribution})"
-
-
-def _input_of(name: str, part) -> Input:
-    spread = part.spread.si
-    if part.distribution == "normal":
-        return Input.expanded(name, 0.0, spread, part.k.si)
-    return Input(name, 0.0, part.distribution, spread)
-
-
-def sources(campaign: Campaign) -> list[Source]:
-    """Every input quantity the campaign's verdicts can depend on, stated or not, in a fixed
-    order: channels per gear unit (gain, then zero), the drop-mass acceleration, then the
-    drop height and drop mass per run, the static weight per unit and the wing area."""
-    spec = campaign.spec
-    stated = spec.uncertainty or UncertaintySpec()
-    by_channel: dict[tuple, object] = {}
-    for item in stated.channels:
-        gears = ([None] if item.channel == "drop_mass_acceleration"
-                 else item.gear_units or [g.id for g in spec.gear_units])
-        for gear in gears:
-            by_channel[(item.channel, gear)] = item
-    peaks = _channel_peaks(campaign)
-    out = []
-    channels = [(c, g.id) for g in spec.gear_units for c in _SERIES]
-    if peaks.get(("drop_mass_acceleration", None)) is not None:
-        channels.append(("drop_mass_acceleration", None))
-    for channel, gear in channels:
-        if peaks.get((channel, gear)) is None:
-            continue                       # never recorded: nothing depends on it
-        item = by_channel.get((channel, gear))
-        where = f" [{gear}]" if gear else ""
-        for part in ("gain", "offset"):
-            given = getattr(item, part) if item is not None else None
-            key = f"{channel} {part}{where}"
-            label = (f"{CHANNEL_WORDS[channel]}{f' of {gear}' if gear else ''}: "
-                     f"{'gain' if part == 'gain' else 'zero'}")
-            probe = PROBE if part == "gain" else PROBE * peaks[(channel, gear)]
-            kind = "ratio" if part == "gain" else _CHANNEL_KINDS[channel]
-            if given is None:
-                out.append(Source(key, label, ("channel", channel, gear, part),
-                                  part == "gain", kind, None, probe))
-            else:
-                value = _input_of(key, given)
-                out.append(Source(key, label, ("channel", channel, gear, part), part == "gain",
-                                  kind, value, value.standard, item.basis, item.source,
-                                  _stated_as(given)))
-    scalars = ([("drop_height", run.id) for run in spec.runs]
-               + [("drop_mass", run.id) for run in spec.runs]
-               + [("static_weight", g.id) for g in spec.gear_units] + [("wing_area", None)])
-    for name, owner in scalars:
-        given = getattr(stated.inputs, name)
-        where = f" [{owner}]" if owner else ""
-        label = f"{INPUT_WORDS[name]}{f' of {owner}' if owner else ''}"
-        nominal = _scalar(spec, name, owner).si
-        if given is None:
-            out.append(Source(f"{name}{where}", label, ("input", name, owner), True, "ratio",
-                              None, PROBE))
-            continue
-        relative = given.spread.unit == "1"
-        value = _input_of(f"{name}{where}", given)
-        out.append(Source(f"{name}{where}", label, ("input", name, owner), relative,
-                          "ratio" if relative else _INPUT_KINDS[name], value,
-                          value.standard if value.standard > 0 else PROBE * (1 if relative
-                                                                              else nominal),
-                          given.basis, given.source, _stated_as(given)))
-    return out
-
-
-def _channel_peaks(campaign: Campaign) -> dict[tuple, float]:
-    """(channel, gear) -> the largest magnitude recorded in any run (the size of a probe)."""
-    peaks: dict[tuple, float] = {}
-    for series in campaign.series.values():
-        if series is None:
-            continue
-        for gear, channels in series.gears.items():
-            for channel, attribute in _SERIES.items():
-                values = getattr(channels, attribute)
-                if values is not None:
-                    peak = float(np.max(np.abs(values)))
-                    peaks[(channel, gear)] = max(peaks.get((channel, gear), 0.0), peak)
-        if series.acceleration is not None:
-            key = ("drop_mass_acceleration", None)
-            peaks[key] = max(peaks.get(key, 0.0), float(np.max(np.abs(series.acceleration))))
-    return peaks
-
-
-def _scalar(spec, name: str, owner: str | None) -> SpecQuantity:
-    if name in ("drop_height", "drop_mass"):
-        run = next(run for run in spec.runs if run.id == owner)
-        return getattr(run, name)
-    if name == "static_weight":
-        return next(g for g in spec.gear_units if g.id == owner).static_weight
-    return spec.aircraft.wing_area
-
-
-# --------------------------------------------------------------------------- perturbed campaign
-def perturbed(campaign: Campaign, changes: dict[int, float], items: list[Source]) -> Campaign:
-    """``campaign`` with the errors ``changes`` (index into ``items`` -> the error's value)
-    taken out of its inputs: a channel's recorded r becomes (r − o)/(1 + ε); a scalar x
-    becomes x − e (or x·(1 − e) for a share).  Only the SI magnitudes change: the typed text,
-    and so every stated resolution, stays."""
-    spec = campaign.spec
-    gains: dict[tuple, float] = {}
-    offsets: dict[tuple, float] = {}
-    scalars: dict[tuple, tuple[float, bool]] = {}
-    for index, error in changes.items():
-        item = items[index]
-        if item.target[0] == "channel":
-            _, channel, gear, part = item.target
-            (gains if part == "gain" else offsets)[(channel, gear)] = error
-        else:
-            scalars[item.target[1:]] = (error, item.relative)
-
-    def corrected(values, channel, gear):
-        if values is None:
-            return None
-        gain, offset = gains.get((channel, gear), 0.0), offsets.get((channel, gear), 0.0)
-        if gain == 0.0 and offset == 0.0:
-            return values
-        return (values - offset) / (1.0 + gain)
-
-    def moved(quantity: SpecQuantity, name: str, owner) -> SpecQuantity:
-        if (name, owner) not in scalars:
-            return quantity
-        error, relative = scalars[(name, owner)]
-        si = quantity.si * (1.0 - error) if relative else quantity.si - error
-        return replace(quantity, si=si)
-
-    series = {}
-    for run_id, run_series in campaign.series.items():
-        if run_series is None:
-            series[run_id] = None
-            continue
-        gears = {gear: type(channels)(**{attribute: corrected(getattr(channels, attribute),
-                                                               channel, gear)
-                                         for channel, attribute in _SERIES.items()})
-                 for gear, channels in run_series.gears.items()}
-        series[run_id] = replace(run_series, gears=gears, acceleration=corrected(
-            run_series.acceleration, "drop_mass_acceleration", None))
-    runs = [run.model_copy(update={"drop_height": moved(run.drop_height, "drop_height", run.id),
-                                   "drop_mass": moved(run.drop_mass, "drop_mass", run.id)})
-            for run in spec.runs]
-    units = [unit.model_copy(update={"static_weight": moved(unit.static_weight,
-                                                             "static_weight", unit.id)})
-             for unit in spec.gear_units]
-    aircraft = spec.aircraft.model_copy(
-        update={"wing_area": moved(spec.aircraft.wing_area, "wing_area", None)})
-    new_spec = spec.model_copy(update={"runs": runs, "gear_units": units, "aircraft": aircraft})
-    return replace(campaign, spec=new_spec, series=series)
 
 
 # --------------------------------------------------------------------------- results
@@ -372,167 +165,6 @@ def _slopes(evaluate, campaign, items, read) -> tuple[dict, dict]:
     return slopes
 
 
-# --------------------------------------------------------------------------- Monte Carlo
-def _channel_draws(items, draws) -> tuple[dict, dict]:
-    gains, offsets = {}, {}
-    for index, item in enumerate(items):
-        if item.target[0] == "channel" and item.input is not None:
-            _, channel, gear, part = item.target
-            (gains if part == "gain" else offsets)[(channel, gear)] = draws[index]
-    return gains, offsets
-
-
-def _scalar_draws(campaign, items, draws) -> dict:
-    """(name, owner) -> the drawn SI values of each stated scalar input (nominal if not)."""
-    out = {}
-    for index, item in enumerate(items):
-        if item.target[0] != "input":
-            continue
-        nominal = _scalar(campaign.spec, *item.target[1:]).si
-        if item.input is None:
-            out[item.target[1:]] = nominal
-        else:
-            error = draws[index]
-            out[item.target[1:]] = nominal * (1.0 - error) if item.relative else nominal - error
-    return out
-
-
-def _extreme(values: np.ndarray, start: int, channel, gear, gains, offsets, trials):
-    """max over samples from ``start`` of (r − o)/(1 + ε), for every draw."""
-    peak = float(np.max(values[start:]))
-    gain = gains.get((channel, gear), 0.0)
-    offset = offsets.get((channel, gear), 0.0)
-    return np.broadcast_to((peak - offset) / (1.0 + gain), (trials,))
-
-
-def _travel(tyre, stroke, cos_theta, start, gear, gains, offsets, trials):
-    """max over time of δ + s·cos θ on the corrected channels, for every draw."""
-    travel = tyre[start:] + stroke[start:] * cos_theta
-    peak = float(np.max(travel))
-    near = np.flatnonzero(travel >= peak - TRAVEL_BAND * max(abs(peak), 1e-12)) + start
-    g_t = np.asarray(gains.get(("tyre_deflection", gear), 0.0))
-    o_t = np.asarray(offsets.get(("tyre_deflection", gear), 0.0))
-    g_s = np.asarray(gains.get(("strut_stroke", gear), 0.0))
-    o_s = np.asarray(offsets.get(("strut_stroke", gear), 0.0))
-    best = np.full(trials, -np.inf)
-    for index in near:
-        sample = ((tyre[index] - o_t) / (1.0 + g_t)
-                  + (stroke[index] - o_s) / (1.0 + g_s) * cos_theta)
-        best = np.maximum(best, sample)
-    return best
-
-
-def _start(time: np.ndarray, touchdown: float | None) -> int:
-    """measure_gear's first sample: the one before touchdown (0 without a touchdown)."""
-    if touchdown is None:
-        return 0
-    return max(int(np.searchsorted(time, touchdown)) - 1, 0)
-
-
-def _verdict_draws(assessment: Assessment, verdict: Verdict, check: str, items, draws,
-                   trials: int) -> np.ndarray | None:
-    """The verdict's margin for every draw, by the clauses on the corrected extremes; None
-    for a verdict the vectorised model does not cover (its uncertainty then comes from the
-    GUM alone)."""
-    campaign = assessment.campaign
-    spec = campaign.spec
-    gains, offsets = _channel_draws(items, draws)
-    scalars = _scalar_draws(campaign, items, draws)
-    run = next((r for r in assessment.runs if r.run.id == verdict.run), None)
-    if run is None or verdict.margin is None:
-        return None
-    h = np.broadcast_to(scalars[("drop_height", run.run.id)], (trials,))
-    area = scalars[("wing_area", None)]
-    basis = next(b for b in assessment.basis if b.rules.id == verdict.requirement_set)
-    rules = basis.rules
-
-    def required(factor_key):
-        formula_units = rules.parameters["drop_height_formula_units"]
-        loading = spec.aircraft.maximum_weight.si / np.asarray(area)
-        height = clauses.drop_height_formula(loading, rules.number("drop_height_coefficient"),
-                                             formula_units["wing_loading"],
-                                             formula_units["height"])
-        bounded = clauses.bounded_drop_height(height, rules.length("drop_height_minimum"),
-                                              rules.length("drop_height_maximum"))
-        return bounded * (1.0 if factor_key is None else rules.number(factor_key))
-
-    if check in ("limit_drop_height", "reserve_drop_height", "dynamic_drop_height"):
-        if check == "dynamic_drop_height" and verdict.reason != "option (1): 2.25·h_req":
-            return None
-        factor = {"limit_drop_height": None, "reserve_drop_height": "reserve_height_factor",
-                  "dynamic_drop_height": "dynamic_height_factor"}[check]
-        return h - required(factor)
-    gear = next((g for g in run.gears if g.gear_id == verdict.gear), None)
-    if gear is None:
-        return None
-    unit = campaign.gear_units[gear.gear_id]
-    strut = unit.strut
-    cos_theta = math.cos(strut.inclination.si if strut and strut.inclination else 0.0)
-    recorded = run.series is not None and gear.gear_id in run.series.gears
-    channels = run.series.gears[gear.gear_id] if recorded else None
-    start = _start(run.series.time, gear.get("t0")) if recorded else 0
-    weight = scalars[("static_weight", gear.gear_id)]
-    mass = scalars[("drop_mass", run.run.id)]
-    w_drop = mass * STANDARD_GRAVITY
-    if len(run.run.gear_units) > 1:
-        w_drop = weight * w_drop / spec.aircraft.maximum_weight.si
-    w_drop = np.broadcast_to(w_drop, (trials,))
-
-    def measured(key, channel):
-        """A gear's extreme from its corrected channel, or the value reported (exact)."""
-        if not recorded:
-            value = gear.get(key)
-            return None if value is None else np.full(trials, value)
-        values = getattr(channels, _SERIES[channel])
-        if values is None:
-            return None
-        return _extreme(values, start, channel, gear.gear_id, gains, offsets, trials)
-
-    def travel():
-        if not recorded:
-            return None if gear.get("d") is None else np.full(trials, gear.get("d"))
-        if channels.stroke is None or channels.tyre is None:
-            return None
-        return _travel(channels.tyre, channels.stroke, cos_theta, start, gear.gear_id, gains,
-                       offsets, trials)
-
-    if check in ("effective_weight", "reserve_effective_weight"):
-        if verdict.unit != "N":             # the lift-ratio line of the check: no measurement
-            return None
-        method = run.run.lift.method
-        if method != "reduced_mass":
-            w_e = np.broadcast_to(weight, (trials,))
-        else:
-            d = travel()
-            if d is None:
-                return None
-            w_e = (clauses.reserve_effective_weight(weight, h, d) if check ==
-                   "reserve_effective_weight" and run.run.test_type == "reserve"
-                   else clauses.effective_weight(weight, h, d, run.get("L")))
-        return w_drop - w_e
-    if check == "inertia_load_factor":
-        if run.series is None or run.series.acceleration is None:
-            return None
-        touchdowns = [g.get("t0") for g in run.gears if g.get("t0") is not None]
-        after = run.series.time >= min(touchdowns)
-        a_peak = _extreme(run.series.acceleration[after], 0, "drop_mass_acceleration", None,
-                          gains, offsets, trials)
-        n_j = clauses.drop_test_load_factor(a_peak, run.series.acceleration_reference)
-        lift = 0.0 if run.run.lift.method == "lift_device" else run.get("L")
-        n = clauses.inertia_load_factor(n_j, w_drop, weight, lift)
-        return verdict.limit - n
-    if check == "energy_method_load_factor":
-        d_t, d_s = measured("d_t", "tyre_deflection"), measured("d_s", "strut_stroke")
-        if d_t is None or d_s is None:
-            return None
-        lift = rules.number("energy_method_wing_lift_ratio")
-        n_j = clauses.energy_method_load_factor(h, d_t, d_s * cos_theta, lift,
-                                                rules.number("tyre_efficiency"),
-                                                rules.number("shock_absorber_efficiency"))
-        return verdict.limit - (n_j + lift)
-    return None
-
-
 # --------------------------------------------------------------------------- putting it together
 def budgets(assessment: Assessment, evaluate: Callable[[Campaign], Assessment],
             trials: int = TRIALS) -> Budgets:
@@ -607,7 +239,7 @@ class _Draws:
 
 
 def _monte_carlo(assessment, verdict, check, items, draws, trials, evaluate, u_gum) -> _Draws:
-    margins = _verdict_draws(assessment, verdict, check, items, draws, trials)
+    margins = margin_draws(assessment, verdict, check, items, draws, trials)
     if margins is None:
         return _Draws(None, None, "the Monte Carlo model does not cover this check")
     scale = abs(verdict.margin) + u_gum

@@ -513,7 +513,8 @@ def conformance_figure(items: list, units, rule: str) -> dict:
             axes.set_xlim(low - pad, high + pad)
             axes.set_yticks([])
             axes.set_xlabel(f"margin [{unit}]" if unit else "margin")
-            axes.set_title(verdict_id, fontsize=6.5)
+            criterion, _, scope = verdict_id.partition("/")
+            axes.set_title(f"{criterion}\n{scope}" if scope else criterion, fontsize=6.5)
         figure.tight_layout()
         return {"title": "The verdicts nearest their limits: the distribution of each margin",
                 "caption": (f"Monte Carlo draws of each margin (value against limit, positive "

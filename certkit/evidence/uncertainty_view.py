@@ -12,8 +12,10 @@ from statistics import NormalDist
 
 from markupsafe import Markup
 
-from certkit.compliance.verdict_uncertainty import (ENGINE_AGREEMENT, ENGINE_CHECKS, PROBE,
-                                                    SEED, TRAVEL_BAND, Budgets, Source)
+from certkit.compliance.margin_draws import TRAVEL_BAND
+from certkit.compliance.uncertainty_inputs import CHANNEL_WORDS, INPUT_WORDS, PROBE, Source
+from certkit.compliance.verdict_uncertainty import (ENGINE_AGREEMENT, ENGINE_CHECKS, SEED,
+                                                    Budgets)
 from certkit.display import number, pretty, to_display, unit_of, with_unit
 
 #: Significant digits of an expanded uncertainty (JCGM 100:2008 §7.2.6: "at most two").
@@ -103,7 +105,8 @@ def rule_statement(found: Budgets) -> dict:
               f"each sensitivity coefficient the change of the margin when the input is "
               f"moved by ±u(x_i), recomputed by certkit's own engine on the recorded signals "
               f"(§5.1.3 note 2), and the Monte Carlo method (JCGM 101:2008 §7) with "
-              f"{found.trials} draws of every stated input (seed {SEED}), each margin "
+              f"{found.trials} draws of every stated input (random numbers from the fixed "
+              f"state {SEED}), each margin "
               f"recomputed by the clauses on the corrected channel extremes (maximum travel "
               f"searched over the samples within {100 * TRAVEL_BAND:g} % of its peak); "
               f"that vectorised model is checked against the engine on {ENGINE_CHECKS} draws "
@@ -146,7 +149,8 @@ def uncertainty_view(assessment, units) -> dict | None:
             "outcome": f"{item.outcome} ({item.statement})",
             "lines": [_budget_line(found, line, verdict.kind, units) for line in item.budget],
             "not_stated": ", ".join(item.not_stated)})
-    ranked = sorted((pair for pair in measured if pair[0].id in found.samples),
+    ranked = sorted((pair for pair in measured
+                     if pair[0].id in found.samples and not pair[1].not_stated),
                     key=lambda pair: pair[1].margin / pair[1].expanded
                     if pair[1].expanded else math.inf)
     figure = None
@@ -174,29 +178,31 @@ def _input_rows(found: Budgets, units) -> list[dict]:
         part = source.target[3] if source.target[0] == "channel" else ""
         key = (source.target[1], part, source.stated_as, source.basis, source.origin)
         if key not in rows:
-            what = source.label.split(" of ")[0] if owner else source.label
-            rows[key] = {"label": what + (f": {'gain' if part == 'gain' else 'zero'}"
-                                          if part else ""),
-                         "owners": [], "stated": source.stated_as,
+            what = (f"{CHANNEL_WORDS[source.target[1]]}: {'gain' if part == 'gain' else 'zero'}"
+                    if part else INPUT_WORDS[source.target[1]])
+            rows[key] = {"label": what, "owners": [], "stated": source.stated_as,
                          "u": _spread(source, source.input.standard, units),
-                         "distribution": source.input.distribution, "basis": source.basis,
-                         "source": source.origin}
+                         "source": f"{source.basis}: {source.origin}"}
         if owner:
             rows[key]["owners"].append(owner)
     out = [dict(row, label=row["label"] + (f" ({', '.join(row['owners'])})"
                                             if row["owners"] else ""))
            for row in rows.values()]
-    out += [{"label": source.label, "stated": "not stated", "u": "—", "distribution": "—",
-             "basis": "—", "source": "to be supplied by the applicant"}
+    out += [{"label": source.label, "stated": "not stated", "u": "—",
+             "source": "to be supplied by the applicant"}
             for source in found.unstated]
     return out
 
 
 def _why(item, kind: str, units) -> str:
-    """Why the report uses the method it uses, δ in the margin's display unit."""
+    """The method used and why, short, δ in the margin's display unit."""
     if item.delta is None:
-        return item.why
-    return f"{item.why}, δ = {with_unit(item.delta, kind, units, 1)}"
+        return f"{item.method} only ({item.why.split(': ', 1)[-1]})"
+    delta = with_unit(item.delta, kind, units, 1)
+    if item.validated:
+        return f"GUM, validated by Monte Carlo (both interval ends within δ = {delta})"
+    return (f"Monte Carlo (the GUM interval is not validated: an end differs by more than "
+            f"δ = {delta})")
 
 
 def _budget_line(found: Budgets, line, kind: str, units) -> dict:

@@ -17,7 +17,8 @@ from certkit.errors import CertkitInputError, Problem, key_path, shown
 from certkit.spec import requirement_sets
 from certkit.spec.blind_record import BlindCheckRecord, BlindRecordError, read_blind_check
 from certkit.spec.rundata import DATA_SUFFIXES, RunSeries, read_run
-from certkit.spec.schema import UNCERTAIN_CHANNELS, CampaignSpec, GearUnit
+from certkit.spec.schema import CampaignSpec, GearUnit
+from certkit.spec.uncertainty import UNCERTAIN_CHANNELS
 from certkit.spec.yamlsource import LineMap, line_of, load_yaml
 
 #: Wing loadings above this are typing errors (the heaviest airliners are near 9 kPa).
