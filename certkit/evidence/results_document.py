@@ -75,7 +75,7 @@ def uncertainty_document(found) -> dict | None:
         return None
     return {"decision_rule": found.rule, "guard_factor": found.guard_factor,
             "required_probability": found.required, "coverage_probability": found.coverage,
-            "monte_carlo": {"trials": found.trials, "seed": SEED,
+            "monte_carlo": {"trials": found.trials, "random_state": SEED,
                             "method": "JCGM 101:2008 §7, probabilistically symmetric "
                                       "interval (§7.7); GUM validated per §8.2"},
             "gum": "JCGM 100:2008 §5.1.2, sensitivities by ±u(x_i) through the engine "
