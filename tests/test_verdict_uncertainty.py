@@ -228,6 +228,7 @@ def test_the_monte_carlo_model_reproduces_the_engine_on_random_draws(tmp_path):
     ("gain: {expanded: 1 %, k: 2, distribution: lognormal}", "'normal', 'rectangular'"),
     ("gain: {half_width: 1 %, k: 2}", "a normal distribution takes"),
     ("offset: {expanded: 1 %, k: 2}", "an absolute uncertainty"),
+    ("gain: {expanded: 30 %, k: 2}", "more than 20 % of the reading"),
 ])
 def test_nonsense_uncertainties_are_input_errors_at_their_line(tmp_path, bad, message):
     block = ("uncertainty:\n  channels:\n    - channel: vertical_load\n"

@@ -30,6 +30,11 @@ UNCERTAIN_INPUTS = {"drop_height": "length", "drop_mass": "mass", "static_weight
                     "wing_area": "area"}
 
 
+#: The largest share of the reading an uncertainty may be: beyond it a gain error could
+#: reach −100 % (a reading of nothing) within a few standard uncertainties.
+MAX_SHARE = 0.2
+
+
 def _spread(kind: str, relative: str):
     """Annotated type of an uncertainty's size: a quantity of ``kind`` (absolute) or a share
     such as "0.5 %" (relative); ``relative`` is "required", "allowed" or "forbidden".  The
@@ -51,6 +56,10 @@ def _spread(kind: str, relative: str):
         if not (math.isfinite(parsed.si) and parsed.si >= 0):
             raise PydanticCustomError("uncertainty", f"an uncertainty must be zero or more, "
                                                      f"got {shown(value)}")
+        if share and parsed.si > MAX_SHARE:
+            raise PydanticCustomError("uncertainty", f"an uncertainty of more than "
+                                                     f"{100 * MAX_SHARE:g} % of the reading is "
+                                                     f"no calibration, got {shown(value)}")
         return parsed
 
     return Annotated[SpecQuantity, PlainValidator(validate),
