@@ -276,3 +276,54 @@ def test_results_json_carries_the_uncertainties_and_the_baseline_catches_a_chang
     assert "verdicts/CFR23.725b-effective-weight/R1/left-main/uncertainty/expanded" in moved
     # the values themselves did not move
     assert not any(path.endswith("/margin") for path in moved)
+
+
+SECOND_DROP = """\
+  - id: R2
+    test_type: limit
+    gear_units: [left-main]
+    drop_height: 300 mm
+    drop_mass: 250 kg
+    lift: {method: reduced_mass, ratio: 0.667}
+    data:
+      file: data/r2.csv
+      time: {column: t_s, unit: s}
+      gears:
+        left-main:
+          vertical_load: {column: Fz_kN, unit: kN}
+          strut_stroke: {column: stroke_mm, unit: mm}
+          tyre_deflection: {column: tyre_mm, unit: mm}
+      drop_mass_acceleration: {column: acc_ms2, unit: m/s^2, reference: kinematic}
+    inspection: {failure: false}
+"""
+
+
+def test_a_repeated_drop_adds_the_scatter_of_its_margins_as_a_type_a_component(tmp_path):
+    folder = tmp_path / "repeat"
+    (folder / "data").mkdir(parents=True)
+    write_csv(folder / "data" / "r1.csv", analytic_signals())
+    second = analytic_signals()
+    second["stroke_mm"] = 1.05 * second["stroke_mm"]        # the repeat strokes 5 % further
+    write_csv(folder / "data" / "r2.csv", second)
+    spec = write_campaign(folder, TIMESERIES_SPEC.replace("    inspection: {failure: false}\n",
+                                                          "    inspection: {failure: false}\n"
+                                                          + SECOND_DROP, 1)
+                          + CHANNELS.format(rule="simple", load_gain="0.5 %", accel_gain="2 %"))
+    assessment = assess(load_campaign(spec))
+    h, lift, weight, w_drop = 0.300, 0.667, 2600.0, DROP_MASS * G
+    margins = [w_drop - weight * (h + (1 - lift) * d) / (h + d)       # 23.725(b), by hand
+               for d in (D_MAX + S_MAX, D_MAX + 1.05 * S_MAX)]
+    s = abs(margins[0] - margins[1]) / math.sqrt(2)                 # two observations
+    for run, margin in zip(("R1", "R2"), margins):
+        item = _verdict(assessment, f"CFR23.725b-effective-weight/{run}/left-main").uncertainty
+        assert item.margin == pytest.approx(margin, rel=1e-6)
+        line = next(x for x in item.budget if x.source.startswith("repeatability"))
+        assert line.label == "repeatability over 2 drops (R1, R2), Type A"
+        assert line.standard == pytest.approx(s, rel=1e-6) and line.sensitivity == 1.0
+        stated = math.sqrt(sum(x.contribution ** 2 for x in item.budget if x is not line))
+        assert item.gum_standard == pytest.approx(math.hypot(stated, s), rel=1e-9)
+    # one drop of a kind has no repeat: no Type A line
+    single = assess(load_campaign(_campaign(tmp_path, CHANNELS.format(
+        rule="simple", load_gain="0.5 %", accel_gain="2 %"))))
+    item = _verdict(single, "CFR23.725b-effective-weight/R1/left-main").uncertainty
+    assert not any(x.source.startswith("repeatability") for x in item.budget)

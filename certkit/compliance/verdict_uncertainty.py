@@ -29,6 +29,7 @@ decision rule is ILAC-G8:09/2019's (:func:`certkit.compliance.uncertainty.decide
 from __future__ import annotations
 
 import math
+import zlib
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from statistics import NormalDist
@@ -195,6 +196,7 @@ def budgets(assessment: Assessment, evaluate: Callable[[Campaign], Assessment],
         found.values[key] = (math.sqrt(u2), missing)
 
     checks = {(b.rules.id, c.id): c.check for b in assessment.basis for c in b.rules.criteria}
+    repeats = repeatability(assessment)
     stated_items = [i for i, item in enumerate(items) if item.input is not None]
     started = clock.perf_counter()
     draws = (np.vstack([item.input.draws(np.random.default_rng([SEED, i]), trials)
@@ -214,21 +216,61 @@ def budgets(assessment: Assessment, evaluate: Callable[[Campaign], Assessment],
         u2 = sum(line[3] ** 2 for line in budget)
         missing = tuple(items[i].label for i, c in parts.items()
                         if items[i].input is None and abs(c) > 0)
-        lines = tuple(sorted((Contribution(items[i].key, items[i].label, c, u, cu,
-                                           (cu * cu / u2) if u2 > 0 else 0.0)
-                              for i, c, u, cu in budget if cu != 0.0),
-                             key=lambda line: -abs(line.contribution)))
+        spread = repeats.get(verdict.id)
+        if spread is not None:
+            u2 += spread[0] ** 2
+        lines = [Contribution(items[i].key, items[i].label, c, u, cu,
+                              (cu * cu / u2) if u2 > 0 else 0.0)
+                 for i, c, u, cu in budget if cu != 0.0]
+        if spread is not None and spread[0] > 0:
+            s, n, runs = spread
+            lines.append(Contribution(f"{REPEATABILITY} [{verdict.id}]",
+                                      f"repeatability over {n} drops ({runs}), Type A", 1.0, s,
+                                      s, s * s / u2))
+        lines = tuple(sorted(lines, key=lambda line: -abs(line.contribution)))
         check = checks[(verdict.requirement_set, verdict.criterion)]
         mc = None
         if draws is not None and u2 > 0:
             mc = _monte_carlo(assessment, verdict, check, items, draws, trials, evaluate,
-                              math.sqrt(u2))
+                              math.sqrt(u2), spread)
         found.verdicts[verdict.id] = _decided(verdict, math.sqrt(u2) if lines else None, mc,
                                               lines, missing, found)
         if mc is not None and mc.margins is not None:
             found.samples[verdict.id] = np.sort(mc.margins)[::max(trials // 2000, 1)]
     found.monte_carlo_seconds = clock.perf_counter() - started
     return found
+
+
+#: The key prefix of a budget's Type A line (no input of the spec: the drops themselves).
+REPEATABILITY = "repeatability"
+
+
+def repeatability(assessment: Assessment) -> dict[str, tuple[float, int, str]]:
+    """Verdict id -> (s, n, the runs) for a verdict whose drop was repeated: runs of the same
+    test type, gear units and drop height, n ≥ 2 of them with a margin of the same criterion
+    and gear.  s is the experimental standard deviation of the margin of one drop over the n
+    (JCGM 100:2008 §4.2.2, a Type A evaluation): what a drop repeated as the campaign
+    repeated it would scatter by, measurement and rig together."""
+    groups: dict[tuple, list[str]] = {}
+    for run in assessment.runs:
+        key = (run.run.test_type, tuple(run.run.gear_units), round(run.run.drop_height.si, 9))
+        groups.setdefault(key, []).append(run.run.id)
+    sibling = {run: ids for ids in groups.values() if len(ids) >= 2 for run in ids}
+    margins: dict[tuple, dict[str, float]] = {}
+    for verdict in assessment.verdicts:
+        if verdict.run in sibling and verdict.margin is not None:
+            margins.setdefault((verdict.requirement_set, verdict.criterion, verdict.gear),
+                               {})[verdict.run] = verdict.margin
+    out = {}
+    for verdict in assessment.verdicts:
+        if verdict.run not in sibling or verdict.margin is None:
+            continue
+        group = margins[(verdict.requirement_set, verdict.criterion, verdict.gear)]
+        values = [group[run] for run in sibling[verdict.run] if run in group]
+        if len(values) >= 2:
+            runs = ", ".join(run for run in sibling[verdict.run] if run in group)
+            out[verdict.id] = (float(np.std(values, ddof=1)), len(values), runs)
+    return out
 
 
 @dataclass(frozen=True)
@@ -238,7 +280,8 @@ class _Draws:
     why: str
 
 
-def _monte_carlo(assessment, verdict, check, items, draws, trials, evaluate, u_gum) -> _Draws:
+def _monte_carlo(assessment, verdict, check, items, draws, trials, evaluate, u_gum,
+                 spread=None) -> _Draws:
     margins = margin_draws(assessment, verdict, check, items, draws, trials)
     if margins is None:
         return _Draws(None, None, "the Monte Carlo model does not cover this check")
@@ -254,6 +297,12 @@ def _monte_carlo(assessment, verdict, check, items, draws, trials, evaluate, u_g
             return _Draws(None, None, f"the Monte Carlo model disagrees with the engine on "
                                       f"draw {trial + 1} ({engine} against "
                                       f"{float(margins[trial])})")
+    if spread is not None and spread[0] > 0:
+        # JCGM 101 §6.4.9: a Type A input from n observations is a scaled t-distribution
+        # with n − 1 degrees of freedom (here of one observation: scale s)
+        s, n, _ = spread
+        rng = np.random.default_rng([SEED, zlib.crc32(verdict.id.encode())])
+        margins = margins + s * rng.standard_t(n - 1, margins.size)
     stated = assessment.campaign.spec.uncertainty or UncertaintySpec()
     return _Draws(summarise(margins, stated.coverage_probability.si), margins, "")
 

@@ -119,7 +119,10 @@ def rule_statement(found: Budgets) -> dict:
               f"106:2012 §7.3: Φ(margin/u) for the GUM, the share of the draws for Monte "
               f"Carlo). Inputs with no stated uncertainty are probed by {100 * PROBE:g} %"
               f" of their size to find what depends on them; a verdict that does gets no "
-              f"conformance probability.")
+              f"conformance probability. A verdict whose drop was repeated (the same test "
+              f"type, gear units and drop height) has a Type A line: the standard deviation "
+              f"of its margin over the repeats (JCGM 100 §4.2.2), drawn for Monte Carlo from a "
+              f"t-distribution with n − 1 degrees of freedom (JCGM 101 §6.4.9).")
     return {"rule": rule, "risk": risk, "method": method, "name": RULE_NAMES[found.rule]}
 
 
@@ -163,10 +166,6 @@ def uncertainty_view(assessment, units) -> dict | None:
             "unstated": [s.label for s in found.unstated]}
 
 
-def _source(found: Budgets, key: str) -> Source:
-    return next(s for s in found.sources if s.key == key)
-
-
 def _input_rows(found: Budgets, units) -> list[dict]:
     """One row per stated uncertainty as the spec states it (the gear units or runs it
     applies to listed), then one per input a verdict needs that has none."""
@@ -207,7 +206,12 @@ def _why(item, kind: str, units) -> str:
 
 def _budget_line(found: Budgets, line, kind: str, units) -> dict:
     """An input's line of a budget: u(x_i), c_i and |c_i|·u(x_i) in display units, share."""
-    source = _source(found, line.source)
+    source = next((item for item in found.sources if item.key == line.source), None)
+    if source is None:                  # a Type A line: the margin's own scatter, c = 1
+        return {"label": line.label, "u": with_unit(line.standard, kind, units, U_DIGITS),
+                "sensitivity": "1",
+                "contribution": with_unit(abs(line.contribution), kind, units, U_DIGITS),
+                "share": f"{number(100.0 * line.share, 3)} %"}
     contribution = to_display(line.contribution, kind, units) if unit_of(kind, units) \
         else line.contribution
     margin_unit = pretty(unit_of(kind, units) or "") or "1"
