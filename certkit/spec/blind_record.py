@@ -68,12 +68,14 @@ METRICS = {
 
 def template_fingerprint(campaign) -> str:
     """SHA-256 of the spec's content (canonical JSON of the validated spec) without
-    ``model.gap.blind_check`` and ``model.gap.sealed_blind_check`` and without the
-    data-quality audit's thresholds (``audit``), which the diagnosis never reads: the same
-    before and after the spec names its blind-check records, or after a threshold of the
-    audit is added or changed, different after any other change to the spec."""
+    ``model.gap.blind_check`` and ``model.gap.sealed_blind_check``, without the data-quality
+    audit's thresholds (``audit``) and without the measurement uncertainties and decision
+    rule (``uncertainty``), none of which the diagnosis reads: the same before and after the
+    spec names its blind-check records, or after a threshold of the audit or a stated
+    uncertainty is added or changed, different after any other change to the spec."""
     content = campaign.spec.model_dump(mode="json")
     content.pop("audit", None)
+    content.pop("uncertainty", None)
     gap = (content.get("model") or {}).get("gap")
     if isinstance(gap, dict):
         gap.pop("blind_check", None)
