@@ -229,6 +229,8 @@ def test_the_monte_carlo_model_reproduces_the_engine_on_random_draws(tmp_path):
     ("gain: {half_width: 1 %, k: 2}", "a normal distribution takes"),
     ("offset: {expanded: 1 %, k: 2}", "an absolute uncertainty"),
     ("gain: {expanded: 30 %, k: 2}", "more than 20 % of the reading"),
+    ("gain: {expanded: 20 %, k: 0.1}", "standard uncertainty of more than 10 %"),
+    ("gain: {expanded: 0.1, k: 2}", "a bare number is ambiguous"),
 ])
 def test_nonsense_uncertainties_are_input_errors_at_their_line(tmp_path, bad, message):
     block = ("uncertainty:\n  channels:\n    - channel: vertical_load\n"
@@ -308,7 +310,7 @@ def test_a_repeated_drop_adds_the_scatter_of_its_margins_as_a_type_a_component(t
     spec = write_campaign(folder, TIMESERIES_SPEC.replace("    inspection: {failure: false}\n",
                                                           "    inspection: {failure: false}\n"
                                                           + SECOND_DROP, 1)
-                          + CHANNELS.format(rule="simple", load_gain="0.5 %", accel_gain="2 %"))
+                          + FULL.format(rule="simple", load_gain="0.5 %", accel_gain="2 %"))
     assessment = assess(load_campaign(spec))
     h, lift, weight, w_drop = 0.300, 0.667, 2600.0, DROP_MASS * G
     margins = [w_drop - weight * (h + (1 - lift) * d) / (h + d)       # 23.725(b), by hand
@@ -321,9 +323,49 @@ def test_a_repeated_drop_adds_the_scatter_of_its_margins_as_a_type_a_component(t
         assert line.label == "repeatability over 2 drops (R1, R2), Type A"
         assert line.standard == pytest.approx(s, rel=1e-6) and line.sensitivity == 1.0
         stated = math.sqrt(sum(x.contribution ** 2 for x in item.budget if x is not line))
-        assert item.gum_standard == pytest.approx(math.hypot(stated, s), rel=1e-9)
+        u = math.hypot(stated, s)
+        assert item.gum_standard == pytest.approx(u, rel=1e-9)
+        # two drops: one degree of freedom, a t-distribution without a finite variance, so no
+        # Monte Carlo; k is the t-quantile at Welch–Satterthwaite's ν_eff = u⁴/(s⁴/1)
+        from scipy.stats import t as student_t
+        nu = u ** 4 / s ** 4
+        assert item.method == "GUM" and item.monte_carlo_interval is None
+        assert item.k == pytest.approx(student_t.ppf(0.975, nu), rel=1e-9) and item.k > 2.5
+        assert item.conformance == pytest.approx(student_t.cdf(margin / u, nu), rel=1e-9)
     # one drop of a kind has no repeat: no Type A line
     single = assess(load_campaign(_campaign(tmp_path, CHANNELS.format(
         rule="simple", load_gain="0.5 %", accel_gain="2 %"))))
     item = _verdict(single, "CFR23.725b-effective-weight/R1/left-main").uncertainty
     assert not any(x.source.startswith("repeatability") for x in item.budget)
+
+
+def test_a_probability_out_of_range_is_an_error_at_its_own_key(tmp_path):
+    spec = _campaign(tmp_path, "uncertainty:\n  decision_rule: probability\n"
+                               "  required_probability: 40 %\n")
+    with pytest.raises(CertkitInputError) as caught:
+        load_campaign(spec)
+    line = TIMESERIES_SPEC.count("\n") + 3
+    assert f"campaign.yaml:{line} uncertainty.required_probability: must lie in [50 %, 100 %)" \
+        in str(caught.value)
+
+
+def test_a_channel_recorded_as_zeros_does_not_stop_the_assessment(tmp_path):
+    # a dead tyre channel: nothing depends on its zero (the data-quality audit speaks of it)
+    folder = tmp_path / "dead"
+    (folder / "data").mkdir(parents=True)
+    signals = analytic_signals()
+    signals["tyre_mm"] = 0.0 * signals["tyre_mm"]
+    write_csv(folder / "data" / "r1.csv", signals)
+    assessment = assess(load_campaign(write_campaign(folder, TIMESERIES_SPEC)))
+    assert not any("tyre deflection" in s.label for s in assessment.uncertainty.sources)
+
+
+def test_stated_zero_uncertainties_are_said_to_be_zero_not_exact(tmp_path):
+    zero = FULL.format(rule="simple", load_gain="0 %", accel_gain="0 %")
+    zero = re.sub(r"expanded: [0-9.]+ ", "expanded: 0 ", zero)
+    zero = re.sub(r"half_width: [0-9.]+ ", "half_width: 0 ", zero)
+    found = assess(load_campaign(_campaign(tmp_path, zero)))
+    item = _verdict(found, "CFR23.725f-load-factor/R1/left-main").uncertainty
+    assert item.statement == "zero stated uncertainty" and item.expanded is None
+    lift = _verdict(found, "CFR23.473g-design-load-factor").uncertainty
+    assert lift.statement == "exact"          # declared and regulatory values only

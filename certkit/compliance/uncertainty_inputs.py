@@ -95,8 +95,9 @@ def sources(campaign: Campaign) -> list[Source]:
     if peaks.get(("drop_mass_acceleration", None)) is not None:
         channels.append(("drop_mass_acceleration", None))
     for channel, gear in channels:
-        if peaks.get((channel, gear)) is None:
-            continue                       # never recorded: nothing depends on it
+        if not peaks.get((channel, gear)):
+            continue                       # never recorded, or all zero (the data-quality
+            #                                audit speaks of it): nothing depends on it
         item = by_channel.get((channel, gear))
         where = f" [{gear}]" if gear else ""
         for part in ("gain", "offset"):

@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 from statistics import NormalDist
 
 import numpy as np
+from scipy.stats import t as student_t
 
 from certkit.compliance.assessment import Assessment
 from certkit.compliance.margin_draws import margin_draws
@@ -193,7 +194,7 @@ def budgets(assessment: Assessment, evaluate: Callable[[Campaign], Assessment],
                  if items[i].input is not None)
         missing = tuple(items[i].label for i, c in parts.items()
                         if items[i].input is None and abs(c) > 0)
-        found.values[key] = (math.sqrt(u2), missing)
+        found.values[key] = (None if (u2 == 0 and missing) else math.sqrt(u2), missing)
 
     checks = {(b.rules.id, c.id): c.check for b in assessment.basis for c in b.rules.criteria}
     repeats = repeatability(assessment)
@@ -229,12 +230,22 @@ def budgets(assessment: Assessment, evaluate: Callable[[Campaign], Assessment],
                                       s, s * s / u2))
         lines = tuple(sorted(lines, key=lambda line: -abs(line.contribution)))
         check = checks[(verdict.requirement_set, verdict.criterion)]
+        dof = None
+        if spread is not None and spread[0] > 0 and u2 > 0:
+            # Welch–Satterthwaite (JCGM 100 §G.4.1) with the Type B inputs taken as exact
+            dof = u2 ** 2 / (spread[0] ** 4 / (spread[1] - 1))
         mc = None
-        if draws is not None and u2 > 0:
+        if spread is not None and spread[0] > 0 and spread[1] - 1 <= 2:
+            mc = _Draws(None, None, f"a Type A input from {spread[1]} drops has {spread[1] - 1} "
+                                    f"degree(s) of freedom, and its t-distribution no finite "
+                                    f"variance (JCGM 101 §6.4.9): the GUM with a t-factor")
+        elif draws is not None and u2 > 0:
             mc = _monte_carlo(assessment, verdict, check, items, draws, trials, evaluate,
                               math.sqrt(u2), spread)
         found.verdicts[verdict.id] = _decided(verdict, math.sqrt(u2) if lines else None, mc,
-                                              lines, missing, found)
+                                              lines, missing, found, dof,
+                                              any(items[i].input is not None and abs(c) > 0
+                                                  for i, c in parts.items()))
         if mc is not None and mc.margins is not None:
             found.samples[verdict.id] = np.sort(mc.margins)[::max(trials // 2000, 1)]
     found.monte_carlo_seconds = clock.perf_counter() - started
@@ -308,21 +319,28 @@ def _monte_carlo(assessment, verdict, check, items, draws, trials, evaluate, u_g
 
 
 def _decided(verdict: Verdict, u_gum: float | None, mc: _Draws | None, budget, missing,
-             found: Budgets) -> VerdictUncertainty:
+             found: Budgets, dof: float | None = None, stated: bool = False
+             ) -> VerdictUncertainty:
     coverage = found.coverage
-    k_normal = NormalDist().inv_cdf(0.5 + coverage / 2.0)
+    # k for a normal output, or the t-quantile at the effective degrees of freedom of a
+    # budget with a Type A line (JCGM 100 §G.4.1, §G.6.4)
+    k_normal = (NormalDist().inv_cdf(0.5 + coverage / 2.0) if dof is None
+                else float(student_t.ppf(0.5 + coverage / 2.0, dof)))
     margin = verdict.margin
     simple = verdict.verdict
     if u_gum is None:
+        measured = stated                 # it depends on stated inputs, all with u = 0
         why = ("no input of this verdict has a stated uncertainty" if missing
+               else "every input it depends on is stated with a zero uncertainty" if measured
                else "no measured input: the margin is exact (declared or regulatory values)")
         return VerdictUncertainty(margin, None, None, None, coverage, "none", why, None, None,
                                   None, None, None, found.rule, simple,
-                                  "not stated" if missing else "exact", simple, None,
-                                  budget, missing)
+                                  "not stated" if missing else "zero stated uncertainty"
+                                  if measured else "exact", simple, None, budget, missing)
     low_high = delta = ok = None
     method, standard, expanded, k = "GUM", u_gum, k_normal * u_gum, k_normal
-    conformance = conformance_probability(margin, u_gum, lower=0.0)
+    conformance = (conformance_probability(margin, u_gum, lower=0.0) if dof is None
+                   else float(student_t.cdf(margin / u_gum, dof)))
     if mc is not None and mc.result is not None:
         result = mc.result
         low_high = result.interval
@@ -338,7 +356,9 @@ def _decided(verdict: Verdict, u_gum: float | None, mc: _Draws | None, budget, m
             k = expanded / standard if standard > 0 else None
             conformance = float(np.mean(mc.margins >= 0.0))
             why = ("the GUM interval is not validated by the Monte Carlo one (JCGM 101 §8.2: "
-                   "an end differs by more than δ), so the Monte Carlo one is used")
+                   "an end differs by more than δ; at 10⁵ draws the ends scatter by about "
+                   "0.01·u, so this may be the draws' own scatter), so the Monte Carlo one is "
+                   "used")
     else:
         why = f"GUM only, not validated: {mc.why if mc is not None else 'no Monte Carlo run'}"
     if missing:

@@ -101,7 +101,13 @@ def rule_statement(found: Budgets) -> dict:
                 f"passes when P(margin ≥ 0) ≥ {number(100.0 * found.required)} %.")
         risk = (f"Risk: the specific probability of false acceptance of an accepted verdict "
                 f"is at most {number(100.0 * (1.0 - found.required), 2)} %.")
-    method = (f"Uncertainty of each value and margin: the GUM (JCGM 100:2008 §5.1.2) with "
+    risk += (" The rule applies to the verdicts whose uncertainty is complete; a verdict "
+             "that depends on an input with no stated uncertainty keeps its simple-acceptance "
+             "outcome and says so." if found.rule != "simple" else "")
+    method = (f"Each input is an error: the reading is the true value plus the error, so a "
+              f"sensitivity is the change of the margin per unit of the error (a drop height "
+              f"read too high by e leaves a margin smaller by e: −1). "
+              f"Uncertainty of each value and margin: the GUM (JCGM 100:2008 §5.1.2) with "
               f"each sensitivity coefficient the change of the margin when the input is "
               f"moved by ±u(x_i), recomputed by certkit's own engine on the recorded signals "
               f"(§5.1.3 note 2), and the Monte Carlo method (JCGM 101:2008 §7) with "
@@ -150,6 +156,11 @@ def uncertainty_view(assessment, units) -> dict | None:
             "method": item.method, "why": _why(item, verdict.kind, units),
             "conformance": probability(item.conformance),
             "outcome": f"{item.outcome} ({item.statement})",
+            "interval": ("" if item.method != "Monte Carlo" else
+                         f"{100 * item.coverage:g} % interval of the margin "
+                         f"[{with_unit(item.monte_carlo_interval[0], verdict.kind, units)}, "
+                         f"{with_unit(item.monte_carlo_interval[1], verdict.kind, units)}] "
+                         f"(U: its half-width)"),
             "lines": [_budget_line(found, line, verdict.kind, units) for line in item.budget],
             "not_stated": ", ".join(item.not_stated)})
     ranked = sorted((pair for pair in measured
@@ -159,11 +170,22 @@ def uncertainty_view(assessment, units) -> dict | None:
     figure = None
     if ranked:
         figure = conformance_figure(
-            [(verdict.id, found.samples[verdict.id], item.acceptance or 0.0, verdict.kind)
+            [(verdict.id, found.samples[verdict.id], _acceptance(found, item), verdict.kind)
              for verdict, item in ranked[:FIGURE_VERDICTS]], units, RULE_NAMES[found.rule])
         figure = dict(figure, svg=Markup(figure["svg"]))
+    planning = ("A planning campaign: these uncertainties are computed on synthetic "
+                "histories and are predictions, as its verdicts are, not a statement about "
+                "measured drops." if assessment.planning else "")
     return {**rule_statement(found), "inputs": inputs, "budgets": budgets, "figure": figure,
-            "unstated": [s.label for s in found.unstated]}
+            "unstated": [s.label for s in found.unstated], "planning": planning}
+
+
+def _acceptance(found: Budgets, item) -> float:
+    """The margin from which a verdict is accepted: the guard band w, or under a required
+    conformance probability the margin whose p_c is that probability (z_p·u)."""
+    if found.rule == "probability":
+        return NormalDist().inv_cdf(found.required) * item.standard
+    return item.acceptance or 0.0
 
 
 def _input_rows(found: Budgets, units) -> list[dict]:
@@ -223,6 +245,8 @@ def _budget_line(found: Budgets, line, kind: str, units) -> dict:
     else:
         sensitivity, per = contribution / line.standard, source.unit.replace("^2", "²")
     return {"label": line.label, "u": _spread(source, line.standard, units),
-            "sensitivity": f"{number(sensitivity)} {margin_unit}/{per}",
+            "sensitivity": (f"{number(sensitivity)} per {per}" if margin_unit == "1" else
+                            f"{number(sensitivity)} {margin_unit}/"
+                            + (f"({per})" if "/" in per else per)),
             "contribution": with_unit(abs(line.contribution), kind, units, U_DIGITS),
             "share": f"{number(100.0 * line.share, 3)} %"}

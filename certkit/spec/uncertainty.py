@@ -15,7 +15,8 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal, Union
 
-from pydantic import Field, PlainSerializer, PlainValidator, WithJsonSchema, model_validator
+from pydantic import (Field, PlainSerializer, PlainValidator, WithJsonSchema, field_validator,
+                      model_validator)
 from pydantic_core import PydanticCustomError
 
 from certkit.errors import shown
@@ -33,6 +34,8 @@ UNCERTAIN_INPUTS = {"drop_height": "length", "drop_mass": "mass", "static_weight
 #: The largest share of the reading an uncertainty may be: beyond it a gain error could
 #: reach −100 % (a reading of nothing) within a few standard uncertainties.
 MAX_SHARE = 0.2
+#: The largest standard uncertainty as a share of the reading (U/k, a/√3, a/√6).
+MAX_STANDARD_SHARE = 0.1
 
 
 def _spread(kind: str, relative: str):
@@ -40,8 +43,12 @@ def _spread(kind: str, relative: str):
     such as "0.5 %" (relative); ``relative`` is "required", "allowed" or "forbidden".  The
     SpecQuantity's unit is "1" for a share."""
     def validate(value):
-        share = isinstance(value, (int, float)) or (isinstance(value, str)
-                                                    and value.strip().endswith("%"))
+        if isinstance(value, (bool, int, float)):
+            raise PydanticCustomError("uncertainty", f"a bare number is ambiguous here: write a "
+                                                     f"share of the reading with '%' (such as "
+                                                     f"'0.5 %') or {kind_phrase(kind)} with "
+                                                     f"its unit, got {shown(value)}")
+        share = isinstance(value, str) and value.strip().endswith("%")
         if share and relative == "forbidden":
             raise PydanticCustomError("uncertainty", f"expected {kind_phrase(kind)} with its "
                                                      f"unit (an absolute uncertainty), got "
@@ -94,6 +101,15 @@ def _part(kind: str, relative: str, name: str):
                 raise PydanticCustomError(
                     "uncertainty", f"a {self.distribution} distribution takes 'half_width', "
                                    f"not 'expanded' or 'k'")
+            if self.spread.unit == "1":
+                divisor = {"normal": self.k.si if self.k else 1.0, "rectangular": math.sqrt(3),
+                           "triangular": math.sqrt(6)}[self.distribution]
+                if self.spread.si / divisor > MAX_STANDARD_SHARE:
+                    raise PydanticCustomError(
+                        "uncertainty", f"a standard uncertainty of more than "
+                                       f"{100 * MAX_STANDARD_SHARE:g} % of the reading is no "
+                                       f"calibration: {self.spread.text} at this distribution "
+                                       f"gives {100 * self.spread.si / divisor:.3g} %")
             return self
 
         @property
@@ -195,11 +211,10 @@ class UncertaintySpec(SpecBlock):
     channels: list[ChannelUncertainty] = []
     inputs: InputUncertainties = InputUncertainties()
 
-    @model_validator(mode="after")
-    def _probabilities(self):
-        for name in ("required_probability", "coverage_probability"):
-            value = getattr(self, name).si
-            if not 0.5 <= value < 1.0:
-                raise PydanticCustomError("uncertainty", f"{name} must lie in [50 %, 100 %), "
-                                                         f"got {getattr(self, name).text}")
-        return self
+    @field_validator("required_probability", "coverage_probability")
+    @classmethod
+    def _probability(cls, value):
+        if not 0.5 <= value.si < 1.0:
+            raise PydanticCustomError("uncertainty", f"must lie in [50 %, 100 %), got "
+                                                     f"{value.text}")
+        return value
