@@ -1,7 +1,9 @@
 """Measurement uncertainty of a measured value, and whether it conforms to a limit.
 
-Groundwork of issue 28, not yet wired into the report: the spec's uncertainty inputs and
-the verdicts' budgets build on these functions.
+The general methods, apart from any drop test: :mod:`certkit.compliance.verdict_uncertainty`
+applies them to the verdicts (its Monte Carlo summary, decision rules and conformance
+probability are these; its GUM is the same law taken through the engine).  :func:`gum`,
+:func:`monte_carlo` and :func:`validated` serve the worked examples of JCGM 101 in the tests.
 
 * An input quantity (:class:`Input`) has an estimate and a probability distribution:
   normal with a standard uncertainty (a calibration certificate's expanded uncertainty U

@@ -126,8 +126,10 @@ def to_json(rows: list[AuditRow]) -> str:
                       sort_keys=True) + "\n"
 
 
+#: The CSV's columns: the uncertainty's three come last, so a reader of the columns before
+#: them by position reads what it read before they were added.
 COLUMNS = ("id", "kind", "clause", "title", "run", "gear", "value", "limit", "margin", "unit",
-           "uncertainty", "conformance", "decision", "outcome", "message")
+           "outcome", "message", "uncertainty", "conformance", "decision")
 
 
 def to_csv(rows: list[AuditRow]) -> str:
