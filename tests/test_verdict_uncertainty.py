@@ -369,3 +369,18 @@ def test_stated_zero_uncertainties_are_said_to_be_zero_not_exact(tmp_path):
     assert item.statement == "zero stated uncertainty" and item.expanded is None
     lift = _verdict(found, "CFR23.473g-design-load-factor").uncertainty
     assert lift.statement == "exact"          # declared and regulatory values only
+
+
+def test_a_campaign_that_states_no_uncertainty_says_so_and_probes_nothing(tmp_path):
+    from .conftest import report_html
+
+    assessment = assess(load_campaign(_campaign(tmp_path, "")))
+    found = assessment.uncertainty
+    assert found.none_stated and found.unstated == []
+    item = _verdict(assessment, "CFR23.725b-effective-weight/R1/left-main").uncertainty
+    assert (item.statement, item.expanded, item.conformance) == ("not stated", None, None)
+    assert found.values[("gear", "R1", "left-main", "F_peak")][0] is None
+    html = report_html(assessment)
+    assert "The spec states no measurement uncertainty" in html
+    assert "measurement uncertainties and the decision rule (uncertainty block)" in html
+    assert "Input (an error, estimate 0)" not in html

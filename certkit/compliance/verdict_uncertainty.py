@@ -111,6 +111,8 @@ class Budgets:
     values: dict[tuple, tuple] = field(default_factory=dict)
     trials: int = TRIALS
     monte_carlo_seconds: float = 0.0
+    #: the spec has no uncertainty block: nothing stated, nothing probed
+    none_stated: bool = False
     #: verdict id -> its Monte Carlo margins, sorted and thinned to about 2000 (a figure's)
     samples: dict[str, np.ndarray] = field(default_factory=dict)
 
@@ -183,6 +185,8 @@ def budgets(assessment: Assessment, evaluate: Callable[[Campaign], Assessment],
     found = Budgets(stated.decision_rule, stated.guard_factor.si,
                     stated.required_probability.si, stated.coverage_probability.si, items,
                     trials=trials)
+    if campaign.spec.uncertainty is None:
+        return _none_stated(assessment, found)
     slopes = _slopes(evaluate, campaign, items, _everything)
     margin_slopes = {key[1]: part for key, part in slopes.items() if key[0] == "margin"}
     value_slopes = {key[1]: part for key, part in slopes.items() if key[0] == "value"}
@@ -249,6 +253,28 @@ def budgets(assessment: Assessment, evaluate: Callable[[Campaign], Assessment],
         if mc is not None and mc.margins is not None:
             found.samples[verdict.id] = np.sort(mc.margins)[::max(trials // 2000, 1)]
     found.monte_carlo_seconds = clock.perf_counter() - started
+    return found
+
+
+#: What a campaign without an ``uncertainty`` block leaves unstated.
+NONE_STATED = "every input (the spec has no uncertainty block)"
+
+
+def _none_stated(assessment: Assessment, found: Budgets) -> Budgets:
+    """A campaign that states no uncertainty at all: every value and margin 'not stated',
+    every verdict by simple acceptance, without probing the inputs one by one (a spec
+    without the block learns nothing from which of them a verdict needs)."""
+    found.none_stated = True
+    for key, value in _values(assessment).items():
+        if value is not None:
+            found.values[key] = (None, (NONE_STATED,))
+    for verdict in assessment.verdicts:
+        if verdict.margin is not None:
+            found.verdicts[verdict.id] = VerdictUncertainty(
+                verdict.margin, None, None, None, found.coverage, "none",
+                "the spec states no measurement uncertainty", None, None, None, None, None,
+                found.rule, verdict.verdict, "not stated", verdict.verdict, None, (),
+                (NONE_STATED,))
     return found
 
 

@@ -176,8 +176,12 @@ def uncertainty_view(assessment, units) -> dict | None:
     planning = ("A planning campaign: these uncertainties are computed on synthetic "
                 "histories and are predictions, as its verdicts are, not a statement about "
                 "measured drops." if assessment.planning else "")
+    none = ("The spec states no measurement uncertainty (it has no uncertainty block): no "
+            "value or verdict has an uncertainty or a conformance probability, and every "
+            "verdict is judged by simple acceptance." if found.none_stated else "")
     return {**rule_statement(found), "inputs": inputs, "budgets": budgets, "figure": figure,
-            "unstated": [s.label for s in found.unstated], "planning": planning}
+            "unstated": [s.label for s in found.unstated], "planning": planning,
+            "none_stated": none}
 
 
 def _acceptance(found: Budgets, item) -> float:

@@ -541,6 +541,8 @@ def _conclusions(assessment: Assessment, setup: list, gear_rows: list,
     found = assessment.uncertainty
     unstated += [f"measurement uncertainty of the {source.label} (a verdict depends on it)"
                  for source in (found.unstated if found is not None else [])]
+    if found is not None and found.none_stated:
+        unstated.append("measurement uncertainties and the decision rule (uncertainty block)")
     planning = assessment.planning
     return {
         "outcome": assessment.outcome,
