@@ -280,24 +280,9 @@ def test_results_json_carries_the_uncertainties_and_the_baseline_catches_a_chang
     assert not any(path.endswith("/margin") for path in moved)
 
 
-SECOND_DROP = """\
-  - id: R2
-    test_type: limit
-    gear_units: [left-main]
-    drop_height: 300 mm
-    drop_mass: 250 kg
-    lift: {method: reduced_mass, ratio: 0.667}
-    data:
-      file: data/r2.csv
-      time: {column: t_s, unit: s}
-      gears:
-        left-main:
-          vertical_load: {column: Fz_kN, unit: kN}
-          strut_stroke: {column: stroke_mm, unit: mm}
-          tyre_deflection: {column: tyre_mm, unit: mm}
-      drop_mass_acceleration: {column: acc_ms2, unit: m/s^2, reference: kinematic}
-    inspection: {failure: false}
-"""
+#: A repeat of the analytic campaign's run R1 (its own block, renamed), from data/r2.csv.
+SECOND_DROP = (TIMESERIES_SPEC[TIMESERIES_SPEC.index("  - id: R1"):]
+               .replace("id: R1", "id: R2").replace("data/r1.csv", "data/r2.csv"))
 
 
 def test_a_repeated_drop_adds_the_scatter_of_its_margins_as_a_type_a_component(tmp_path):

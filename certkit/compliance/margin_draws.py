@@ -111,7 +111,7 @@ def margin_draws(assessment: Assessment, verdict: Verdict, check: str, items, dr
         return bounded * (1.0 if factor_key is None else rules.number(factor_key))
 
     if check in ("limit_drop_height", "reserve_drop_height", "dynamic_drop_height"):
-        if check == "dynamic_drop_height" and verdict.reason != "option (1): 2.25·h_req":
+        if verdict.unit != "m":      # 23.726(a) option (2) judges n, not the height
             return None
         factor = {"limit_drop_height": None, "reserve_drop_height": "reserve_height_factor",
                   "dynamic_drop_height": "dynamic_height_factor"}[check]
