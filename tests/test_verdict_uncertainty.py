@@ -369,3 +369,35 @@ def test_a_campaign_that_states_no_uncertainty_says_so_and_probes_nothing(tmp_pa
     assert "The spec states no measurement uncertainty" in html
     assert "measurement uncertainties and the decision rule (uncertainty block)" in html
     assert "Input (an error, estimate 0)" not in html
+
+
+def test_remembered_measures_change_no_figure_and_read_a_changed_record_again():
+    # assess() probes with RepeatedMeasures (a gear's records read once while they are the
+    # same arrays); the budgets must be those of probes that read every record every time
+    from certkit.compliance.engine import evaluate
+    from certkit.compliance.measures import RepeatedMeasures, measure_gear
+    from certkit.compliance.verdict_uncertainty import budgets
+
+    campaign = load_campaign(SEED)
+    remembered = assess(campaign).uncertainty
+    plain = budgets(evaluate(campaign), evaluate)
+    assert remembered.values == plain.values
+    assert set(remembered.verdicts) == set(plain.verdicts) != set()
+    for key, found in plain.verdicts.items():
+        assert remembered.verdicts[key] == found, key
+
+    signals = analytic_signals()
+    time, load = signals["t_s"], signals["Fz_kN"] * 1e3
+    stroke, tyre = signals["stroke_mm"] * 1e-3, signals["tyre_mm"] * 1e-3
+    measure = RepeatedMeasures()
+    first = measure(time, load, stroke, tyre, 4000.0)
+    assert first == measure_gear(time, load, stroke, tyre, 4000.0)
+    assert measure(time, load, stroke, tyre, 4000.0) is first
+    # an equal copy is another record (it could have been changed): read again, same result
+    again = measure(time, load.copy(), stroke, tyre, 4000.0)
+    assert again is not first and again == first
+    # a changed record and another static weight give other measures
+    assert measure(time, 1.01 * load, stroke, tyre, 4000.0).peak_load == pytest.approx(
+        1.01 * first.peak_load, rel=1e-12)
+    assert measure(time, load, stroke, tyre, 4000.0 * 40).touchdown_time != \
+        first.touchdown_time

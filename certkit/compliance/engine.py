@@ -10,7 +10,9 @@ data-quality audit.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import replace
+from functools import partial
 
 from certkit.compliance import clauses
 from certkit.compliance.assessment import (Assessment, BasisResult, GearResult, RunResult,
@@ -18,8 +20,8 @@ from certkit.compliance.assessment import (Assessment, BasisResult, GearResult, 
 from certkit.compliance.criteria import evaluate as evaluate_criteria
 from certkit.compliance.drop_conditions import drop_weight_share, lift_force_ratio, lift_ratio
 from certkit.compliance.measures import (SETTLING_BAND, TOUCHDOWN_SHARE, VELOCITY_WINDOW,
-                                         GearMeasures, contact_velocity, drop_mass_load_factor,
-                                         measure_gear)
+                                         GearMeasures, RepeatedMeasures, contact_velocity,
+                                         drop_mass_load_factor, measure_gear)
 from certkit.compliance.quality import audit
 from certkit.compliance.verdict_uncertainty import budgets
 from certkit.display import SI_UNITS, number, with_unit
@@ -132,7 +134,7 @@ class _Collector:
 
 
 def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
-                 series: RunSeries | None) -> GearResult:
+                 series: RunSeries | None, measure: Callable = measure_gear) -> GearResult:
     unit = campaign.gear_units[gear_id]
     strut = unit.strut
     inclination = strut.inclination.si if strut and strut.inclination else 0.0
@@ -161,7 +163,8 @@ def _gear_result(campaign: Campaign, run: Run, index: int, gear_id: str,
     gear_series = series.gears.get(gear_id) if series else None
     if gear_series is not None:
         basis = f"time series ({series.file})"
-        measures = _measured_values(put, series, gear_series, unit, weight, inclination)
+        measures = _measured_values(put, series, gear_series, unit, weight, inclination,
+                                    measure)
         if not (strut and strut.unsprung_mass is not None):
             assumptions["m2"] = (f"m2 = 0 assumed (F_s = F_V·cos θ): "
                                  f"gear_units[{gear_id}].strut.unsprung_mass not declared")
@@ -207,13 +210,13 @@ def mark_assumptions(gear: GearResult) -> None:
 
 
 def _measured_values(put, series: RunSeries, gear_series, unit: GearUnit, weight: float,
-                     inclination: float) -> GearMeasures:
+                     inclination: float, measure: Callable = measure_gear) -> GearMeasures:
     """The values measured from a gear unit's time series (certkit M1-M3, E1, E5)."""
     strut = unit.strut
     declared = strut is not None and strut.unsprung_mass is not None
     unsprung = strut.unsprung_mass.si if declared else 0.0
-    measures = measure_gear(series.time, gear_series.load, gear_series.stroke,
-                            gear_series.tyre, weight, inclination, unsprung)
+    measures = measure(series.time, gear_series.load, gear_series.stroke, gear_series.tyre,
+                       weight, inclination, unsprung)
     source_file = {"data": series.file}
     put("t0", "Touchdown time", "t_0", measures.touchdown_time, "s", "time", "certkit M3",
         inputs=source_file,
@@ -374,11 +377,13 @@ def _derived_gear_values(result: GearResult, run: Run, unit: GearUnit, cos_theta
             else "not settled within the record")
 
 
-def _run_result(campaign: Campaign, run: Run, index: int) -> RunResult:
+def _run_result(campaign: Campaign, run: Run, index: int,
+                measure: Callable = measure_gear) -> RunResult:
     series = campaign.series.get(run.id)
     if run.data is not None and run.data.origin == "synthetic" and not is_planning(campaign):
         series = None  # simulated histories are not test evidence (quality: synthetic-data)
-    gears = [_gear_result(campaign, run, index, gear_id, series) for gear_id in run.gear_units]
+    gears = [_gear_result(campaign, run, index, gear_id, series, measure)
+             for gear_id in run.gear_units]
     values: dict[str, Value] = {}
     h = run.drop_height
     values["h"] = Value("h", "Free drop height", "h", h.si, "m", "length", "spec",
@@ -486,7 +491,8 @@ def assess(campaign: Campaign) -> Assessment:
         comparison of reported against recomputed values.
     """
     assessment = evaluate(campaign)
-    found = budgets(assessment, evaluate)
+    # the probes re-read a gear's records only when they changed (RepeatedMeasures)
+    found = budgets(assessment, partial(evaluate, measure=RepeatedMeasures()))
     assessment.uncertainty = found
     assessment.verdicts = [replace(verdict, verdict=found.verdicts[verdict.id].outcome,
                                    uncertainty=found.verdicts[verdict.id])
@@ -496,17 +502,20 @@ def assess(campaign: Campaign) -> Assessment:
     return assessment
 
 
-def evaluate(campaign: Campaign) -> Assessment:
+def evaluate(campaign: Campaign, measure: Callable = measure_gear) -> Assessment:
     """The values and verdicts of a campaign, without the data-quality audit and the
     uncertainties: the function every sensitivity of
-    :mod:`certkit.compliance.verdict_uncertainty` is a difference of."""
+    :mod:`certkit.compliance.verdict_uncertainty` is a difference of.  ``measure`` reads a
+    gear unit's records (:func:`~certkit.compliance.measures.measure_gear`, or one that
+    remembers its results: :class:`~certkit.compliance.measures.RepeatedMeasures`)."""
     design = _design_values(campaign)
     basis = []
     for entry in campaign.spec.certification_basis:
         rules = requirement_sets.load(entry.requirement_set)
         basis.append(BasisResult(entry, rules, _basis_values(rules, design,
                                                              campaign.spec.report.units)))
-    runs = [_run_result(campaign, run, index) for index, run in enumerate(campaign.spec.runs)]
+    runs = [_run_result(campaign, run, index, measure)
+            for index, run in enumerate(campaign.spec.runs)]
     assessment = Assessment(campaign, design, basis, runs)
     _energy_method_values(assessment)
     for run in runs:

@@ -29,6 +29,7 @@ decision rule is ILAC-G8:09/2019's (:func:`certkit.compliance.uncertainty.decide
 from __future__ import annotations
 
 import math
+import time
 import zlib
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -177,8 +178,6 @@ def budgets(assessment: Assessment, evaluate: Callable[[Campaign], Assessment],
 
     ``evaluate`` is the engine without the data-quality audit (campaign -> assessment with
     its values and verdicts): every sensitivity is a difference of its results."""
-    import time as clock
-
     campaign = assessment.campaign
     stated = campaign.spec.uncertainty or UncertaintySpec()
     items = sources(campaign)
@@ -203,10 +202,21 @@ def budgets(assessment: Assessment, evaluate: Callable[[Campaign], Assessment],
     checks = {(b.rules.id, c.id): c.check for b in assessment.basis for c in b.rules.criteria}
     repeats = repeatability(assessment)
     stated_items = [i for i, item in enumerate(items) if item.input is not None]
-    started = clock.perf_counter()
+    started = time.perf_counter()
     draws = (np.vstack([item.input.draws(np.random.default_rng([SEED, i]), trials)
                         if item.input is not None else np.zeros(trials)
                         for i, item in enumerate(items)]) if stated_items else None)
+    engine_margins: dict[int, dict[str, float | None]] = {}
+
+    def engine_draw(trial: int) -> dict[str, float | None]:
+        # the engine's margins of every verdict at draw ``trial``: evaluated once, shared by
+        # the verdicts' checks (the same draws feed every verdict's Monte Carlo)
+        if trial not in engine_margins:
+            changes = {i: float(draws[i, trial]) for i in stated_items}
+            engine_margins[trial] = {v.id: v.margin for v in
+                                     evaluate(perturbed(campaign, changes, items)).verdicts}
+        return engine_margins[trial]
+
     for verdict in assessment.verdicts:
         if verdict.margin is None:
             continue
@@ -244,7 +254,7 @@ def budgets(assessment: Assessment, evaluate: Callable[[Campaign], Assessment],
                                     f"degree(s) of freedom, and its t-distribution no finite "
                                     f"variance (JCGM 101 §6.4.9): the GUM with a t-factor")
         elif draws is not None and u2 > 0:
-            mc = _monte_carlo(assessment, verdict, check, items, draws, trials, evaluate,
+            mc = _monte_carlo(assessment, verdict, check, items, draws, trials, engine_draw,
                               math.sqrt(u2), spread)
         found.verdicts[verdict.id] = _decided(verdict, math.sqrt(u2) if lines else None, mc,
                                               lines, missing, found, dof,
@@ -252,7 +262,7 @@ def budgets(assessment: Assessment, evaluate: Callable[[Campaign], Assessment],
                                                   for i, c in parts.items()))
         if mc is not None and mc.margins is not None:
             found.samples[verdict.id] = np.sort(mc.margins)[::max(trials // 2000, 1)]
-    found.monte_carlo_seconds = clock.perf_counter() - started
+    found.monte_carlo_seconds = time.perf_counter() - started
     return found
 
 
@@ -317,8 +327,10 @@ class _Draws:
     why: str
 
 
-def _monte_carlo(assessment, verdict, check, items, draws, trials, evaluate, u_gum,
+def _monte_carlo(assessment, verdict, check, items, draws, trials, engine_draw, u_gum,
                  spread=None) -> _Draws:
+    """``verdict``'s margin at each draw, checked against the engine's margins on the first
+    :data:`ENGINE_CHECKS` draws (``engine_draw(trial)``: every verdict's margin there)."""
     margins = margin_draws(assessment, verdict, check, items, draws, trials)
     if margins is None:
         return _Draws(None, None, "the Monte Carlo model does not cover this check")
@@ -326,10 +338,7 @@ def _monte_carlo(assessment, verdict, check, items, draws, trials, evaluate, u_g
     if abs(float(np.median(margins)) - verdict.margin) > 10 * u_gum + ENGINE_AGREEMENT * scale:
         return _Draws(None, None, "the Monte Carlo model's margin is off the engine's")
     for trial in range(ENGINE_CHECKS):
-        changes = {i: float(draws[i, trial]) for i, item in enumerate(items)
-                   if item.input is not None}
-        engine = {v.id: v.margin for v in evaluate(perturbed(assessment.campaign, changes,
-                                                             items)).verdicts}.get(verdict.id)
+        engine = engine_draw(trial).get(verdict.id)
         if engine is None or abs(engine - float(margins[trial])) > ENGINE_AGREEMENT * scale:
             return _Draws(None, None, f"the Monte Carlo model disagrees with the engine on "
                                       f"draw {trial + 1} ({engine} against "
