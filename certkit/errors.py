@@ -71,6 +71,17 @@ class DataInputError(CertkitInputError, ValueError):
         super().__init__([Problem("argument", None, name, message)])
 
 
+class KeywordArgumentError(DataInputError, TypeError):
+    """A parameter given by position where certkit takes it by keyword only (an estimator's
+    hyper-parameters): a TypeError, as Python raises for a call its signature refuses, that
+    names the parameter and shows the call written with keywords."""
+
+
+class CertkitWarning(UserWarning):
+    """Something a user can act on though nothing failed (a tuned value at the edge of its
+    search range): the base of certkit's warnings, so that they can be filtered as one."""
+
+
 class CampaignError(Exception):
     """What a valid campaign can still cause and its user can act on, though no key is wrong:
     a drop model that cannot be simulated, residuals that cannot be evaluated, a blind check

@@ -156,10 +156,12 @@ def test_a_list_of_arrays_is_several_experiments_and_lags_stay_inside():
 # --------------------------------------------------------------------- parameters
 @pytest.mark.parametrize("estimator", [
     ARX(3, [1, 2], delay=[0, 1], fit_intercept=False),
-    NARX(3, 1, 0, gamma=5.0, sigma2=2.0, engine="fixed-size", prototypes=40),
-    HammersteinLSSVM(1, 3, 2e3, 0.5, "b0", True, delay=1, input_scale=2.0,
-                     engine="fixed-size", prototypes=30, random_state=5),
-    WienerLSSVM(2, 3, 1, 10.0, 0.3, input_scale=1.0, tuning={"target": 0.1})])
+    NARX(3, 1, delay=0, gamma=5.0, sigma2=2.0, engine="fixed-size", prototypes=40),
+    HammersteinLSSVM(1, 3, gamma=2e3, sigma2=0.5, normalisation="b0", refine_linear=True,
+                     delay=1, input_scale=2.0, engine="fixed-size", prototypes=30,
+                     random_state=5),
+    WienerLSSVM(2, 3, delay=1, gamma=10.0, sigma2=0.3, input_scale=1.0,
+                tuning={"target": 0.1})])
 def test_clone_and_get_params_round_trip(estimator):
     params = estimator.get_params()
     copy = clone(estimator)

@@ -52,7 +52,7 @@ def test_rbf_kernel_has_no_factor_two():
 def test_dual_solution_satisfies_the_kkt_system(regression_data):
     X, y, _ = regression_data
     gamma, sigma2 = 10.0, 2.0
-    model = LSSVMRegressor(gamma, sigma2).fit(X, y)
+    model = LSSVMRegressor(gamma=gamma, sigma2=sigma2).fit(X, y)
     n = y.size
     system = np.zeros((n + 1, n + 1))
     system[0, 1:] = system[1:, 0] = 1.0
@@ -69,7 +69,7 @@ def test_bias_free_lssvm_equals_kernel_ridge_on_centred_data(regression_data):
     X, y, X_test = regression_data
     gamma, sigma2 = 10.0, 2.0
     centred = y - y.mean()
-    ours = LSSVMRegressor(gamma, sigma2, bias=False).fit(X, centred)
+    ours = LSSVMRegressor(gamma=gamma, sigma2=sigma2, bias=False).fit(X, centred)
     reference = KernelRidge(alpha=1 / gamma, kernel="rbf", gamma=1 / sigma2).fit(X, centred)
     assert ours.b_ == 0.0
     assert np.allclose(ours.alpha_, reference.dual_coef_, rtol=0, atol=1e-6)
@@ -82,7 +82,7 @@ def test_lssvm_with_bias_is_kernel_ridge_on_y_minus_b(regression_data):
     # is not the mean of y (Σα = 0 fixes it), so centring y alone would not match.
     X, y, X_test = regression_data
     gamma, sigma2 = 10.0, 2.0
-    ours = LSSVMRegressor(gamma, sigma2).fit(X, y)
+    ours = LSSVMRegressor(gamma=gamma, sigma2=sigma2).fit(X, y)
     reference = KernelRidge(alpha=1 / gamma, kernel="rbf", gamma=1 / sigma2).fit(X, y - ours.b_)
     assert abs(ours.alpha_.sum()) < 1e-9
     assert abs(ours.b_ - y.mean()) > 1e-3
@@ -117,8 +117,8 @@ def test_predict_before_fit_and_wrong_width_are_refused(regression_data):
 # --------------------------------------------------------------------------- fixed size
 def test_fixed_size_with_all_points_as_prototypes_is_the_dual_lssvm(regression_data):
     X, y, X_test = regression_data
-    full = LSSVMRegressor(10.0, 2.0).fit(X, y)
-    fixed = FixedSizeLSSVM(10.0, 2.0, prototypes=len(y)).fit(X, y)
+    full = LSSVMRegressor(gamma=10.0, sigma2=2.0).fit(X, y)
+    fixed = FixedSizeLSSVM(gamma=10.0, sigma2=2.0, prototypes=len(y)).fit(X, y)
     assert np.allclose(fixed.predict(X_test), full.predict(X_test), rtol=0, atol=1e-5)
     assert fixed.b_ == pytest.approx(full.b_, abs=1e-5)
 
@@ -128,8 +128,8 @@ def test_fixed_size_with_few_prototypes_stays_close_on_a_smooth_function():
     x = np.sort(rng.uniform(-4.0, 4.0, 1500))
     y = np.sin(x) + 0.5 * np.cos(2 * x) + 0.05 * rng.standard_normal(x.size)
     grid = np.linspace(-3.8, 3.8, 200)
-    full = LSSVMRegressor(100.0, 0.5).fit(x, y).predict(grid)
-    fixed = FixedSizeLSSVM(100.0, 0.5, prototypes=40).fit(x, y)
+    full = LSSVMRegressor(gamma=100.0, sigma2=0.5).fit(x, y).predict(grid)
+    fixed = FixedSizeLSSVM(gamma=100.0, sigma2=0.5, prototypes=40).fit(x, y)
     assert fixed.support_.shape == (40, 1)
     assert np.max(np.abs(fixed.predict(grid) - full)) < 0.02   # signal amplitude ≈ 1.5
 
@@ -146,14 +146,14 @@ def test_renyi_selection_is_seeded_and_raises_the_entropy():
     assert len(set(first.tolist())) == 30
     random_sets = [entropy(X[rng.choice(500, 30, replace=False)]) for _ in range(20)]
     assert entropy(X[first]) > max(random_sets)
-    a = FixedSizeLSSVM(10.0, 1.0, prototypes=30, random_state=4).fit(X, X[:, 0])
-    b = FixedSizeLSSVM(10.0, 1.0, prototypes=30, random_state=4).fit(X, X[:, 0])
+    a = FixedSizeLSSVM(gamma=10.0, sigma2=1.0, prototypes=30, random_state=4).fit(X, X[:, 0])
+    b = FixedSizeLSSVM(gamma=10.0, sigma2=1.0, prototypes=30, random_state=4).fit(X, X[:, 0])
     assert np.array_equal(a.prototype_indices_, b.prototype_indices_)
 
 
 def test_fixed_size_accepts_given_prototypes(regression_data):
     X, y, _ = regression_data
-    model = FixedSizeLSSVM(10.0, 2.0, prototypes=X[:20]).fit(X, y)
+    model = FixedSizeLSSVM(gamma=10.0, sigma2=2.0, prototypes=X[:20]).fit(X, y)
     assert model.prototype_indices_ is None
     assert np.array_equal(model.support_, X[:20])
 
@@ -175,7 +175,7 @@ def test_tuning_by_cross_validation_beats_a_bad_start_and_is_deterministic():
     rng = np.random.default_rng(4)
     x = rng.uniform(-3.0, 3.0, 200)
     y = np.sinc(x) + 0.05 * rng.standard_normal(x.size)
-    cost = kfold_cost(lambda g, s: LSSVMRegressor(g, s), x, y, folds=5)
+    cost = kfold_cost(lambda g, s: LSSVMRegressor(gamma=g, sigma2=s), x, y, folds=5)
     bad = (1e-2, 1e2)                               # over-smoothed, under-fitted
     refined = tune(cost, start=bad, max_refine=40)
     assert refined.cost < cost(*bad) / 10
@@ -216,8 +216,8 @@ def experiments():
 
 def test_narx_windows_do_not_cross_experiments(experiments):
     us, ys = experiments
-    separate = NARX(2, 2, 1, gamma=100.0, sigma2=5.0).fit(us[:2], ys[:2])
-    joined = NARX(2, 2, 1, gamma=100.0, sigma2=5.0).fit(np.concatenate(us[:2]),
+    separate = NARX(2, 2, delay=1, gamma=100.0, sigma2=5.0).fit(us[:2], ys[:2])
+    joined = NARX(2, 2, delay=1, gamma=100.0, sigma2=5.0).fit(np.concatenate(us[:2]),
                                                         np.concatenate(ys[:2]))
     assert separate.n_rows_ == 300 + 300 - 2 * 2
     assert joined.n_rows_ == 600 - 2
@@ -232,7 +232,7 @@ def test_narx_windows_do_not_cross_experiments(experiments):
 
 def test_tuned_narx_simulates_held_out_data(experiments):
     us, ys = experiments
-    model = NARX(2, 2, 1, tuning={"grid": 4, "max_refine": 15}).fit(us[:2], ys[:2])
+    model = NARX(2, 2, delay=1, tuning={"grid": 4, "max_refine": 15}).fit(us[:2], ys[:2])
     assert model.tuning_ is not None and model.gamma_ == model.tuning_.gamma
     u, y = us[2], ys[2]
     simulated = model.simulate(u, y[:10])
@@ -253,7 +253,7 @@ def test_tuned_narx_simulates_held_out_data(experiments):
 
 def test_fixed_size_narx_and_lists_of_experiments(experiments):
     us, ys = experiments
-    model = NARX(2, 2, 1, gamma=1e3, sigma2=5.0, engine="fixed-size",
+    model = NARX(2, 2, delay=1, gamma=1e3, sigma2=5.0, engine="fixed-size",
                  prototypes=80).fit(us[:2], ys[:2])
     assert model.regressor_.support_.shape == (80, 4)
     simulated = model.simulate([us[2], us[1]], [ys[2][:5], ys[1][:5]])
@@ -263,7 +263,7 @@ def test_fixed_size_narx_and_lists_of_experiments(experiments):
 
 def test_narx_refuses_short_windows_and_mismatched_experiments(experiments):
     us, ys = experiments
-    model = NARX(3, 2, 1, gamma=10.0, sigma2=1.0).fit(us[0], ys[0])
+    model = NARX(3, 2, delay=1, gamma=10.0, sigma2=1.0).fit(us[0], ys[0])
     with pytest.raises(ValueError, match="between init_length = 3 and"):
         model.simulate(us[1], ys[1][:2])
     with pytest.raises(ValueError, match="found 2 and 1"):

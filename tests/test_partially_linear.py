@@ -28,7 +28,7 @@ def test_a_penalised_away_kernel_part_leaves_the_least_squares_polynomial():
     design = np.column_stack([X, X[:, 0] ** 3, X[:, 0] ** 2 * X[:, 1], X[:, 0] * X[:, 1] ** 2,
                               X[:, 1] ** 3, np.ones(500)])
     expected = np.linalg.lstsq(design, y, rcond=None)[0]
-    model = FixedSizeLSSVM(1e-12, 1.0, prototypes=50, linear=True, cubic=2,
+    model = FixedSizeLSSVM(gamma=1e-12, sigma2=1.0, prototypes=50, linear=True, cubic=2,
                            cubic_terms="all").fit(X, y)
     fitted = np.concatenate([model.linear_, model.cubic_, [model.b_]])
     assert fitted == pytest.approx(expected, abs=1e-6)
@@ -42,8 +42,8 @@ def test_the_parametric_part_carries_the_trend_beyond_the_training_range():
     y = 2.0 * x + 0.3 * np.sin(3.0 * x)
     far = np.array([[2.5], [3.0]])
     truth = 2.0 * far[:, 0] + 0.3 * np.sin(3.0 * far[:, 0])
-    plain = FixedSizeLSSVM(1e4, 0.5, prototypes=60).fit(x, y)
-    partial = FixedSizeLSSVM(1e4, 0.5, prototypes=60, linear=True).fit(x, y)
+    plain = FixedSizeLSSVM(gamma=1e4, sigma2=0.5, prototypes=60).fit(x, y)
+    partial = FixedSizeLSSVM(gamma=1e4, sigma2=0.5, prototypes=60, linear=True).fit(x, y)
     inside = np.linspace(-0.9, 0.9, 50)[:, None]
     assert partial.predict(inside) == pytest.approx(plain.predict(inside), abs=0.01)
     # the RBF part fades away from the data: the plain model falls back towards b

@@ -15,6 +15,7 @@ from scipy import linalg
 from certkit.ident.experiments import DataInputError, order, positive_number, signal
 from certkit.ident.lssvm import (CHUNK_ENTRIES, KernelModel, kernel_expansion,
                                  feature_matrix, rbf_kernel)
+from certkit.ident.signature import orders_positional
 
 CUBIC_TERMS = ("cubes", "all")
 
@@ -220,7 +221,8 @@ class FixedSizeLSSVM(KernelModel):
     Wiener-Hammerstein benchmark", IFAC Proceedings Volumes 42(10) (2009) 826–831.
     """
 
-    def __init__(self, gamma: float = 1.0, sigma2: float = 1.0, *, prototypes=200,
+    @orders_positional()
+    def __init__(self, *, gamma: float = 1.0, sigma2: float = 1.0, prototypes=200,
                  entropy_sigma2: float | None = None, n_swaps: int | None = None,
                  eigen_tolerance: float = 1e-10, random_state: int = 0,
                  linear: bool = False, cubic: int = 0, cubic_terms: str = "cubes"):

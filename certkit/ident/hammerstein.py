@@ -53,6 +53,7 @@ from certkit.ident.dynamic_model import DynamicModel
 from certkit.ident.experiments import DataInputError, channels, order, positive_number
 from certkit.ident.fixed_size import nystrom_map, renyi_bandwidth, select_prototypes
 from certkit.ident.lssvm import CHUNK_ENTRIES, rbf_kernel
+from certkit.ident.signature import orders_positional
 
 NORMALISATIONS = ("static_gain", "b0", "unit_norm")
 
@@ -244,21 +245,23 @@ class HammersteinLSSVM(DynamicModel):
     """
 
 
-    def __init__(self, na: int = 6, nb: int = 4, gamma: float = 1e3, sigma2: float = 1.0,
-                 normalisation: str = "static_gain", refine_linear: bool = False, *,
-                 delay: int = 0, input_scale=None, engine: str = "full",
-                 prototypes: int = 100, random_state: int = 0):
+    # its earlier signature took (na, nb, gamma, sigma2, normalisation, refine_linear)
+    @orders_positional(earlier=("gamma", "sigma2", "normalisation", "refine_linear"))
+    def __init__(self, na: int = 6, nb: int = 4, *, delay: int = 0, gamma: float = 1e3,
+                 sigma2: float = 1.0, engine: str = "full", prototypes: int = 100,
+                 random_state: int = 0, normalisation: str = "static_gain",
+                 refine_linear: bool = False, input_scale=None):
         self.na = na
         self.nb = nb
+        self.delay = delay
         self.gamma = gamma
         self.sigma2 = sigma2
-        self.normalisation = normalisation
-        self.refine_linear = refine_linear
-        self.delay = delay
-        self.input_scale = input_scale
         self.engine = engine
         self.prototypes = prototypes
         self.random_state = random_state
+        self.normalisation = normalisation
+        self.refine_linear = refine_linear
+        self.input_scale = input_scale
 
     # ------------------------------------------------------------------ helpers
     @property

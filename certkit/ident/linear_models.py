@@ -16,6 +16,7 @@ from scipy.signal import lfilter, lfiltic
 
 from certkit.ident.dynamic_model import DynamicModel, input_lags, regression_rows, regressors
 from certkit.ident.experiments import DataInputError, order, per_channel
+from certkit.ident.signature import orders_positional
 
 
 class ARX(DynamicModel):
@@ -73,7 +74,8 @@ class ARX(DynamicModel):
     [0.8, 0.5, 0.4]
     """
 
-    def __init__(self, na: int = 6, nb=4, delay=0, fit_intercept: bool = True):
+    @orders_positional()
+    def __init__(self, na: int = 6, nb=4, *, delay=0, fit_intercept: bool = True):
         self.na = na
         self.nb = nb
         self.delay = delay
@@ -150,7 +152,7 @@ class ARX(DynamicModel):
             scale = float(np.sum(b) / (1.0 - np.sum(self.a_)))
         else:
             scale = float(np.linalg.norm(b)) * np.sign(b[np.argmax(np.abs(b))])
-        model = ARX(self.na, self.nb, self.delay, fit_intercept=False)
+        model = ARX(self.na, self.nb, delay=self.delay, fit_intercept=False)
         model._na, model._nb, model._delay = self._na, self._nb, self._delay
         model._set_coefficients(self.a_.copy(), self.b_flat_ / scale, 0.0)
         if not self.gain_determined:

@@ -25,6 +25,7 @@ import numpy as np
 from scipy import linalg, optimize
 
 from certkit.ident.experiments import DataInputError, positive_number, signal
+from certkit.ident.signature import orders_positional
 
 CHUNK_ENTRIES = 4_000_000      # kernel entries evaluated at once (≈ 32 MB) in predictions
 
@@ -142,7 +143,8 @@ class LSSVMRegressor(KernelModel):
     *Least Squares Support Vector Machines*, World Scientific, 2002, ch. 3.
     """
 
-    def __init__(self, gamma: float = 1.0, sigma2: float = 1.0, *, bias: bool = True):
+    @orders_positional()
+    def __init__(self, *, gamma: float = 1.0, sigma2: float = 1.0, bias: bool = True):
         self.gamma = gamma
         self.sigma2 = sigma2
         self.bias = bias

@@ -14,6 +14,7 @@ from certkit.ident.experiments import (DataInputError, experiments, free_run_fol
                                        per_channel, positive_number)
 from certkit.ident.fixed_size import FixedSizeLSSVM, renyi_bandwidth, select_prototypes
 from certkit.ident.lssvm import CHUNK_ENTRIES, LSSVMRegressor, rbf_kernel, tune
+from certkit.ident.signature import orders_positional
 
 # ----------------------------------------------------------------------------- NARX
 def narx_regressors(u, y, na: int, nb=2, delay=1) -> tuple[np.ndarray, np.ndarray]:
@@ -94,6 +95,8 @@ class NARX(DynamicModel):
         Dual LS-SVM (N ≲ 5 000 rows) or :class:`FixedSizeLSSVM`.
     prototypes : int, default 300
         Prototypes of the fixed-size engine.
+    random_state : int, default 0
+        Seed of the prototype selection.
     folds : int, default 3
         Folds of the internal tuning cost.
     n_init : int, optional
@@ -104,8 +107,6 @@ class NARX(DynamicModel):
         Default: 5 x 5 grid, γ ∈ [1e-1, 1e7], σ² ∈ [0.01·d, 1000·d] with d = na + Σnb
         (lagged samples of an oversampled signal are strongly correlated, so the useful
         σ² can be far above d: about 80·d on Silverbox).
-    random_state : int, default 0
-        Seed of the prototype selection.
     filter_pole : float in (0, 1), optional
         Adds one regressor per input channel: z_t, a unit-gain first-order low-pass of the
         input (:func:`input_filter`, z_t = p·z_{t−1} + (1 − p)·u_{t−d}), a proxy of a slow
@@ -185,11 +186,12 @@ class NARX(DynamicModel):
     True
     """
 
-    def __init__(self, na: int = 2, nb=2, delay=1,
-                 gamma: float | None = None, sigma2: float | None = None, *,
-                 engine: str = "full", prototypes: int = 300, folds: int = 3,
-                 n_init: int | None = None, tuning: dict | None = None,
-                 random_state: int = 0, filter_pole: float | None = None,
+    @orders_positional()
+    def __init__(self, na: int = 2, nb=2, *, delay=1,
+                 gamma: float | None = None, sigma2: float | None = None,
+                 engine: str = "full", prototypes: int = 300, random_state: int = 0,
+                 folds: int = 3, n_init: int | None = None, tuning: dict | None = None,
+                 filter_pole: float | None = None,
                  filter_cap: float | None = None, output_bound: str = "none",
                  linear: bool = False, cubic: int = 0, cubic_terms: str = "cubes"):
         self.na = na
@@ -246,8 +248,8 @@ class NARX(DynamicModel):
 
     def _make_regressor(self, gamma, sigma2, prototypes=None):
         if self.engine == "full":
-            return LSSVMRegressor(gamma, sigma2)
-        return FixedSizeLSSVM(gamma, sigma2, random_state=self.random_state,
+            return LSSVMRegressor(gamma=gamma, sigma2=sigma2)
+        return FixedSizeLSSVM(gamma=gamma, sigma2=sigma2, random_state=self.random_state,
                               prototypes=self.prototypes if prototypes is None
                               else prototypes, linear=bool(self.linear), cubic=self.cubic,
                               cubic_terms=self.cubic_terms)

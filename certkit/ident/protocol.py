@@ -387,11 +387,12 @@ def _identify_narx(result, output, train, held, paper_train, settings) -> None:
     first = held[0]
     # NARX (black-box reference), tuned on the training runs' free-run error
     spec = settings.narx
-    tuned_narx = NARX(spec.na, spec.nb, 1, spec.gamma.si if spec.gamma else None,
-                      spec.sigma2.si if spec.sigma2 else None, engine="fixed-size",
+    tuned_narx = NARX(spec.na, spec.nb, delay=1, gamma=spec.gamma.si if spec.gamma else None,
+                      sigma2=spec.sigma2.si if spec.sigma2 else None, engine="fixed-size",
                       prototypes=150, tuning={"grid": 3, "max_refine": 8}).fit(
         [d.load for d in train], [d.outputs[output] for d in train])
-    paper_narx = _refit(NARX(spec.na, spec.nb, 1, tuned_narx.gamma_, tuned_narx.sigma2_,
+    paper_narx = _refit(NARX(spec.na, spec.nb, delay=1, gamma=tuned_narx.gamma_,
+                             sigma2=tuned_narx.sigma2_,
                              engine="fixed-size", prototypes=150), [paper_train], output)
     for test in held:
         y = test.outputs[output]

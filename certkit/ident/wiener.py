@@ -29,6 +29,7 @@ from certkit.ident.dynamic_model import DynamicModel
 from certkit.ident.experiments import DataInputError, positive_number
 from certkit.ident.linear_models import ARX
 from certkit.ident.lssvm import LSSVMRegressor, kfold_cost, tune
+from certkit.ident.signature import orders_positional
 from certkit.units import STANDARD_GRAVITY
 
 Plant = Callable[[np.ndarray], dict]
@@ -155,7 +156,8 @@ def static_map(z: np.ndarray, y: np.ndarray, gamma: float | None = None,
     if gamma is None or sigma2 is None:
         order = np.random.default_rng(0).permutation(z.shape[0])[:300]
         scale = float(np.var(z)) or 1.0
-        cost = kfold_cost(lambda g, s: LSSVMRegressor(g, s), z[order], y[order], folds=4)
+        cost = kfold_cost(lambda g, s: LSSVMRegressor(gamma=g, sigma2=s), z[order], y[order],
+                          folds=4)
         ranges = {"gamma": gamma if gamma else (1e0, 1e7),
                   "sigma2": sigma2 if sigma2 else (1e-3 * scale, 10 * scale)}
         result = tune(cost, grid=5, refine=False, **ranges)
@@ -163,7 +165,7 @@ def static_map(z: np.ndarray, y: np.ndarray, gamma: float | None = None,
             start = (result.gamma, result.sigma2)
             result = tune(cost, grid=5, start=start, max_refine=15, **ranges)
         gamma, sigma2 = result.gamma, result.sigma2
-    return LSSVMRegressor(gamma, sigma2).fit(z, y)
+    return LSSVMRegressor(gamma=gamma, sigma2=sigma2).fit(z, y)
 
 
 class WienerLSSVM(DynamicModel):
@@ -235,8 +237,9 @@ class WienerLSSVM(DynamicModel):
     Scientific, 2002.
     """
 
-    def __init__(self, na: int = 6, nb=4, delay=0, gamma: float | None = None,
-                 sigma2: float | None = None, *, linear_block=None, input_scale=None,
+    @orders_positional()
+    def __init__(self, na: int = 6, nb=4, *, delay=0, gamma: float | None = None,
+                 sigma2: float | None = None, linear_block=None, input_scale=None,
                  tuning: dict | None = None):
         self.na = na
         self.nb = nb
@@ -255,7 +258,7 @@ class WienerLSSVM(DynamicModel):
     def _block(self, pairs) -> ARX:
         block = self.linear_block
         if block is None:
-            return ARX(self.na, self.nb, self.delay, fit_intercept=True).fit(
+            return ARX(self.na, self.nb, delay=self.delay, fit_intercept=True).fit(
                 [u for u, _ in pairs], [y for _, y in pairs])
         block = getattr(block, "estimator", block)      # a FrozenEstimator's block
         if not isinstance(block, ARX) or not hasattr(block, "a_"):
