@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from certkit import load_campaign
-from certkit.ident.protocol import identify_gear
+from certkit.gear_identification import identify_gear
 from certkit.physics.synthetic import simulate_campaign
 
 
@@ -79,7 +79,7 @@ def test_the_held_out_drop_does_not_influence_any_fitted_model(synthetic, result
 def test_json_document_is_plain_and_finite(result):
     import json
 
-    from certkit.ident.protocol import Identification, identification_document
+    from certkit.gear_identification import Identification, identification_document
 
     document = identification_document(Identification([result], "plant"))
     text = json.dumps(document, allow_nan=False)
@@ -123,7 +123,7 @@ def test_a_gear_not_identified_says_which_runs_were_too_short(timeseries_campaig
     # conftest's analytic run: 0.6 s logged, touchdown at 0.1 s, so 0.5 s after it (the
     # first sample past the touchdown threshold is at 0.101 s: 0.499 s, shown as 0.499)
     from certkit import load_campaign
-    from certkit.ident.protocol import identify
+    from certkit.gear_identification import identify
 
     result = identify(load_campaign(timeseries_campaign))
     assert result.gears == []

@@ -14,7 +14,8 @@ TEMPLATES = PACKAGE.parent / "templates"
 #: The stages in the order data flows through them; a module may import its own stage and
 #: earlier ones, never a later one.  Stage 0 is the foundation every stage may use.
 FOUNDATION = {"errors", "units", "results", "display", "outputs", "version", "threads"}
-STAGES = ["spec", "compliance", "physics", "ident", "gap", "evidence", "archive", "cli"]
+STAGES = ["spec", "compliance", "physics", "ident", "gear_identification", "gap", "evidence",
+          "archive", "cli"]
 LONGEST_MODULE = 600          # lines
 NOTES = ("physics.md", "identification.md", "requirements.md", "gap-diagnosis.md",
          "report-tooling.md")
@@ -143,3 +144,37 @@ def test_the_package_does_not_reach_into_the_benchmarks():
                                        "blind_own") for alias in node.names)
                     for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))))]
     assert not reaching, reaching
+
+
+#: What certkit.ident may import from certkit: itself and the error types.
+IDENT_MAY_IMPORT = ("certkit.ident", "certkit.errors")
+
+
+def _outside_ident(source: str) -> list[str]:
+    """The imports of certkit modules other than :data:`IDENT_MAY_IMPORT` in ``source``."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Import):
+            names = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and not node.level:
+            names = [node.module or ""]
+        else:
+            continue                      # a relative import stays inside the package
+        found += [f"line {node.lineno} imports {name}" for name in names
+                  if name.split(".")[0] == "certkit" and not any(
+                      name == a or name.startswith(a + ".") for a in IDENT_MAY_IMPORT)]
+    return found
+
+
+def test_the_identification_package_stands_on_its_own():
+    """certkit.ident imports nothing from the rest of certkit but its error types: a
+    notebook user takes the estimators without campaigns, physics or units (issue 29)."""
+    sources = sorted((PACKAGE / "ident").glob("*.py"))
+    assert len(sources) > 5
+    reaching = [f"{path.name}: {found}" for path in sources
+                for found in _outside_ident(path.read_text(encoding="utf-8"))]
+    assert reaching == [], "certkit.ident reaches outside itself:\n" + "\n".join(reaching)
+    # the check sees both spellings, at the top and inside a function
+    assert _outside_ident("import certkit.units\nfrom certkit.errors import DataInputError\n"
+                          "def f():\n    from certkit.physics.simulation import x\n") == [
+        "line 1 imports certkit.units", "line 4 imports certkit.physics.simulation"]

@@ -7,7 +7,7 @@ import pytest
 import yaml
 
 from certkit import assess, load_campaign
-from certkit.ident.protocol import MODEL_RATE, WINDOW, at_model_rate, identify_gear
+from certkit.gear_identification import MODEL_RATE, WINDOW, at_model_rate, identify_gear
 from certkit.compliance.measures import axle_acceleration
 from certkit.physics.synthetic import NO_SENSOR_EFFECTS, simulate_campaign
 
@@ -80,7 +80,7 @@ def test_compliance_at_2_khz_matches_the_same_drops_at_1_khz(logged):
 def test_identification_at_2_khz_runs_on_the_1_khz_grid_and_matches(logged):
     from threadpoolctl import threadpool_limits
 
-    with threadpool_limits(limits=1):     # as certkit.ident.protocol.identify runs them
+    with threadpool_limits(limits=1):     # as certkit.gear_identification.identify runs them
         fast, slow = (identify_gear(load_campaign(spec), "left-main") for spec in logged)
     # every drop is taken at the model's rate: 1 s from touchdown, 1 ms apart, at either rate
     for run, drop in fast.measured.items():

@@ -124,8 +124,9 @@ def identify(spec: SpecArgument,
              json_file: Annotated[Path | None, typer.Option(
                  "--json", help="also write the results to this JSON file")] = None) -> None:
     """Identify Hammerstein, Wiener and NARX models of each gear and validate them."""
-    from certkit.ident.protocol import OUTPUT_LABELS, PROTOCOL_NAMES, identification_document
-    from certkit.ident.protocol import identify as run_identification
+    from certkit.gear_identification import (OUTPUT_LABELS, PROTOCOL_NAMES,
+                                             identification_document)
+    from certkit.gear_identification import identify as run_identification
 
 
 

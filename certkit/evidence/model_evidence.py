@@ -2,7 +2,7 @@
 model the spec allows, its identification and its sim-to-real gap diagnosis, or plainly why
 there is none.
 
-Above :mod:`certkit.physics.calibration`, :mod:`certkit.ident.protocol` and
+Above :mod:`certkit.physics.calibration`, :mod:`certkit.gear_identification` and
 :mod:`certkit.gap.diagnosis`, which it runs; the report only lays out what it returns.
 
 None of these stages is compliance evidence, and none may take the compliance evidence
@@ -32,7 +32,8 @@ from threadpoolctl import threadpool_limits
 
 from certkit.errors import CertkitInputError
 from certkit.gap.diagnosis import gap_diagnosis
-from certkit.ident.protocol import Identification, identify_gear, not_identified, plant_note
+from certkit.gear_identification import (Identification, identify_gear, not_identified,
+                                         plant_note)
 from certkit.physics.calibration import Calibration, calibrate_gear, calibration_runs
 from certkit.physics.fitting import FitError
 from certkit.physics.gear_model import drop_model_for
@@ -63,7 +64,7 @@ class ModelEvidence:
     calibration: Calibration | None
     note: str
     synthetic_runs: tuple[str, ...] = ()
-    identification: object | None = None   # certkit.ident.protocol.Identification
+    identification: object | None = None   # certkit.gear_identification.Identification
     gap: dict = field(default_factory=dict)  # gear id -> certkit.gap.diagnosis.GapDiagnosis
     gap_notes: tuple[str, ...] = ()          # gear units not diagnosed, and why, in words
     failures: tuple[StageFailure, ...] = ()  # stages that could not be computed

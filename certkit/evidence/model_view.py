@@ -193,7 +193,8 @@ def _ranking_sentence(scores, output: str, protocol: str, run: str, units) -> st
 def _discussion(gear, reference, units) -> list[str]:
     """Where the ranking of the models the campaign's reference results rank differs from
     what the data say here (nothing when the campaign has no reference results)."""
-    from certkit.ident.protocol import OUTPUT_LABELS, PAPER_TRAINING, PAPER_TRAINING_DURATION
+    from certkit.gear_identification import (OUTPUT_LABELS, PAPER_TRAINING,
+                                             PAPER_TRAINING_DURATION)
 
     run = gear.held_out[0]
     sentences = []
@@ -232,9 +233,10 @@ def identification_view(evidence, settings, units, reference=None, origins=None,
     it has some), linear blocks, figures.
 
     ``settings``: the spec's ``model.identification``; ``reference``: its reference_results."""
-    from certkit.ident.protocol import (MODEL_RATE, PAPER_TRAINING, PAPER_TRAINING_DURATION,
-                                        PROTOCOL_NAMES, WHITENESS_CONFIDENCE, WHITENESS_LAGS,
-                                        WINDOW, WINDOW_DURATION)
+    from certkit.gear_identification import (MODEL_RATE, PAPER_TRAINING,
+                                             PAPER_TRAINING_DURATION, PROTOCOL_NAMES,
+                                             WHITENESS_CONFIDENCE, WHITENESS_LAGS, WINDOW,
+                                             WINDOW_DURATION)
 
     method = {"window": (f"{with_unit(WINDOW_DURATION, 'time', units)} ({WINDOW} samples at "
                          f"the identification rate of {MODEL_RATE:g} Hz; a record logged at "
@@ -271,7 +273,7 @@ def identification_view(evidence, settings, units, reference=None, origins=None,
                 f"{with_unit(WINDOW_DURATION, 'time', units)} after touchdown."
                 + (" " + "; ".join(skipped) + "." if skipped else ""), **method})
     from certkit.evidence.figures import identification_figures
-    from certkit.ident.protocol import OUTPUT_LABELS
+    from certkit.gear_identification import OUTPUT_LABELS
 
     # the static gain of a linear block, mm/kN, in display units per display unit
     gain_scale = convert(1e-6, "m", units.length) / convert(1.0, "N", units.force)

@@ -96,7 +96,7 @@ def results_document(assessment: Assessment, record: dict, model=None) -> dict:
     found = assessment.uncertainty
     model_part = None
     if model is not None:
-        from certkit.ident.protocol import identification_document
+        from certkit.gear_identification import identification_document
         from certkit.physics.calibration import calibration_document
 
         model_part = {"note": model.note, "synthetic_runs": list(model.synthetic_runs),

@@ -1,5 +1,7 @@
 """System identification: LS-SVM, Hammerstein, Wiener and linear (ARX) engines that need no
-campaign, and the drop protocol that applies them to a campaign's gear units.
+campaign.  The package imports nothing from the rest of certkit but its error types
+(:mod:`certkit.errors`); the drop protocol that applies these engines to a campaign's gear
+units is :mod:`certkit.gear_identification`, which uses this package, never the reverse.
 
 The estimators follow scikit-learn (``fit(u, y)``, ``get_params``, ``clone``); see
 :mod:`certkit.ident.dynamic_model` for what ``predict`` and ``simulate`` mean on time series

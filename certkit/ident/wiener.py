@@ -1,4 +1,5 @@
-"""Wiener models (linear block, then a static nonlinearity) of a gear unit.
+"""Wiener models (a linear block, then a static nonlinearity) and the small-signal method
+that finds their linear block on a plant.
 
 Two routes to the linear block:
 
@@ -10,10 +11,12 @@ Two routes to the linear block:
   fitted to the plant's response to a Gaussian excitation at the operating amplitude.
 
 Either block is scaled to unit static gain, so its output z carries the input's unit
-(N) and the static nonlinearity y = f(z) (LS-SVM regression from z to the measured
-output) is the gear's quasi-static load-travel curve.  The plant is any callable taking
-a force deviation [N] and returning output deviations; :func:`physics_plant` makes one
-from a drop model driven by a prescribed ground load.
+and the static nonlinearity y = f(z) (LS-SVM regression from z to the measured output) is
+the plant's quasi-static input-output curve (a gear's load-travel curve).  The plant is any
+callable taking an input deviation (a force [N] in the drop protocol) and returning a dict
+of output deviations; the drop protocol makes one from a gear's calibrated drop model
+driven by a prescribed ground load (:mod:`certkit.gear_identification`, which uses this
+module, never the reverse).
 """
 
 from __future__ import annotations
@@ -30,7 +33,6 @@ from certkit.ident.experiments import DataInputError, positive_number
 from certkit.ident.linear_models import ARX
 from certkit.ident.lssvm import LSSVMRegressor, kfold_cost, tune
 from certkit.ident.signature import orders_positional
-from certkit.units import STANDARD_GRAVITY
 
 Plant = Callable[[np.ndarray], dict]
 
@@ -312,23 +314,3 @@ class WienerLSSVM(DynamicModel):
                                   "enters after the nonlinearity): call predict(u) or "
                                   "simulate(u, y_init)")
 
-
-def physics_plant(model, samples: int, sample_rate: float, outputs=("stroke", "tyre")) -> Plant:
-    """The drop model driven by a prescribed ground load around its resting point.
-
-    The applied force is the unit's weight less lift plus the excitation; the outputs are
-    the departures of stroke and tyre deflection from their resting values."""
-
-    from certkit.physics.simulation import simulate_driven   # the physics only when asked
-
-    time = np.arange(samples) / sample_rate
-    weight = model.total_mass * STANDARD_GRAVITY - model.lift
-    rest = simulate_driven(model, time, np.full(samples, weight))
-    base = {"stroke": rest.stroke, "tyre": rest.tyre}
-
-    def plant(force: np.ndarray) -> dict:
-        response = simulate_driven(model, time, weight + np.asarray(force, dtype=float))
-        values = {"stroke": response.stroke, "tyre": response.tyre}
-        return {name: values[name] - base[name] for name in outputs}
-
-    return plant

@@ -1,4 +1,7 @@
-"""Identification of block-oriented models of each gear unit from its drop runs.
+"""Identification of block-oriented models of each gear unit from its drop runs: the drop
+protocol that applies the engines of :mod:`certkit.ident` (which know nothing of campaigns)
+to a campaign, with the gear's calibrated drop model as the Wiener plant
+(:func:`physics_plant`).
 
 Input the platform's vertical load [kN], outputs the strut stroke and the tyre deflection
 [mm], one SISO model per output, as in the seed paper (§3-§5), each starting at
@@ -48,11 +51,12 @@ from certkit.ident.linear_models import ARX
 from certkit.ident.narx import NARX
 from certkit.ident.tuning import tune_free_run
 from certkit.ident.validation import fit_percent, max_abs_error, nrmse, residual_analysis, rmse
-from certkit.ident.wiener import (SmallSignalExperiment, WienerLSSVM, best_linear_records,
-                                  physics_plant, small_signal_records)
+from certkit.ident.wiener import (Plant, SmallSignalExperiment, WienerLSSVM,
+                                  best_linear_records, small_signal_records)
 from certkit.physics.calibration import calibrate_gear, simulate_like_runs
 from certkit.physics.drops import default_split, drop_heights, recorded_drops
 from certkit.physics.gear_model import drop_model_for
+from certkit.physics.simulation import simulate_driven
 from certkit.spec.campaign import Campaign
 from certkit.spec.rundata import CHANNEL_LABELS
 from certkit.threads import one_blas_thread
@@ -302,6 +306,25 @@ def _recorded_small_signal(campaign: Campaign, gear_id: str):
         centred = {name: values - values.mean() for name, values in channels.items()}
         return run.id, centred.pop("load"), centred
     return None
+
+
+def physics_plant(model, samples: int, sample_rate: float, outputs=("stroke", "tyre")) -> Plant:
+    """The drop model driven by a prescribed ground load around its resting point.
+
+    The applied force is the unit's weight less lift plus the excitation; the outputs are
+    the departures of stroke and tyre deflection from their resting values."""
+
+    time = np.arange(samples) / sample_rate
+    weight = model.total_mass * STANDARD_GRAVITY - model.lift
+    rest = simulate_driven(model, time, np.full(samples, weight))
+    base = {"stroke": rest.stroke, "tyre": rest.tyre}
+
+    def plant(force: np.ndarray) -> dict:
+        response = simulate_driven(model, time, weight + np.asarray(force, dtype=float))
+        values = {"stroke": response.stroke, "tyre": response.tyre}
+        return {name: values[name] - base[name] for name in outputs}
+
+    return plant
 
 
 def _whiteness(result, name, output, test, predicted):
