@@ -54,6 +54,7 @@ from certkit.ident.experiments import DataInputError, channels, order, positive_
 from certkit.ident.fixed_size import nystrom_map, renyi_bandwidth, select_prototypes
 from certkit.ident.lssvm import CHUNK_ENTRIES, rbf_kernel
 from certkit.ident.signature import orders_positional
+from certkit.ident.sizing import choose_engine
 
 NORMALISATIONS = ("static_gain", "b0", "unit_norm")
 
@@ -106,9 +107,12 @@ class HammersteinLSSVM(DynamicModel):
         Scale ``s`` of each input channel in the kernel.  None: the channel's standard
         deviation over the training inputs (1 for a constant channel); 1.0 puts sigma2 in
         raw input units squared.
-    engine : {"full", "fixed-size"}, default "full"
-        The exact dual (O(N^2) memory: ~6 000 samples at most) or the fixed-size primal on
-        Nystrom features of ``prototypes`` points (any N).
+    engine : {"full", "fixed-size", "auto"}, default "full"
+        The exact dual (O(N^2) memory: it refuses N samples whose kernel matrix would exceed
+        :data:`certkit.ident.sizing.MEMORY_BUDGET`, naming the option that fits) or the
+        fixed-size primal on Nystrom features of ``prototypes`` points (any N).  ``"auto"``:
+        the dual up to :data:`~certkit.ident.sizing.AUTO_FULL_SAMPLES` (5 000) samples,
+        the fixed-size primal above; ``engine_`` and ``engine_reason_`` say which and why.
     prototypes : int, default 100
         Prototypes M of the fixed-size engine, chosen among the training inputs by
         quadratic Renyi entropy.
@@ -132,6 +136,10 @@ class HammersteinLSSVM(DynamicModel):
     ----------
     a_ : ndarray, shape (na,)
         AR coefficients.
+    engine_ : {"full", "fixed-size"}
+        The engine used.
+    engine_reason_ : str
+        Why (given, or what ``engine="auto"`` compared).
     b_ : ndarray, shape (nb,)
         Numerator coefficients, normalised as chosen.
     d_ : float
@@ -278,10 +286,7 @@ class HammersteinLSSVM(DynamicModel):
         if self.normalisation not in NORMALISATIONS:
             raise DataInputError("normalisation", f"expected one of {', '.join(NORMALISATIONS)}"
                                                   f", found {self.normalisation!r}")
-        if self.engine not in ("full", "fixed-size"):
-            raise DataInputError("engine", f"expected 'full' or 'fixed-size', found "
-                                           f"{self.engine!r}")
-        if self.engine == "fixed-size":
+        if self.engine != "full":
             order("prototypes", self.prototypes, 1)
 
     def _scale(self, u_all: np.ndarray) -> np.ndarray:
@@ -323,6 +328,9 @@ class HammersteinLSSVM(DynamicModel):
                                      f"{lag + 1} samples, found {uk.shape[0]} sample(s)")
         u_all = np.vstack([uk for uk, _ in pairs])
         y_all = np.concatenate([yk for _, yk in pairs])
+        # the dual's kernel matrices span every sample (the centering runs over all of them)
+        self.engine_, self.engine_reason_ = choose_engine(
+            "HammersteinLSSVM", self.engine, u_all.shape[0], u_all.shape[0], self.prototypes)
         starts = np.cumsum([0] + [uk.shape[0] for uk, _ in pairs[:-1]])
         rows = np.concatenate([np.arange(s + lag, s + uk.shape[0])
                                for s, (uk, _) in zip(starts, pairs)])
@@ -334,7 +342,7 @@ class HammersteinLSSVM(DynamicModel):
         scaled = u_all / self.input_scale_
         lagged = rows[:, None] - self.delay - np.arange(self.nb)[None, :]   # index of u_{t-k-j}
         y_past = y_all[rows[None, :] - np.arange(1, self.na + 1)[:, None]]  # (na, rows)
-        solve_by = self._fit_dual if self.engine == "full" else self._fit_fixed_size
+        solve_by = self._fit_dual if self.engine_ == "full" else self._fit_fixed_size
         a, d, weights_of, f_train, singular = solve_by(scaled, y_all, rows, lagged, y_past)
 
         u_svd, s_svd = singular

@@ -26,6 +26,7 @@ from scipy import linalg, optimize
 
 from certkit.ident.experiments import DataInputError, positive_number, signal
 from certkit.ident.signature import orders_positional
+from certkit.ident.sizing import check_dense_memory
 
 CHUNK_ENTRIES = 4_000_000      # kernel entries evaluated at once (≈ 32 MB) in predictions
 
@@ -135,7 +136,8 @@ class LSSVMRegressor(KernelModel):
         b = 1ᵀH⁻¹y / 1ᵀH⁻¹1,    α = H⁻¹(y − b·1).
 
     Cost O(N³) time and O(N²) memory: use :class:`FixedSizeLSSVM` beyond a few thousand
-    samples.
+    samples.  ``fit`` refuses N whose kernel matrix would exceed
+    :data:`certkit.ident.sizing.MEMORY_BUDGET` (:func:`~certkit.ident.sizing.dense_bytes`).
 
     References
     ----------
@@ -167,6 +169,8 @@ class LSSVMRegressor(KernelModel):
         sigma2 = positive_number("sigma2", self.sigma2)
         X = feature_matrix("X", X)
         y = signal("y", y, X.shape[0])
+        check_dense_memory("LSSVMRegressor", X.shape[0], "FixedSizeLSSVM(gamma=…, sigma2=…, "
+                                                         "prototypes=…) (memory O(N·M), any N)")
         H = rbf_kernel(X, X, sigma2)
         H[np.diag_indices_from(H)] += 1.0 / gamma
         factor = linalg.cho_factor(H, lower=True, overwrite_a=True, check_finite=False)

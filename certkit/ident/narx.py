@@ -15,6 +15,7 @@ from certkit.ident.experiments import (DataInputError, experiments, free_run_fol
 from certkit.ident.fixed_size import FixedSizeLSSVM, renyi_bandwidth, select_prototypes
 from certkit.ident.lssvm import CHUNK_ENTRIES, LSSVMRegressor, rbf_kernel, tune
 from certkit.ident.signature import orders_positional
+from certkit.ident.sizing import choose_engine
 
 # ----------------------------------------------------------------------------- NARX
 def narx_regressors(u, y, na: int, nb=2, delay=1) -> tuple[np.ndarray, np.ndarray]:
@@ -91,8 +92,13 @@ class NARX(DynamicModel):
         that parameter by :func:`tune` on the free-run simulation error of held-out
         data (:meth:`simulation_cost`); :func:`certkit.ident.tune_free_run` tunes from
         outside and returns the cost surface.
-    engine : {"full", "fixed-size"}
-        Dual LS-SVM (N ≲ 5 000 rows) or :class:`FixedSizeLSSVM`.
+    engine : {"full", "fixed-size", "auto"}, default "full"
+        Dual LS-SVM (:class:`LSSVMRegressor`, O(N²) memory: it refuses a record whose
+        kernel matrix would exceed :data:`certkit.ident.sizing.MEMORY_BUDGET`, naming the
+        option that fits) or :class:`FixedSizeLSSVM` (any length).  ``"auto"``: the dual
+        up to :data:`~certkit.ident.sizing.AUTO_FULL_SAMPLES` (5 000) training samples, the
+        fixed-size engine above or with a parametric part; :attr:`engine_` and
+        :attr:`engine_reason_` say which and why.
     prototypes : int, default 300
         Prototypes of the fixed-size engine.
     random_state : int, default 0
@@ -139,6 +145,10 @@ class NARX(DynamicModel):
     ----------
     regressor_ : LSSVMRegressor or FixedSizeLSSVM
         The fitted map f (standardised units).
+    engine_ : {"full", "fixed-size"}
+        The engine used.
+    engine_reason_ : str
+        Why (given, or what ``engine="auto"`` compared).
     gamma_, sigma2_ : float
         Hyper-parameters used (tuned or given).
     tuning_ : TuningResult or None
@@ -225,9 +235,6 @@ class NARX(DynamicModel):
         if self._na + sum(self._nb) == 0:
             raise DataInputError("na, nb", "expected at least one output or input lag, "
                                            "found none")
-        if self.engine not in ("full", "fixed-size"):
-            raise DataInputError("engine", f"expected 'full' or 'fixed-size', found "
-                                           f"{self.engine!r}")
         if self.filter_pole is not None and not 0.0 < float(self.filter_pole) < 1.0:
             raise DataInputError("filter_pole", f"expected a pole in (0, 1) or None, found "
                                                 f"{self.filter_pole!r}")
@@ -239,15 +246,26 @@ class NARX(DynamicModel):
         if self.output_bound not in OUTPUT_BOUNDS:
             raise DataInputError("output_bound", f"expected one of {', '.join(OUTPUT_BOUNDS)}"
                                                  f", found {self.output_bound!r}")
-        if (self.linear or self.cubic) and self.engine != "fixed-size":
-            raise DataInputError("linear, cubic", f"expected engine='fixed-size' for a "
-                                                  f"parametric part, found {self.engine!r}")
+        if (self.linear or self.cubic) and self.engine == "full":
+            raise DataInputError("linear, cubic", f"expected engine='fixed-size' (or 'auto') "
+                                                  f"for a parametric part, found "
+                                                  f"{self.engine!r}")
         if order("cubic", self.cubic) > self._na:
             raise DataInputError("cubic", f"expected at most na = {self._na} output lags, "
                                           f"found {self.cubic}")
 
+    def _choose_engine(self, ys) -> None:
+        """engine_ and engine_reason_ for the training outputs ``ys``
+        (:func:`certkit.ident.sizing.choose_engine`: a full engine is checked against the
+        memory budget here, before any tuning or kernel matrix)."""
+        self.engine_, self.engine_reason_ = choose_engine(
+            "NARX", self.engine, sum(y.size for y in ys),
+            sum(y.size - self.init_length for y in ys), self.prototypes,
+            "a parametric part (linear, cubic) needs it" if self.linear or self.cubic
+            else None)
+
     def _make_regressor(self, gamma, sigma2, prototypes=None):
-        if self.engine == "full":
+        if self.engine_ == "full":
             return LSSVMRegressor(gamma=gamma, sigma2=sigma2)
         return FixedSizeLSSVM(gamma=gamma, sigma2=sigma2, random_state=self.random_state,
                               prototypes=self.prototypes if prototypes is None
@@ -313,6 +331,7 @@ class NARX(DynamicModel):
         us, ys = [p[0] for p in pairs], [p[1] for p in pairs]
         self._check_structure(us[0].shape[1])
         narx_regressors(us, ys, self._na, self._nb, self._delay)   # shape checks first
+        self._choose_engine(ys)
         scaling = self._standardisation(us, ys)
         self.u_mean_, self.u_std_, self.y_mean_, self.y_std_ = scaling
         us, ys = self._scaled(us, ys)
@@ -367,6 +386,7 @@ class NARX(DynamicModel):
         us, ys = [p[0] for p in pairs], [p[1] for p in pairs]
         self._check_structure(us[0].shape[1])
         narx_regressors(us, ys, self._na, self._nb, self._delay)
+        self._choose_engine(ys)
         scaling = self._standardisation(us, ys)
         us, ys = self._scaled(us, ys, scaling)
         self._set_bounds(us, ys)
@@ -383,7 +403,7 @@ class NARX(DynamicModel):
         for train, held in splits:
             X, target = self._rows([us[e][s] for e, s in train], [ys[e][s] for e, s in train])
             protos = None
-            if self.engine == "fixed-size":     # prototypes do not depend on (γ, σ²)
+            if self.engine_ == "fixed-size":    # prototypes do not depend on (γ, σ²)
                 protos = X[select_prototypes(X, self.prototypes, renyi_bandwidth(X),
                                              random_state=self.random_state)]
             prepared.append((X, target, protos, [(us[e][s], ys[e][s]) for e, s in held]))

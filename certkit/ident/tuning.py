@@ -69,6 +69,7 @@ from certkit.ident.experiments import DataInputError, experiments, free_run_fold
 from certkit.ident.hammerstein import HammersteinLSSVM
 from certkit.ident.lssvm import tune
 from certkit.ident.narx import NARX
+from certkit.ident.sizing import engine_for_folds
 from certkit.ident.wiener import WienerLSSVM
 
 MODES = ("free-run", "one-step")
@@ -381,10 +382,14 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
                                            f", found {name!r}")
     names = list(orders)
     hyper = "gamma" in estimator.get_params()
+    engine = {}                          # the folds fit with the engine of the final model
+    if "engine" in estimator.get_params():
+        engine = {"engine": engine_for_folds(estimator.get_params()["engine"],
+                                             sum(y.size for _, y in pairs))}
     rows: list[dict] = []
     for combination in itertools.product(*(orders[n] for n in names)):
         chosen = dict(zip(names, combination))
-        base = clone(estimator).set_params(**chosen)
+        base = clone(estimator).set_params(**{**engine, **chosen})
         if not hyper:
             rows.append({**chosen, "cost": evaluate(base, (combination, None, None)),
                          "stage": "grid", "orders": combination})

@@ -31,8 +31,10 @@ from sklearn.utils.validation import check_is_fitted
 from certkit.ident.dynamic_model import DynamicModel
 from certkit.ident.experiments import DataInputError, positive_number
 from certkit.ident.linear_models import ARX
+from certkit.ident.fixed_size import FixedSizeLSSVM
 from certkit.ident.lssvm import LSSVMRegressor, kfold_cost, tune
 from certkit.ident.signature import orders_positional
+from certkit.ident.sizing import choose_engine
 
 Plant = Callable[[np.ndarray], dict]
 
@@ -143,16 +145,20 @@ def best_linear_records(plant: Plant, outputs: list[str], samples: int, sample_r
 
 
 def static_map(z: np.ndarray, y: np.ndarray, gamma: float | None = None,
-               sigma2: float | None = None, target: float = 0.0) -> LSSVMRegressor:
+               sigma2: float | None = None, target: float = 0.0, *, engine: str = "full",
+               prototypes: int = 100, random_state: int = 0
+               ) -> LSSVMRegressor | FixedSizeLSSVM:
     """The static map y = f(z) of a Wiener model (the seed's steps 8-9): an LS-SVM regression,
     (γ, σ²) as given or tuned by 4-fold cross-validation on a shuffled (seeded) subsample of
     300 samples: a 5 x 5 log grid (γ ∈ [1, 1e7], σ² ∈ [1e-3, 10]·var(z)), then a Nelder-Mead
-    refinement only while the cross-validated RMSE is above ``target`` [units of y].
+    refinement only while the cross-validated RMSE is above ``target`` [units of y].  The
+    subsample is fitted by the exact dual whatever ``engine`` fits the whole record.
 
     Returns
     -------
-    LSSVMRegressor
-        Fitted on all samples of ``z`` (n,) and ``y`` (n,).
+    LSSVMRegressor or FixedSizeLSSVM
+        Fitted on all samples of ``z`` (n,) and ``y`` (n,): the dual (``engine="full"``)
+        or the fixed-size LS-SVM on ``prototypes`` points of z.
     """
     z = np.asarray(z, dtype=float).reshape(-1, 1)
     if gamma is None or sigma2 is None:
@@ -167,7 +173,10 @@ def static_map(z: np.ndarray, y: np.ndarray, gamma: float | None = None,
             start = (result.gamma, result.sigma2)
             result = tune(cost, grid=5, start=start, max_refine=15, **ranges)
         gamma, sigma2 = result.gamma, result.sigma2
-    return LSSVMRegressor(gamma=gamma, sigma2=sigma2).fit(z, y)
+    if engine == "full":
+        return LSSVMRegressor(gamma=gamma, sigma2=sigma2).fit(z, y)
+    return FixedSizeLSSVM(gamma=gamma, sigma2=sigma2, prototypes=prototypes,
+                          random_state=random_state).fit(z, y)
 
 
 class WienerLSSVM(DynamicModel):
@@ -199,6 +208,17 @@ class WienerLSSVM(DynamicModel):
         LS-SVM hyper-parameters of f; σ² in units of (z/s)² with s the ``input_scale``
         (standardised z by default).  None: tuned by :func:`static_map` (cross-validated
         static fit); :func:`certkit.ident.tune_free_run` tunes on the free run instead.
+    engine : {"full", "fixed-size", "auto"}, default "full"
+        f by the dual LS-SVM over every training sample of z (O(N²) memory: it refuses N
+        whose kernel matrix would exceed :data:`certkit.ident.sizing.MEMORY_BUDGET`,
+        naming the option that fits) or by :class:`FixedSizeLSSVM` on ``prototypes``
+        points (any N).  ``"auto"``: the dual up to
+        :data:`~certkit.ident.sizing.AUTO_FULL_SAMPLES` (5 000) samples, the fixed-size
+        LS-SVM above; ``engine_`` and ``engine_reason_`` say which and why.
+    prototypes : int, default 100
+        Prototypes of the fixed-size engine (z is one-dimensional: 100 cover its range).
+    random_state : int, default 0
+        Seed of the prototype selection.
     linear_block : ARX or None
         A fitted linear block to use as it is, or None to fit one on the data.
     input_scale : float or None, default None
@@ -213,8 +233,12 @@ class WienerLSSVM(DynamicModel):
         The linear block as fitted (or given), gain included.
     linear_ : ARX
         The same dynamics with unit static gain, no intercept: z carries the input's unit.
-    nonlinearity_ : LSSVMRegressor
+    nonlinearity_ : LSSVMRegressor or FixedSizeLSSVM
         f, from z/s to y.
+    engine_ : {"full", "fixed-size"}
+        The engine of f.
+    engine_reason_ : str
+        Why (given, or what ``engine="auto"`` compared).
     input_scale_ : float
         s.
     z_range_ : (float, float)
@@ -241,13 +265,17 @@ class WienerLSSVM(DynamicModel):
 
     @orders_positional()
     def __init__(self, na: int = 6, nb=4, *, delay=0, gamma: float | None = None,
-                 sigma2: float | None = None, linear_block=None, input_scale=None,
+                 sigma2: float | None = None, engine: str = "full", prototypes: int = 100,
+                 random_state: int = 0, linear_block=None, input_scale=None,
                  tuning: dict | None = None):
         self.na = na
         self.nb = nb
         self.delay = delay
         self.gamma = gamma
         self.sigma2 = sigma2
+        self.engine = engine
+        self.prototypes = prototypes
+        self.random_state = random_state
         self.linear_block = linear_block
         self.input_scale = input_scale
         self.tuning = tuning
@@ -289,7 +317,11 @@ class WienerLSSVM(DynamicModel):
         self.z_range_ = (float(z.min()), float(z.max()))
         gamma = None if self.gamma is None else positive_number("gamma", self.gamma)
         sigma2 = None if self.sigma2 is None else positive_number("sigma2", self.sigma2)
+        self.engine_, self.engine_reason_ = choose_engine("WienerLSSVM", self.engine, z.size,
+                                                          z.size, self.prototypes)
         self.nonlinearity_ = static_map(z / self.input_scale_, y, gamma, sigma2,
+                                        engine=self.engine_, prototypes=self.prototypes,
+                                        random_state=self.random_state,
                                         **(self.tuning or {}))
 
     def nonlinearity(self, z) -> np.ndarray:
