@@ -6,6 +6,7 @@ search from the ranges given, the reasons from systems built to fail in a known 
 """
 
 import inspect
+import math
 import os
 from contextlib import contextmanager
 
@@ -14,8 +15,10 @@ import pytest
 from threadpoolctl import threadpool_limits
 
 from certkit.errors import DataInputError, KeywordArgumentError
-from certkit.ident import (ARX, NARX, FixedSizeLSSVM, HammersteinLSSVM, LSSVMRegressor,
-                           WienerLSSVM, tune_free_run)
+from certkit.ident import (ARX, NARX, FixedSizeLSSVM, FreeRunCV, HammersteinLSSVM,
+                           LSSVMRegressor, WienerLSSVM, tune_free_run)
+from certkit.ident.dynamic_model import DynamicModel
+from certkit.ident.search_space import SearchEdge, SearchEdgeWarning
 
 
 @pytest.fixture(autouse=True, scope="module")
@@ -170,3 +173,122 @@ def test_a_search_tunes_with_the_engine_auto_takes_on_all_the_data():
     model, _ = tune_free_run(NARX(1, 1, engine="auto", prototypes=30), u, first_order(u),
                              gamma=10.0, sigma2=2.0, cost=cost)
     assert seen == ["fixed-size"] and model.engine_ == "fixed-size"
+
+
+# --------------------------------------------------------------------- 3. edges and reasons
+def by_hand(estimator, pairs):
+    """A cost written here: least at the largest γ, and at σ² = 1 (log10 σ² = 0)."""
+    return 1.0 / estimator.gamma + math.log10(estimator.sigma2) ** 2
+
+
+RANGES = {"gamma": (1e-1, 1e5), "sigma2": (1e-2, 1e2)}     # 5 grid points: 1 per 1.5 dec.
+
+
+def test_a_choice_on_the_upper_end_of_gamma_is_warned_and_recorded():
+    u = np.random.default_rng(4).standard_normal(60)
+    with pytest.warns(SearchEdgeWarning, match=r"gamma = 1e\+05 lies on the upper end"):
+        model, surface = tune_free_run(HammersteinLSSVM(1, 1), u, u, cost=by_hand, grid=5,
+                                       refine=False, **RANGES)
+    assert (model.gamma, model.sigma2) == pytest.approx((1e5, 1.0))
+    edge, = surface.edges
+    assert (edge.parameter, edge.side, edge.value, edge.bound) == ("gamma", "upper", 1e5, 1e5)
+    assert "widen it upwards, e.g. gamma=(0.1, 1e+07)" in edge.advice
+
+
+def test_both_lower_corners_are_named_and_an_inner_choice_is_silent(recwarn):
+    u = np.random.default_rng(5).standard_normal(60)
+    with pytest.warns(SearchEdgeWarning) as caught:
+        _, surface = tune_free_run(HammersteinLSSVM(1, 1), u, u, grid=5, refine=False,
+                                   cost=lambda e, p: e.gamma + e.sigma2, **RANGES)
+    assert len(caught) == 1
+    assert [(e.parameter, e.side, e.bound) for e in surface.edges] == [
+        ("gamma", "lower", 0.1), ("sigma2", "lower", 0.01)]
+    assert "widen it downwards, e.g. sigma2=(0.0001, 100)" in surface.edges[1].advice
+    # least at (γ, σ²) = (10^0.5, 1), two inner grid points: no edge, no warning
+    _, inner = tune_free_run(HammersteinLSSVM(1, 1), u, u, grid=5, refine=False,
+                             cost=lambda e, p: (math.log10(e.gamma) - 0.5) ** 2
+                             + math.log10(e.sigma2) ** 2, **RANGES)
+    assert inner.edges == () and len(recwarn) == 0
+
+
+def test_an_order_at_the_end_of_its_list_is_an_edge():
+    u = np.random.default_rng(6).standard_normal(60)
+
+    def cost(estimator, pairs):          # least for the longest AR part listed
+        return 1.0 / (1 + estimator.na)
+
+    with pytest.warns(SearchEdgeWarning, match="na = 3 is the largest value searched: add "
+                                               "larger values"):
+        _, surface = tune_free_run(HammersteinLSSVM(1, 1), u, u, cost=cost,
+                                   orders={"na": [2, 1, 3]}, gamma=10.0, sigma2=1.0)
+    assert surface.edges == (SearchEdge("na", "upper", 3, 3, surface.edges[0].advice),)
+
+
+def test_narx_tuning_itself_warns_when_it_lands_on_an_edge():
+    # a 2 x 2 grid without refinement has only corners: whatever it picks is on two edges
+    u = np.random.default_rng(7).uniform(-1.0, 1.0, 200)
+    with pytest.warns(SearchEdgeWarning, match="NARX's own tuning"):
+        model = NARX(1, 1, folds=2, tuning={"grid": 2, "refine": False}).fit(u, first_order(u))
+    assert {e.parameter for e in model.tuning_.edges} == {"gamma", "sigma2"}
+
+
+class Recursion(DynamicModel):
+    """y_t = pole·y_{t−1} + u_{t−1} (a product of arrays, as a kernel model's matmul), with
+    nothing to fit: a negative pole is refused by ``fit`` (a failed fit), |pole| > 1 grows
+    as pole^t (a divergence).  ``reports_stability``: the fitted model says whether its
+    pole is stable, as ARX and Hammerstein models do (``stable_``, ``poles_``)."""
+
+    def __init__(self, pole=0.5, reports_stability=False):
+        self.pole = pole
+        self.reports_stability = reports_stability
+
+    def _fit(self, pairs):
+        if self.pole < 0:
+            raise ValueError(f"this test model refuses the negative pole {self.pole}")
+        if self.reports_stability:
+            self.stable_, self.poles_ = abs(self.pole) < 1, np.array([self.pole])
+
+    @property
+    def init_length(self):
+        return 1
+
+    def _simulate_one(self, u, y_init):
+        y = np.empty(u.shape[0])
+        y[:y_init.size] = y_init
+        for t in range(y_init.size, y.size):
+            y[t] = (np.array([self.pole]) @ y[t - 1:t]) + u[t - 1, 0]
+        return y
+
+    def _one_step(self, u, y):
+        return y.copy()
+
+
+def test_free_run_cv_says_why_a_candidate_is_rejected_and_keeps_its_warnings(recwarn):
+    u = np.random.default_rng(8).uniform(-1.0, 1.0, 1024)
+    y = Recursion(0.5).fit(u, u).simulate(u, np.zeros(1))
+    _, surface = tune_free_run(Recursion(), u, y, cost=FreeRunCV(folds=4, n_init=1),
+                               orders={"pole": [0.5, 3.0, 1e200, -1.0],
+                                       "reports_stability": [False, True]})
+    assert len(recwarn) == 0                  # nothing leaked: overflows went to the record
+    first = {(r["pole"], r["reports_stability"]): next(
+        (o for o in found if o.rejected), found[-1]) for r, found in zip(surface.rows,
+                                                                       surface.outcomes)}
+    status = {key: o.status for key, o in first.items()}
+    assert status == {(0.5, False): "scored", (0.5, True): "scored",
+                      (3.0, False): "diverged", (3.0, True): "unstable",
+                      (1e200, False): "diverged", (1e200, True): "unstable",
+                      (-1.0, False): "failed fit", (-1.0, True): "failed fit"}
+    # pole 3: |y| grows as 3^t, to about 1e120 within a 256-sample block: far outside the
+    # band of the training outputs (about ±4.5), but finite
+    assert "reached" in first[(3.0, False)].reason and "outside [" in first[(3.0, False)].reason
+    assert "unstable (largest |pole| 3)" in first[(3.0, True)].reason
+    assert "not finite from sample" in first[(1e200, False)].reason
+    assert any(w.startswith("RuntimeWarning: overflow encountered in matmul")
+               for w in first[(1e200, False)].warnings)
+    assert first[(-1.0, False)].reason == ("ValueError: this test model refuses the negative "
+                                           "pole -1.0")
+    assert all(math.isinf(r["cost"]) == (r["pole"] != 0.5) for r in surface.rows)
+    frame = surface.to_frame()
+    assert list(frame.status) == [status[(r["pole"], r["reports_stability"])]
+                                  for r in surface.rows]
+    assert frame.reason[frame.status == "scored"].eq("").all()

@@ -9,7 +9,7 @@ from scipy.signal import lfilter, lfilter_zi
 from sklearn.base import clone
 
 from certkit.errors import DataInputError
-from certkit.ident import NARX, EnsembleModel, FreeRunCV, tune_free_run
+from certkit.ident import NARX, EnsembleModel, FoldOutcome, FreeRunCV, tune_free_run
 from certkit.ident.dynamic_model import DynamicModel
 
 
@@ -202,10 +202,11 @@ class ScriptedFolds(FreeRunCV):
              1e2: [1.0, 1.06, 1.02, 1.08],        # mean 1.04
              1e3: [0.9, 1.1, 0.95, 1.05]}         # mean 1.00, SE 0.0456
 
-    def fold_errors(self, estimator, pairs):
+    def outcomes(self, estimator, pairs):
         variance = float(np.var(np.concatenate([y for _, y in pairs])))
         gamma = min(self.TABLE, key=lambda g: abs(math.log10(g / estimator.gamma)))
-        return [(v * 100 * variance, 100) for v in self.TABLE[gamma]]
+        return [FoldOutcome(k, "scored", v * 100 * variance, 100)
+                for k, v in enumerate(self.TABLE[gamma])]
 
 
 def test_one_standard_error_rule_takes_the_most_regularised_candidate_within_one_se():

@@ -17,10 +17,12 @@ from certkit.ident.hammerstein import HammersteinLSSVM
 from certkit.ident.linear_models import ARX
 from certkit.ident.lssvm import LSSVMRegressor, TuningResult, tune
 from certkit.ident.narx import NARX
-from certkit.ident.tuning import CostSurface, FreeRunCV, tune_free_run
+from certkit.ident.search_space import SearchEdge, SearchEdgeWarning
+from certkit.ident.tuning import CostSurface, FoldOutcome, FreeRunCV, tune_free_run
 from certkit.ident.validation import fit_percent, nrmse, residual_analysis, rmse
 from certkit.ident.wiener import WienerLSSVM
 
 __all__ = ["ARX", "NARX", "HammersteinLSSVM", "WienerLSSVM", "DynamicModel", "EnsembleModel",
-           "LSSVMRegressor", "FixedSizeLSSVM", "tune_free_run", "FreeRunCV", "CostSurface",
-           "tune", "TuningResult", "rmse", "nrmse", "fit_percent", "residual_analysis"]
+           "LSSVMRegressor", "FixedSizeLSSVM", "tune_free_run", "FreeRunCV", "FoldOutcome",
+           "CostSurface", "SearchEdge", "SearchEdgeWarning", "tune", "TuningResult", "rmse",
+           "nrmse", "fit_percent", "residual_analysis"]

@@ -18,13 +18,16 @@ Numpy and scipy only.
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
 from scipy import linalg, optimize
 
 from certkit.ident.experiments import DataInputError, positive_number, signal
+from certkit.ident.search_space import SearchEdge, range_edges
 from certkit.ident.signature import orders_positional
 from certkit.ident.sizing import check_dense_memory
 
@@ -189,14 +192,41 @@ class LSSVMRegressor(KernelModel):
 
 
 # ----------------------------------------------------------------------------- tuning
+@contextmanager
+def recorded_warnings():
+    """Record the warnings raised inside the block instead of showing them.
+
+    Yields a list that holds, once the block has ended (normally or by an exception), each
+    warning as "Category: message", once each, in the order first raised: what a rejected
+    tuning candidate raised (an overflow in a diverging free run, an ill-conditioned
+    matrix) belongs in its record, not on the user's screen.
+    """
+    messages: list[str] = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            yield messages
+        finally:
+            messages.extend(dict.fromkeys(f"{w.category.__name__}: {w.message}"
+                                          for w in caught))
+
+
 @dataclass(frozen=True)
 class TuningResult:
-    """Outcome of :func:`tune`: the best point and every evaluation made."""
+    """Outcome of :func:`tune`: the best point and every evaluation made.
+
+    ``evaluations``: (γ, σ², cost) in call order; ``warnings``: for each evaluation, the
+    warnings its cost raised (:func:`recorded_warnings`: recorded, not shown); ``edges``:
+    the ends of the ranges the best point lies on
+    (:func:`certkit.ident.search_space.range_edges`).
+    """
 
     gamma: float
     sigma2: float
     cost: float
-    evaluations: tuple[tuple[float, float, float], ...]   # (γ, σ², cost) in call order
+    evaluations: tuple[tuple[float, float, float], ...]
+    warnings: tuple[tuple[str, ...], ...] = ()
+    edges: tuple[SearchEdge, ...] = ()
 
 
 
@@ -233,7 +263,9 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
     Returns
     -------
     TuningResult
-        Best (γ, σ², cost) over the grid and the refinement.
+        Best (γ, σ², cost) over the grid and the refinement, every evaluation with the
+        warnings it raised (recorded, not shown), and the ends of the ranges the best lies
+        on (no warning here: the caller that chose the ranges says so).
 
     Notes
     -----
@@ -257,6 +289,7 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
     points = dict(zip(names, (grid, grid) if np.ndim(grid) == 0 else tuple(grid)))
     record: dict[tuple, float] = {}
     order: list[tuple[float, float, float]] = []
+    raised: list[tuple[str, ...]] = []
 
     def point(logs) -> dict:
         values = dict(fixed)
@@ -267,9 +300,11 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
         key = tuple(round(float(v), 9) for v in logs)
         if key not in record:
             values = point(key)
-            value = float(cost(values["gamma"], values["sigma2"]))
+            with recorded_warnings() as messages:
+                value = float(cost(values["gamma"], values["sigma2"]))
             record[key] = value if math.isfinite(value) else math.inf
             order.append((values["gamma"], values["sigma2"], record[key]))
+            raised.append(tuple(messages))
         return record[key]
 
     if not free:
@@ -315,7 +350,9 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
     if not math.isfinite(record[best]) and not allow_infinite:
         raise ValueError("the cost was not finite at any evaluated (gamma, sigma2)")
     values = point(best)
-    return TuningResult(values["gamma"], values["sigma2"], record[best], tuple(order))
+    edges = range_edges(values, dict(zip(names, specs)))
+    return TuningResult(values["gamma"], values["sigma2"], record[best], tuple(order),
+                        tuple(raised), tuple(edges))
 
 
 

@@ -14,6 +14,7 @@ from certkit.ident.experiments import (DataInputError, experiments, free_run_fol
                                        per_channel, positive_number)
 from certkit.ident.fixed_size import FixedSizeLSSVM, renyi_bandwidth, select_prototypes
 from certkit.ident.lssvm import CHUNK_ENTRIES, LSSVMRegressor, rbf_kernel, tune
+from certkit.ident.search_space import warn_of_edges
 from certkit.ident.signature import orders_positional
 from certkit.ident.sizing import choose_engine
 
@@ -152,7 +153,9 @@ class NARX(DynamicModel):
     gamma_, sigma2_ : float
         Hyper-parameters used (tuned or given).
     tuning_ : TuningResult or None
-        Tuning record when a parameter was tuned.
+        Tuning record when a parameter was tuned: every evaluation, the warnings each
+        raised (recorded, not shown) and the ends of the ranges the chosen point lies on
+        (``edges``; a :class:`~certkit.ident.search_space.SearchEdgeWarning` says so).
     u_mean_, u_std_ : numpy.ndarray, shape (n_inputs,)
         Standardisation of the training inputs, per channel.
     y_mean_, y_std_ : float
@@ -344,6 +347,7 @@ class NARX(DynamicModel):
                        else self.sigma2, "grid": 5}
             options.update(self.tuning or {})
             self.tuning_ = tune(self._scaled_simulation_cost(us, ys), **options)
+            warn_of_edges(list(self.tuning_.edges), "NARX's own tuning", stacklevel=5)
             self.gamma_, self.sigma2_ = self.tuning_.gamma, self.tuning_.sigma2
         else:
             self.gamma_ = positive_number("gamma", self.gamma)

@@ -59,7 +59,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from sklearn.base import clone
@@ -67,8 +67,10 @@ from sklearn.base import clone
 from certkit.ident.ensemble import EnsembleModel
 from certkit.ident.experiments import DataInputError, experiments, free_run_folds
 from certkit.ident.hammerstein import HammersteinLSSVM
-from certkit.ident.lssvm import tune
+from certkit.ident.lssvm import recorded_warnings, tune
 from certkit.ident.narx import NARX
+from certkit.ident.search_space import (SearchEdge, order_edges, range_edges,
+                                        warn_of_edges)
 from certkit.ident.sizing import engine_for_folds
 from certkit.ident.wiener import WienerLSSVM
 
@@ -80,6 +82,36 @@ def output_variance(pairs) -> float:
     """var(y) over all experiments, the normaliser of the NRMSE² costs (1 for a constant
     output)."""
     return float(np.var(np.concatenate([y for _, y in pairs]))) or 1.0
+
+
+#: What a fold of :class:`FreeRunCV` gave a candidate (:attr:`FoldOutcome.status`): scored;
+#: its estimate not finite or outside the band (diverged); the same from a model whose
+#: fitted linear part has a pole on or outside the unit circle (unstable); its fit raised.
+SCORED, DIVERGED, UNSTABLE, FAILED = "scored", "diverged", "unstable", "failed fit"
+
+
+@dataclass(frozen=True)
+class FoldOutcome:
+    """What one fold of :class:`FreeRunCV` gave a candidate, and why when it is rejected.
+
+    ``fold`` (0-based), ``status`` (:data:`SCORED`, :data:`DIVERGED`, :data:`UNSTABLE` or
+    :data:`FAILED`), ``squared`` and ``count`` (the sum of squared errors and the samples
+    scored; +inf and 0 when rejected), ``reason`` (in words: where the estimate left the
+    band, or the fit's exception and message; empty when scored) and ``warnings`` (each
+    warning the fold's fit and simulation raised, as "Category: message", once each:
+    recorded here, not shown).
+    """
+
+    fold: int
+    status: str
+    squared: float
+    count: int
+    reason: str = ""
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def rejected(self) -> bool:
+        return self.status != SCORED
 
 
 @dataclass(frozen=True)
@@ -95,7 +127,11 @@ class FreeRunCV:
         1 024 samples, see the module's notes).
     n_init : int, optional
         Measured outputs that start each held-out simulation (not scored); default the
-        fitted model's ``init_length``.
+        fitted model's ``init_length``.  It must be at least every candidate's
+        ``init_length`` = max(na, delay + nb − 1) (the lag window a free run starts from):
+        a 10-sample start rules out na = 15 (DataInputError).  To search orders above
+        ``n_init``, raise it to the largest window searched; one window for every
+        candidate keeps their costs comparable (each scores the same samples).
     mode : {"free-run", "one-step"}, default "free-run"
         Score the free-run simulation or the one-step-ahead prediction.
     divergence : float or None, default 1.0
@@ -106,7 +142,9 @@ class FreeRunCV:
     Calling it with an unfitted estimator and a list of (input, output) experiments returns
     Σ(y − ŷ)² / (count · var(y)) over every held-out sample after its window (NRMSE²);
     +inf when a fit fails or a simulation diverges on any fold (an unstable candidate is
-    no candidate).
+    no candidate).  :meth:`outcomes` says fold by fold what happened and why; numerical
+    warnings raised by a candidate (an overflow in a diverging free run, an ill-conditioned
+    system) are recorded there instead of shown.
     """
 
     folds: int = 8
@@ -128,42 +166,74 @@ class FreeRunCV:
     def fold_errors(self, estimator, pairs) -> list[tuple[float, int]]:
         """(sum of squared errors, scored samples) of each fold; a fold whose fit fails or
         whose estimate diverges gives (+inf, 0) and ends the evaluation."""
+        return [(o.squared, o.count) for o in self.outcomes(estimator, pairs)]
+
+    def outcomes(self, estimator, pairs) -> list[FoldOutcome]:
+        """What each fold gave ``estimator`` on the (input, output) experiments ``pairs``;
+        the first rejected fold ends the evaluation (one suffices to reject).  Every other
+        method (the cost, :meth:`fold_errors`, :func:`tune_free_run`'s record) reads this
+        one: a subclass that scores folds otherwise overrides it."""
         if self.mode not in MODES:
             raise DataInputError("mode", f"expected one of {', '.join(MODES)}, found "
                                          f"{self.mode!r}")
         lengths = [y.size for _, y in pairs]
         out = []
-        for train, held in free_run_folds(lengths, self.folds, 2):
-            squared, count = 0.0, 0
-            model = clone(estimator)
-            try:
-                model.fit([pairs[e][0][s] for e, s in train], [pairs[e][1][s] for e, s in train])
-            except (ValueError, np.linalg.LinAlgError):
-                return out + [(math.inf, 0)]
-            trained = np.concatenate([pairs[e][1][s] for e, s in train])
-            low, high = float(trained.min()), float(trained.max())
-            band = math.inf if self.divergence is None else self.divergence * (high - low)
-            n_init = model.init_length if self.n_init is None else int(self.n_init)
-            if n_init < model.init_length:
-                raise DataInputError("n_init", f"expected at least the model's init_length "
-                                               f"{model.init_length}, found {n_init}")
-            for e, s in held:
-                u, y = pairs[e][0][s], pairs[e][1][s]
-                if y.size <= n_init:
-                    raise DataInputError("folds", f"expected held-out pieces longer than the "
-                                                  f"{n_init}-sample window, found {y.size}")
-                estimate = (model.simulate(u, y[:n_init]) if self.mode == "free-run"
-                            else model.predict(u, y))
-                error = y[n_init:] - estimate[n_init:]
-                if not np.all(np.isfinite(error)):
-                    return out + [(math.inf, 0)]
-                if band < math.inf and (estimate[n_init:].min() < low - band
-                                        or estimate[n_init:].max() > high + band):
-                    return out + [(math.inf, 0)]
-                squared += float(error @ error)
-                count += error.size
-            out.append((squared, count))
+        for fold, (train, held) in enumerate(free_run_folds(lengths, self.folds, 2)):
+            with recorded_warnings() as messages:
+                outcome = self._fold(fold, estimator, pairs, train, held)
+            out.append(replace(outcome, warnings=tuple(messages)))
+            if outcome.rejected:
+                break
         return out
+
+    def _fold(self, fold: int, estimator, pairs, train, held) -> FoldOutcome:
+        model = clone(estimator)
+        try:
+            model.fit([pairs[e][0][s] for e, s in train], [pairs[e][1][s] for e, s in train])
+        except (ValueError, np.linalg.LinAlgError) as error:
+            return FoldOutcome(fold, FAILED, math.inf, 0, f"{type(error).__name__}: {error}")
+        trained = np.concatenate([pairs[e][1][s] for e, s in train])
+        low, high = float(trained.min()), float(trained.max())
+        band = math.inf if self.divergence is None else self.divergence * (high - low)
+        n_init = model.init_length if self.n_init is None else int(self.n_init)
+        if n_init < model.init_length:
+            raise DataInputError("n_init", f"expected at least the model's init_length "
+                                           f"{model.init_length}, found {n_init}")
+        squared, count = 0.0, 0
+        for e, s in held:
+            u, y = pairs[e][0][s], pairs[e][1][s]
+            if y.size <= n_init:
+                raise DataInputError("folds", f"expected held-out pieces longer than the "
+                                              f"{n_init}-sample window, found {y.size}")
+            estimate = (model.simulate(u, y[:n_init]) if self.mode == "free-run"
+                        else model.predict(u, y))
+            error = y[n_init:] - estimate[n_init:]
+            piece = f"held-out experiment {e}, samples {s.start or 0} to {s.stop - 1}"
+            if not np.all(np.isfinite(error)):
+                first = n_init + int(np.argmin(np.isfinite(error)))
+                return _diverged(fold, model, f"the {self.mode} estimate is not finite from "
+                                              f"sample {first} of the {piece}")
+            scored = estimate[n_init:]
+            if band < math.inf and (scored.min() < low - band or scored.max() > high + band):
+                extreme = scored.min() if scored.min() < low - band else scored.max()
+                return _diverged(fold, model, f"the {self.mode} estimate reached "
+                                              f"{extreme:.4g}, outside [{low - band:.4g}, "
+                                              f"{high + band:.4g}] (the fold's training "
+                                              f"outputs ± {self.divergence:g} × their range)"
+                                              f" on the {piece}")
+            squared += float(error @ error)
+            count += error.size
+        return FoldOutcome(fold, SCORED, squared, count)
+
+
+def _diverged(fold: int, model, reason: str) -> FoldOutcome:
+    """A rejected fold: unstable when the fitted model reports an unstable linear part
+    (``stable_`` of an ARX or Hammerstein model), else diverged."""
+    if getattr(model, "stable_", True):
+        return FoldOutcome(fold, DIVERGED, math.inf, 0, reason)
+    largest = float(np.max(np.abs(model.poles_)))
+    return FoldOutcome(fold, UNSTABLE, math.inf, 0, f"the fitted linear part is unstable "
+                                                    f"(largest |pole| {largest:.4g}): {reason}")
 
 
 @dataclass(frozen=True)
@@ -174,20 +244,37 @@ class CostSurface:
     orders searched), ``cost`` and ``stage`` ("grid" or "refine"); ``best``: the parameters
     chosen; ``smoothed``: the smoothed log10 cost of each row when a smoothness prior was
     used (else None); ``members``: the parameters of the ensemble's members, best first
-    (``(best,)`` without an ensemble).
+    (``(best,)`` without an ensemble); ``outcomes``: for each row, what each fold of a
+    :class:`FreeRunCV` cost gave it (:class:`FoldOutcome`: scored, or why it was
+    rejected; empty for another cost); ``warnings``: for each row, the warnings its
+    evaluation raised (recorded, not shown); ``edges``: the boundaries of the search the
+    chosen point lies on (:class:`~certkit.ident.search_space.SearchEdge`, each with the
+    direction to widen; :func:`tune_free_run` also warns of them).
     """
 
     rows: tuple[dict, ...]
     best: dict
     smoothed: tuple[float, ...] | None = None
     members: tuple[dict, ...] = ()
+    outcomes: tuple[tuple[FoldOutcome, ...], ...] = ()
+    warnings: tuple[tuple[str, ...], ...] = ()
+    edges: tuple[SearchEdge, ...] = ()
 
     def to_frame(self):
-        """The rows as a pandas DataFrame (one column per parameter, ``cost``, ``stage``)."""
+        """The rows as a pandas DataFrame: one column per parameter, ``cost``, ``stage``,
+        and with a :class:`FreeRunCV` cost ``status`` (that of the first rejected fold, or
+        "scored") and ``reason`` ("fold k: why"; empty when scored); ``warnings`` (the
+        messages recorded, "; "-joined)."""
         import pandas as pd
         frame = pd.DataFrame(list(self.rows))
         if self.smoothed is not None:
             frame["smoothed_log10_cost"] = self.smoothed
+        if any(self.outcomes):
+            rejected = [next((o for o in found if o.rejected), None) for found in self.outcomes]
+            frame["status"] = [o.status if o else SCORED for o in rejected]
+            frame["reason"] = [f"fold {o.fold}: {o.reason}" if o else "" for o in rejected]
+        if self.warnings:
+            frame["warnings"] = ["; ".join(messages) for messages in self.warnings]
         return frame
 
     def grid(self, **orders) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -367,13 +454,16 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
             or ensemble < 1:
         raise DataInputError("ensemble", f"expected a positive integer, found {ensemble!r}")
     folds: dict = {}                     # (orders, γ, σ²) -> per-fold NRMSE² ("one-se")
+    found: dict = {}                     # (orders, γ, σ²) -> a FreeRunCV's fold outcomes
     variance = output_variance(pairs)
 
     def evaluate(candidate, key) -> float:
-        if rule == "min":
+        if not isinstance(cost, FreeRunCV):
             return cost(candidate, pairs)
-        errors = cost.fold_errors(candidate, pairs)
-        folds[key] = [q / (n * variance) if n else math.inf for q, n in errors]
+        found[key] = tuple(cost.outcomes(candidate, pairs))
+        errors = [(o.squared, o.count) for o in found[key]]
+        if rule == "one-se":
+            folds[key] = [q / (n * variance) if n else math.inf for q, n in errors]
         return cost.pooled(errors, pairs)
     orders = dict(orders or {})
     for name in orders:
@@ -387,16 +477,23 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
         engine = {"engine": engine_for_folds(estimator.get_params()["engine"],
                                              sum(y.size for _, y in pairs))}
     rows: list[dict] = []
+    keys: list[tuple] = []               # each row's key of found
+    raised: list[tuple[str, ...]] = []   # each row's warnings from a cost of the user's
+    searched: dict = {}                  # combination -> its (γ, σ²) ranges
     for combination in itertools.product(*(orders[n] for n in names)):
         chosen = dict(zip(names, combination))
         base = clone(estimator).set_params(**{**engine, **chosen})
         if not hyper:
-            rows.append({**chosen, "cost": evaluate(base, (combination, None, None)),
-                         "stage": "grid", "orders": combination})
+            with recorded_warnings() as messages:
+                value = evaluate(base, (combination, None, None))
+            rows.append({**chosen, "cost": value, "stage": "grid", "orders": combination})
+            keys.append((combination, None, None))
+            raised.append(tuple(messages))
             continue
         ranges = default_ranges(base, pairs[0][0].shape[1])
         ranges.update({k: _resolve(v, base) for k, v in (("gamma", gamma), ("sigma2", sigma2))
                        if v is not None})
+        searched[combination] = ranges
         result = tune(lambda g, s, base=base, c=combination: evaluate(
                           clone(base).set_params(gamma=g, sigma2=s), (c, g, s)),
                       grid=grid, refine=refine and smoothing == 0.0,
@@ -408,6 +505,11 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
             rows.append({**chosen, "gamma": g, "sigma2": s, "cost": value,
                          "stage": "grid" if index < n_grid else "refine",
                          "orders": combination})
+            keys.append((combination, g, s))
+            raised.append(result.warnings[index])
+    outcomes = tuple(found.get(key, ()) for key in keys)
+    messages = tuple(tuple(dict.fromkeys([m for o in outcome for m in o.warnings] + list(r)))
+                     for outcome, r in zip(outcomes, raised))
     if smoothing == "median":
         smoothed = _median_smoothed(rows)
     elif isinstance(smoothing, str):
@@ -430,16 +532,34 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
         except (ValueError, np.linalg.LinAlgError):
             pass                         # a numerical failure: the message below says so
         raise DataInputError("u, y", "expected at least one candidate with a finite free-run "
-                                     "cost, found none (every fit failed or diverged)")
+                                     "cost, found none (every fit failed or diverged)"
+                             + _rejections(outcomes))
     if rule == "one-se":
         ranked = _one_standard_error(rows, ranked, folds)
     members = tuple({k: v for k, v in rows[i].items() if k not in ("cost", "stage", "orders")}
                     for i in ranked[:int(ensemble)])
     best = members[0]
+    edges = (range_edges(best, searched.get(rows[ranked[0]]["orders"], {}))
+             + order_edges(best, orders))
+    warn_of_edges(edges, f"tune_free_run of {type(estimator).__name__}")
     if ensemble == 1:
         model = clone(estimator).set_params(**best).fit(u, y)
     else:
         model = EnsembleModel([clone(estimator).set_params(**m) for m in members]).fit(u, y)
     public = tuple({k: v for k, v in r.items() if k != "orders"} for r in rows)
     return model, CostSurface(public, best, None if smoothed is None else tuple(smoothed),
-                              members)
+                              members, outcomes, messages, tuple(edges))
+
+
+def _rejections(outcomes) -> str:
+    """': 12 diverged, 3 failed fit; the first: fold k: why' from the rows' fold outcomes
+    ('' when there are none: a cost other than FreeRunCV)."""
+    rejected = [next(o for o in found if o.rejected) for found in outcomes
+                if any(o.rejected for o in found)]
+    if not rejected:
+        return ""
+    counts = {}
+    for o in rejected:
+        counts[o.status] = counts.get(o.status, 0) + 1
+    listed = ", ".join(f"{n} {status}" for status, n in counts.items())
+    return f": {listed}; the first: fold {rejected[0].fold}: {rejected[0].reason}"

@@ -33,6 +33,7 @@ from certkit.ident.experiments import DataInputError, positive_number
 from certkit.ident.linear_models import ARX
 from certkit.ident.fixed_size import FixedSizeLSSVM
 from certkit.ident.lssvm import LSSVMRegressor, kfold_cost, tune
+from certkit.ident.search_space import warn_of_edges
 from certkit.ident.signature import orders_positional
 from certkit.ident.sizing import choose_engine
 
@@ -172,6 +173,7 @@ def static_map(z: np.ndarray, y: np.ndarray, gamma: float | None = None,
         if np.sqrt(result.cost) > target:
             start = (result.gamma, result.sigma2)
             result = tune(cost, grid=5, start=start, max_refine=15, **ranges)
+        warn_of_edges(list(result.edges), "WienerLSSVM's static map", stacklevel=5)
         gamma, sigma2 = result.gamma, result.sigma2
     if engine == "full":
         return LSSVMRegressor(gamma=gamma, sigma2=sigma2).fit(z, y)
