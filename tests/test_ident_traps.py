@@ -292,3 +292,74 @@ def test_free_run_cv_says_why_a_candidate_is_rejected_and_keeps_its_warnings(rec
     assert list(frame.status) == [status[(r["pole"], r["reports_stability"])]
                                   for r in surface.rows]
     assert frame.reason[frame.status == "scored"].eq("").all()
+
+
+# --------------------------------------------------------------------- 4. tied and listed orders
+def searched_orders(orders, estimator=None, **options):
+    """The (na, nb) settings tune_free_run gives its cost, in order, and the surface; the
+    cost written here is least at na = nb = 3."""
+    seen = []
+
+    def cost(candidate, pairs):
+        seen.append((candidate.na, candidate.nb))
+        return abs(candidate.na - 3) + abs(candidate.nb - 3) + 1.0
+
+    u = np.random.default_rng(9).standard_normal(80)
+    _, surface = tune_free_run(estimator or ARX(delay=1), u, first_order(u), cost=cost,
+                               orders=orders, **options)
+    return seen, surface
+
+
+def test_a_tie_searches_na_equal_to_nb_only(recwarn):
+    seen, surface = searched_orders({"na": [1, 2, 3], "nb": "na"})
+    assert seen == [(1, 1), (2, 2), (3, 3)]
+    assert [(r["na"], r["nb"]) for r in surface.rows] == seen
+    # the best, na = nb = 3, is the last value listed: one edge, named on the leader
+    edge, = surface.edges
+    assert (edge.parameter, edge.side) == ("na", "upper") and "nb follows it" in edge.advice
+    assert len(recwarn) == 1 and recwarn[0].category is SearchEdgeWarning
+
+
+def test_a_list_of_settings_is_searched_setting_by_setting():
+    seen, surface = searched_orders([{"na": 3, "nb": 3}, {"na": 2, "nb": 4},
+                                     {"na": 4, "nb": 1}])
+    assert seen == [(3, 3), (2, 4), (4, 1)]
+    assert surface.best == {"na": 3, "nb": 3} and surface.edges == ()
+    # with (γ, σ²) searched: each setting gets its own grid of 2 x 2 points (all corners)
+    with pytest.warns(SearchEdgeWarning):
+        seen, surface = searched_orders([{"na": 3, "nb": 3}, {"na": 2, "nb": 4}],
+                                        estimator=HammersteinLSSVM(1, 1), grid=2,
+                                        refine=False, gamma=(1.0, 10.0), sigma2=(1.0, 10.0))
+    assert seen == [(3, 3)] * 4 + [(2, 4)] * 4
+
+
+@pytest.mark.parametrize("orders, message", [
+    ({"nb": "na"}, "nb: expected the name of another order of the grid with a list of "
+                   "values to tie nb to, found 'na'"),
+    ({"na": [1, 2], "nb": "nb"}, "to tie nb to, found 'nb'"),
+    ({"na": [1, 2], "nb": "na", "delay": "nb"}, "to tie delay to, found 'nb'"),
+    ({"na": 3}, "na: expected a list of values, or the name of another order to tie it to, "
+                "found 3"),
+    ({"na": []}, "na: expected at least one value, found an empty list"),
+    ({"nx": [1, 2]}, "expected parameters of ARX, found 'nx'"),
+    ([], "expected at least one setting, found an empty list"),
+    ([{"na": 1}, 3], r"orders\[1\]: expected a dict of parameter values, found 3"),
+    ([{"na": 1, "nb": 1}, {"na": 2}], r"orders\[1\]: expected the parameters of orders\[0\] "
+                                      r"\(na, nb\), found na"),
+    ([{"na": 1}, {"na": 2}, {"na": 1}], r"orders\[2\]: expected settings that differ, found a "
+                                        r"repeat of orders\[0\]"),
+    (5, "expected a dict of value lists \\(a grid\\) or a list of dicts"),
+])
+def test_bad_orders_are_refused_with_what_was_expected(orders, message):
+    u = np.random.default_rng(10).standard_normal(80)
+    with pytest.raises(DataInputError, match=message) as raised:
+        tune_free_run(ARX(delay=1), u, first_order(u), orders=orders,
+                      cost=lambda estimator, pairs: 1.0)
+    assert raised.value.problems[0].key == "orders"
+
+
+def test_gamma_and_sigma2_are_searched_by_their_ranges_not_as_orders():
+    u = np.random.default_rng(11).standard_normal(80)
+    with pytest.raises(DataInputError, match="found 'gamma', which is searched by its range"):
+        tune_free_run(NARX(1, 1), u, first_order(u), orders={"gamma": [1.0, 10.0]},
+                      cost=lambda estimator, pairs: 1.0)

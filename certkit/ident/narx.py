@@ -108,7 +108,9 @@ class NARX(DynamicModel):
         Folds of the internal tuning cost.
     n_init : int, optional
         Initialisation window (measured outputs) of the held-out simulations during
-        tuning; default :attr:`init_length`.
+        tuning; default :attr:`init_length`.  At least :attr:`init_length`
+        = max(na, delay + nb − 1), the lag window a free run starts from (a 10-sample
+        window rules out na = 15).
     tuning : dict, optional
         Extra keyword arguments of :func:`tune` (ranges, grid, max_refine, ...).
         Default: 5 x 5 grid, γ ∈ [1e-1, 1e7], σ² ∈ [0.01·d, 1000·d] with d = na + Σnb

@@ -6,8 +6,8 @@ the estimation data only, with the whole cost surface kept for plotting.
   fields (folds, initialisation window, free run or one step, divergence band) are the
   knobs to change.
 * :func:`tune_free_run` — a log grid (and a Nelder–Mead refinement) of (γ, σ²) by
-  :func:`certkit.ident.lssvm.tune`, for every combination of the orders (or other structure
-  parameters) asked for; optionally a smoothness prior on the surface; returns the refitted
+  :func:`certkit.ident.lssvm.tune`, for every setting of the orders (or other structure
+  parameters) asked for: a grid, a grid with tied orders or a list; optionally a smoothness prior on the surface; returns the refitted
   model — or an :class:`~certkit.ident.ensemble.EnsembleModel` of the K best — and
   :class:`CostSurface`.
 
@@ -56,7 +56,6 @@ Springer, 2009.
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
@@ -69,7 +68,7 @@ from certkit.ident.experiments import DataInputError, experiments, free_run_fold
 from certkit.ident.hammerstein import HammersteinLSSVM
 from certkit.ident.lssvm import recorded_warnings, tune
 from certkit.ident.narx import NARX
-from certkit.ident.search_space import (SearchEdge, order_edges, range_edges,
+from certkit.ident.search_space import (SearchEdge, order_edges, order_settings, range_edges,
                                         warn_of_edges)
 from certkit.ident.sizing import engine_for_folds
 from certkit.ident.wiener import WienerLSSVM
@@ -378,7 +377,8 @@ def _resolve(spec, estimator):
     return spec(estimator) if callable(spec) else spec
 
 
-def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | None = None,
+def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None,
+                  orders: dict | list | None = None,
                   cost: Callable | None = None, grid: int | tuple[int, int] = 5,
                   refine: bool = True, max_refine: int = 20,
                   smoothing: float | str = 0.0, ensemble: int = 1, rule: str = "min"):
@@ -394,10 +394,16 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
         Search range (log10), a fixed value, or None for :func:`default_ranges`; a callable
         gets the estimator with the orders set and returns one of those (e.g. σ² ranges
         proportional to the regressor dimension).  Ignored for ARX (no hyper-parameter).
-    orders : dict, optional
-        Orders (or any other structure parameters of the estimator) to search, e.g.
-        ``{"na": [1, 2, 3], "filter_pole": [0.93, 0.95]}``: every combination gets its own
-        (γ, σ²) search.
+    orders : dict or list of dict, optional
+        Orders (or any other structure parameters of the estimator) to search; each
+        setting gets its own (γ, σ²) search (:func:`certkit.ident.search_space.order_settings`).
+        A dict is a grid, every combination of the values listed:
+        ``{"na": [1, 2, 3], "filter_pole": [0.93, 0.95]}``; a value that names another
+        order of the grid ties this one to it: ``{"na": [1, 2, 3], "nb": "na"}`` searches
+        na = nb = 1, 2, 3.  A list of dicts gives the settings one by one, each setting
+        the same orders: ``[{"na": 2, "nb": 1}, {"na": 4, "nb": 3}]``.  Orders must fit the
+        cost's initialisation window (``FreeRunCV(n_init=...)`` at least every setting's
+        ``init_length``).
     cost : callable, default FreeRunCV()
         ``cost(unfitted_estimator, experiments) -> float``; e.g. ``FreeRunCV(folds=5)``,
         ``FreeRunCV(mode="one-step")`` or any function of that signature.  The default
@@ -465,13 +471,9 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
         if rule == "one-se":
             folds[key] = [q / (n * variance) if n else math.inf for q, n in errors]
         return cost.pooled(errors, pairs)
-    orders = dict(orders or {})
-    for name in orders:
-        if name not in estimator.get_params():
-            raise DataInputError("orders", f"expected parameters of {type(estimator).__name__}"
-                                           f", found {name!r}")
-    names = list(orders)
     hyper = "gamma" in estimator.get_params()
+    space = order_settings(orders, estimator.get_params(), type(estimator).__name__,
+                           ("gamma", "sigma2") if hyper else ())
     engine = {}                          # the folds fit with the engine of the final model
     if "engine" in estimator.get_params():
         engine = {"engine": engine_for_folds(estimator.get_params()["engine"],
@@ -479,22 +481,21 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
     rows: list[dict] = []
     keys: list[tuple] = []               # each row's key of found
     raised: list[tuple[str, ...]] = []   # each row's warnings from a cost of the user's
-    searched: dict = {}                  # combination -> its (γ, σ²) ranges
-    for combination in itertools.product(*(orders[n] for n in names)):
-        chosen = dict(zip(names, combination))
+    searched: dict = {}                  # setting (index) -> its (γ, σ²) ranges
+    for setting, chosen in enumerate(space.settings):
         base = clone(estimator).set_params(**{**engine, **chosen})
         if not hyper:
             with recorded_warnings() as messages:
-                value = evaluate(base, (combination, None, None))
-            rows.append({**chosen, "cost": value, "stage": "grid", "orders": combination})
-            keys.append((combination, None, None))
+                value = evaluate(base, (setting, None, None))
+            rows.append({**chosen, "cost": value, "stage": "grid", "orders": setting})
+            keys.append((setting, None, None))
             raised.append(tuple(messages))
             continue
         ranges = default_ranges(base, pairs[0][0].shape[1])
         ranges.update({k: _resolve(v, base) for k, v in (("gamma", gamma), ("sigma2", sigma2))
                        if v is not None})
-        searched[combination] = ranges
-        result = tune(lambda g, s, base=base, c=combination: evaluate(
+        searched[setting] = ranges
+        result = tune(lambda g, s, base=base, c=setting: evaluate(
                           clone(base).set_params(gamma=g, sigma2=s), (c, g, s)),
                       grid=grid, refine=refine and smoothing == 0.0,
                       max_refine=max_refine, allow_infinite=True, **ranges)
@@ -504,8 +505,8 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
         for index, (g, s, value) in enumerate(result.evaluations):
             rows.append({**chosen, "gamma": g, "sigma2": s, "cost": value,
                          "stage": "grid" if index < n_grid else "refine",
-                         "orders": combination})
-            keys.append((combination, g, s))
+                         "orders": setting})
+            keys.append((setting, g, s))
             raised.append(result.warnings[index])
     outcomes = tuple(found.get(key, ()) for key in keys)
     messages = tuple(tuple(dict.fromkeys([m for o in outcome for m in o.warnings] + list(r)))
@@ -540,7 +541,7 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None, orders: dict | No
                     for i in ranked[:int(ensemble)])
     best = members[0]
     edges = (range_edges(best, searched.get(rows[ranked[0]]["orders"], {}))
-             + order_edges(best, orders))
+             + order_edges(best, space.values, space.ties))
     warn_of_edges(edges, f"tune_free_run of {type(estimator).__name__}")
     if ensemble == 1:
         model = clone(estimator).set_params(**best).fit(u, y)
