@@ -12,6 +12,7 @@ import itertools
 import numpy as np
 from scipy import linalg
 
+from certkit.ident import reuse
 from certkit.ident.experiments import DataInputError, order, positive_number, signal
 from certkit.ident.lssvm import (CHUNK_ENTRIES, KernelModel, kernel_expansion,
                                  feature_matrix, rbf_kernel)
@@ -264,6 +265,25 @@ class FixedSizeLSSVM(KernelModel):
         columns.append(np.ones((X.shape[0], 1)))
         return np.hstack(columns)
 
+    def _normal_equations(self, X: np.ndarray, y: np.ndarray, centres: np.ndarray,
+                          sigma2: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The Nyström projection and the normal equations ΦᵀΦ, Φᵀy of the primal ridge
+        problem without its penalty (Φ = [φ̂(x), parametric columns]): all but γ."""
+        projection = nystrom_map(centres, sigma2, self.eigen_tolerance)   # k_M(x) → φ̂(x)
+        m = projection.shape[1]
+        q = self._parametric(X[:1]).shape[1]          # [x,] [c(x),] 1: unpenalised
+        normal = np.zeros((m + q, m + q))
+        rhs = np.zeros(m + q)
+        rows = max(1, CHUNK_ENTRIES // max(centres.shape[0], m))
+        for start in range(0, X.shape[0], rows):
+            block = X[start:start + rows]
+            features = np.empty((block.shape[0], m + q))
+            features[:, :m] = rbf_kernel(block, centres, sigma2) @ projection
+            features[:, m:] = self._parametric(block)
+            normal += features.T @ features
+            rhs += features.T @ y[start:start + rows]
+        return projection, normal, rhs
+
     def fit(self, X, y) -> FixedSizeLSSVM:
         """Select the prototypes (unless given) and solve the primal ridge problem.
 
@@ -283,9 +303,12 @@ class FixedSizeLSSVM(KernelModel):
         if np.ndim(self.prototypes) == 0:
             entropy_sigma2 = (renyi_bandwidth(X) if self.entropy_sigma2 is None
                               else self.entropy_sigma2)
-            self.prototype_indices_ = select_prototypes(
-                X, self.prototypes, entropy_sigma2, n_swaps=self.n_swaps,
-                random_state=self.random_state)
+            self.prototype_indices_ = reuse.kept(
+                "prototypes", reuse.digest(X, self.prototypes, entropy_sigma2, self.n_swaps,
+                                           self.random_state),
+                lambda: select_prototypes(X, self.prototypes, entropy_sigma2,
+                                          n_swaps=self.n_swaps,
+                                          random_state=self.random_state))
             centres = X[self.prototype_indices_]
         else:
             centres = feature_matrix("prototypes", self.prototypes)
@@ -294,19 +317,13 @@ class FixedSizeLSSVM(KernelModel):
                                  f"{X.shape[1]}")
             self.prototype_indices_ = None
         self.monomials_ = self._monomials(X.shape[1])
-        projection = nystrom_map(centres, sigma2, self.eigen_tolerance)   # k_M(x) → φ̂(x)
+        projection, normal, rhs = reuse.kept(
+            "normal equations", reuse.digest(X, y, centres, sigma2, self.eigen_tolerance,
+                                             self.linear, self.monomials_),
+            lambda: self._normal_equations(X, y, centres, sigma2))
         m = projection.shape[1]
-        q = self._parametric(X[:1]).shape[1]          # [x,] [c(x),] 1: unpenalised
-        normal = np.zeros((m + q, m + q))
-        rhs = np.zeros(m + q)
-        rows = max(1, CHUNK_ENTRIES // max(centres.shape[0], m))
-        for start in range(0, X.shape[0], rows):
-            block = X[start:start + rows]
-            features = np.empty((block.shape[0], m + q))
-            features[:, :m] = rbf_kernel(block, centres, sigma2) @ projection
-            features[:, m:] = self._parametric(block)
-            normal += features.T @ features
-            rhs += features.T @ y[start:start + rows]
+        q = normal.shape[0] - m                       # [x,] [c(x),] 1: unpenalised
+        normal = normal.copy()
         normal[np.arange(m), np.arange(m)] += 1.0 / gamma
         try:
             solution = linalg.solve(normal, rhs, assume_a="pos", check_finite=False)

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import linalg, optimize
 
+from certkit.ident import reuse
 from certkit.ident.experiments import DataInputError, positive_number, signal
 from certkit.ident.search_space import SearchEdge, range_edges
 from certkit.ident.signature import orders_positional
@@ -35,13 +36,18 @@ CHUNK_ENTRIES = 4_000_000      # kernel entries evaluated at once (≈ 32 MB) in
 
 
 
-def rbf_kernel(x: np.ndarray, z: np.ndarray, sigma2: float) -> np.ndarray:
-    """K[i, j] = exp(−‖x_i − z_j‖²/σ²) for rows x_i of ``x`` (n, d) and z_j of ``z`` (m, d)."""
+def squared_distances(x: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """D[i, j] = ‖x_i − z_j‖² (at least 0) for rows x_i of ``x`` (n, d) and z_j of ``z``."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     z = np.atleast_2d(np.asarray(z, dtype=float))
     squared = (np.sum(x * x, axis=1)[:, None] + np.sum(z * z, axis=1)[None, :]
                - 2.0 * x @ z.T)
-    return np.exp(-np.maximum(squared, 0.0) / sigma2)
+    return np.maximum(squared, 0.0)
+
+
+def rbf_kernel(x: np.ndarray, z: np.ndarray, sigma2: float) -> np.ndarray:
+    """K[i, j] = exp(−‖x_i − z_j‖²/σ²) for rows x_i of ``x`` (n, d) and z_j of ``z`` (m, d)."""
+    return np.exp(-squared_distances(x, z) / sigma2)
 
 
 
@@ -174,7 +180,11 @@ class LSSVMRegressor(KernelModel):
         y = signal("y", y, X.shape[0])
         check_dense_memory("LSSVMRegressor", X.shape[0], "FixedSizeLSSVM(gamma=…, sigma2=…, "
                                                          "prototypes=…) (memory O(N·M), any N)")
-        H = rbf_kernel(X, X, sigma2)
+        # the training rows' distances do not depend on (γ, σ²): a tuning grid computes
+        # them once (certkit.ident.reuse)
+        distances = reuse.kept("squared distances", reuse.digest(X),
+                               lambda: squared_distances(X, X))
+        H = np.exp(-distances / sigma2)
         H[np.diag_indices_from(H)] += 1.0 / gamma
         factor = linalg.cho_factor(H, lower=True, overwrite_a=True, check_finite=False)
         nu = linalg.cho_solve(factor, y, check_finite=False)                  # H⁻¹y
@@ -272,8 +282,16 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
     Deterministic: no random numbers; the same cost gives the same result.  The grid
     gives a global view (as LS-SVMlab's ``tunelssvm`` does with coupled simulated
     annealing), the simplex polishes the best grid point; the first simplex step is one
-    grid spacing.
+    grid spacing.  The fits of one search share what does not depend on γ (or on σ²):
+    :mod:`certkit.ident.reuse`.
     """
+    with reuse.reusing():
+        return _tune(cost, gamma, sigma2, grid, start, refine, max_refine, tolerance,
+                     allow_infinite)
+
+
+def _tune(cost, gamma, sigma2, grid, start, refine, max_refine, tolerance,
+          allow_infinite) -> TuningResult:
     names = ("gamma", "sigma2")
     specs = (gamma, sigma2)
     fixed, bounds = {}, {}

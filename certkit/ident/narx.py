@@ -320,15 +320,14 @@ class NARX(DynamicModel):
         X, target = narx_regressors([u[:n0]], [y_init], self._na, self._nb, self._delay)
         z0 = u[0].copy()
         for c in range(u.shape[1]):
-            best, best_sse = z0[c], np.inf
-            for value in np.linspace(*self.u_range_[c], FILTER_STATE_GRID):
+            grid = np.linspace(*self.u_range_[c], FILTER_STATE_GRID)
+            rows = []
+            for value in grid:
                 z0[c] = value
-                Z = self._filter_columns(u[:n0], z0)[start:]
-                error = model.predict(np.hstack([X, Z])) - target
-                sse = float(error @ error)
-                if sse < best_sse:
-                    best, best_sse = value, sse
-            z0[c] = best
+                rows.append(np.hstack([X, self._filter_columns(u[:n0], z0)[start:]]))
+            # every grid value's rows predicted at once (one kernel evaluation, not 41)
+            error = model.predict(np.vstack(rows)).reshape(grid.size, -1) - target
+            z0[c] = grid[int(np.argmin(np.einsum("ij,ij->i", error, error)))]
         return z0
 
     # -- fitting
