@@ -12,7 +12,7 @@ import itertools
 import numpy as np
 from scipy import linalg
 
-from certkit.ident import reuse
+from certkit.ident.reuse import digest, kept
 from certkit.ident.experiments import DataInputError, order, positive_number, signal
 from certkit.ident.lssvm import (CHUNK_ENTRIES, KernelModel, kernel_expansion,
                                  feature_matrix, rbf_kernel)
@@ -303,8 +303,8 @@ class FixedSizeLSSVM(KernelModel):
         if np.ndim(self.prototypes) == 0:
             entropy_sigma2 = (renyi_bandwidth(X) if self.entropy_sigma2 is None
                               else self.entropy_sigma2)
-            self.prototype_indices_ = reuse.kept(
-                "prototypes", reuse.digest(X, self.prototypes, entropy_sigma2, self.n_swaps,
+            self.prototype_indices_ = kept(
+                "prototypes", digest(X, self.prototypes, entropy_sigma2, self.n_swaps,
                                            self.random_state),
                 lambda: select_prototypes(X, self.prototypes, entropy_sigma2,
                                           n_swaps=self.n_swaps,
@@ -317,8 +317,8 @@ class FixedSizeLSSVM(KernelModel):
                                  f"{X.shape[1]}")
             self.prototype_indices_ = None
         self.monomials_ = self._monomials(X.shape[1])
-        projection, normal, rhs = reuse.kept(
-            "normal equations", reuse.digest(X, y, centres, sigma2, self.eigen_tolerance,
+        projection, normal, rhs = kept(
+            "normal equations", digest(X, y, centres, sigma2, self.eigen_tolerance,
                                              self.linear, self.monomials_),
             lambda: self._normal_equations(X, y, centres, sigma2))
         m = projection.shape[1]

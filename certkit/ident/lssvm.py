@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import linalg, optimize
 
-from certkit.ident import reuse
+from certkit.ident.reuse import digest, kept, reusing
 from certkit.ident.experiments import DataInputError, positive_number, signal
 from certkit.ident.search_space import SearchEdge, range_edges
 from certkit.ident.signature import orders_positional
@@ -182,7 +182,7 @@ class LSSVMRegressor(KernelModel):
                                                          "prototypes=…) (memory O(N·M), any N)")
         # the training rows' distances do not depend on (γ, σ²): a tuning grid computes
         # them once (certkit.ident.reuse)
-        distances = reuse.kept("squared distances", reuse.digest(X),
+        distances = kept("squared distances", digest(X),
                                lambda: squared_distances(X, X))
         H = np.exp(-distances / sigma2)
         H[np.diag_indices_from(H)] += 1.0 / gamma
@@ -285,7 +285,7 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
     grid spacing.  The fits of one search share what does not depend on γ (or on σ²):
     :mod:`certkit.ident.reuse`.
     """
-    with reuse.reusing():
+    with reusing():
         return _tune(cost, gamma, sigma2, grid, start, refine, max_refine, tolerance,
                      allow_infinite)
 
