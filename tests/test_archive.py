@@ -99,6 +99,7 @@ def test_the_bagit_library_accepts_the_bag_and_rejects_a_tampered_one(bag, copy)
     assert not bagit.Bag(str(copy)).is_valid()
 
 
+@pytest.mark.slow   # several reports or archives in real processes: CI runs it
 def test_two_archives_of_the_same_inputs_are_identical(bag, seed_copy, tmp_path):
     # the second made by the command line in a fresh process, from a copy of the campaign
     # in another folder, as a zip
@@ -442,6 +443,7 @@ def test_a_bag_another_tool_made_verifies_but_is_not_a_certkit_archive(tmp_path)
     assert result.exit_code == 2 and "not a certkit archive" in result.output
 
 
+@pytest.mark.slow   # several reports or archives in real processes: CI runs it
 def test_an_input_behind_a_link_is_archived_where_the_spec_names_it(seed_copy, tmp_path):
     data = seed_copy.parent / "data"
     (seed_copy.parent / "raw").mkdir()

@@ -57,6 +57,7 @@ def bags(tmp_path) -> dict[str, Path]:
     }
 
 
+@pytest.mark.slow   # several reports or archives in real processes: CI runs it
 def test_an_archived_campaign_is_indexed_from_its_bag(tmp_path):
     bag = tmp_path / "seed-bag"
     archive_campaign(SEED, bag, model=False)
@@ -218,6 +219,7 @@ def test_two_concurrent_additions_to_a_new_catalog_both_land(bags, tmp_path):
     assert sorted(e.campaign_id for e in search(catalog)) == ["LSA-1", "LSA-2"]
 
 
+@pytest.mark.slow   # several reports or archives in real processes: CI runs it
 def test_two_additions_blocked_by_a_writer_both_land_when_it_finishes(bags, tmp_path):
     script, catalog, go = tmp_path / "adder.py", tmp_path / "busy.sqlite", tmp_path / "go"
     script.write_text(ADDER)

@@ -36,7 +36,6 @@ from dataclasses import dataclass, field
 from statistics import NormalDist
 
 import numpy as np
-from scipy.stats import t as student_t
 
 from certkit.compliance.assessment import Assessment
 from certkit.compliance.margin_draws import margin_draws
@@ -359,6 +358,10 @@ def _decided(verdict: Verdict, u_gum: float | None, mc: _Draws | None, budget, m
     coverage = found.coverage
     # k for a normal output, or the t-quantile at the effective degrees of freedom of a
     # budget with a Type A line (JCGM 100 §G.4.1, §G.6.4)
+    if dof is not None:
+        # here, not at the top: scipy.stats adds about 1 s to every certkit command's
+        # start-up (python -X importtime), and only a Type A line needs it
+        from scipy.stats import t as student_t
     k_normal = (NormalDist().inv_cdf(0.5 + coverage / 2.0) if dof is None
                 else float(student_t.ppf(0.5 + coverage / 2.0, dof)))
     margin = verdict.margin
