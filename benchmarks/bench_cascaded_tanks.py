@@ -142,6 +142,8 @@ def sysidentpy_column(u_est, y_est, u_val, y_val):
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data", type=Path, default=DATA, metavar="FOLDER")
+    parser.add_argument("--jobs", type=int, default=1, metavar="N",
+                        help="worker processes scoring the folds (tune_free_run's n_jobs)")
     parser.add_argument("--no-sysidentpy", action="store_true")
     parser.add_argument("--ensemble", type=int, default=5, metavar="K",
                         help="average the K best candidates (1: the best alone)")
@@ -155,13 +157,15 @@ def main() -> None:
 
     n_points = 20 * int(np.prod([len(v) for v in ORDERS.values()]))
     print(f"tuning (estimation record only): {n_points} candidates x {FOLDS} blocked free-run "
-          f"folds (n_init {N_INIT}), {args.rank} ranking, ensemble of {args.ensemble}",
+          f"folds (n_init {N_INIT}), {args.rank} ranking, ensemble of {args.ensemble}, "
+          f"{args.jobs} worker process(es)",
           flush=True)
     start = time.perf_counter()
     model, surface = tune_free_run(
         BASE, u_est, y_est, orders=ORDERS, gamma=GAMMA, sigma2=sigma2_range, grid=(4, 5),
         refine=False, cost=FreeRunCV(folds=FOLDS, n_init=N_INIT),
-        smoothing="median" if args.rank == "median" else 0.0, ensemble=args.ensemble)
+        smoothing="median" if args.rank == "median" else 0.0, ensemble=args.ensemble,
+        n_jobs=args.jobs)
     tuning_seconds = time.perf_counter() - start
     rows = [r for r in surface.rows if r["stage"] == "grid"]
     stable = [i for i, r in enumerate(rows) if math.isfinite(r["cost"])]

@@ -169,17 +169,18 @@ def test_errors(narx, u: np.ndarray, y: np.ndarray) -> dict:
     return out
 
 
-def partially_linear(u_train: np.ndarray, y_train: np.ndarray):
+def partially_linear(u_train: np.ndarray, y_train: np.ndarray, jobs: int = 1):
     """The tuned partially linear NARX (training part only) and its fit time."""
     base = NARX(**ORDERS, engine="fixed-size", prototypes=PROTOTYPES, **PARTIALLY_LINEAR)
     print(f"\npartially linear NARX ({PARTIALLY_LINEAR}): tuning (gamma, sigma2) on "
-          f"{PL_FOLDS} blocked free-run folds of the training part, {PL_RULE} rule",
+          f"{PL_FOLDS} blocked free-run folds of the training part, {PL_RULE} rule, "
+          f"{jobs} worker process(es)",
           flush=True)
     start = time.perf_counter()
     tuned, surface = tune_free_run(base, u_train, y_train, gamma=PL_GAMMA, sigma2=PL_SIGMA2,
                                    grid=(5, 3), refine=False,
                                    cost=FreeRunCV(folds=PL_FOLDS, n_init=N_INIT),
-                                   rule=PL_RULE)
+                                   rule=PL_RULE, n_jobs=jobs)
     tuning = time.perf_counter() - start
     scale = float(np.std(y_train))
     for r in surface.rows:
@@ -234,6 +235,8 @@ def main() -> None:
     parser.add_argument("--no-sysidentpy", action="store_true", help="skip SysIdentPy")
     parser.add_argument("--no-partially-linear", action="store_true",
                         help="skip the tuned partially linear NARX (about 5 min)")
+    parser.add_argument("--jobs", type=int, default=1, metavar="N",
+                        help="worker processes scoring the tuning's folds (n_jobs)")
     args = parser.parse_args()
     if args.repeats < 1:
         parser.error(f"--repeats: expected a whole number >= 1, found {args.repeats}")
@@ -280,7 +283,7 @@ def main() -> None:
 
     rows = [("this run: FS-LSSVM NARX", ours, statistics.median(seconds))]
     if not args.no_partially_linear:
-        tuned, fit = partially_linear(u_train, y_train)
+        tuned, fit = partially_linear(u_train, y_train, args.jobs)
         rows.append(("this run: partially linear NARX, tuned", test_errors(tuned, u, y), fit))
     if not args.no_sysidentpy:
         found = sysidentpy(u_train, y_train)

@@ -70,6 +70,11 @@ class DataInputError(CertkitInputError, ValueError):
     def __init__(self, name: str, message: str):
         super().__init__([Problem("argument", None, name, message)])
 
+    def __reduce__(self):
+        # made again from its argument's name and message (a worker process raises it and
+        # the search's process reports it)
+        return type(self), (self.problems[0].key, self.problems[0].message)
+
 
 class KeywordArgumentError(DataInputError, TypeError):
     """A parameter given by position where certkit takes it by keyword only (an estimator's

@@ -42,6 +42,15 @@ def reusing() -> Iterator[None]:
             _kept = None
 
 
+def keep_in_this_process() -> None:
+    """Keep the fits' reusable parts for as long as this process lives: a worker process
+    of one search (:func:`certkit.ident.tune_free_run` with ``n_jobs``), which fits the
+    same fold for every candidate."""
+    global _kept
+    if _kept is None:
+        _kept = OrderedDict()
+
+
 def digest(*parts) -> str:
     """A digest of arrays (their shape, type and bytes) and other values (their repr)."""
     h = hashlib.blake2b(digest_size=20)

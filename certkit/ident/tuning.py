@@ -58,7 +58,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from sklearn.base import clone
@@ -67,6 +67,7 @@ from certkit.ident.ensemble import EnsembleModel
 from certkit.ident.experiments import DataInputError, experiments, free_run_folds
 from certkit.ident.hammerstein import HammersteinLSSVM
 from certkit.ident.lssvm import recorded_warnings, tune
+from certkit.ident.workers import fold_workers, running_workers, scored_fold
 from certkit.ident.narx import NARX
 from certkit.ident.search_space import (SearchEdge, order_edges, order_settings, range_edges,
                                         warn_of_edges)
@@ -176,12 +177,25 @@ class FreeRunCV:
             raise DataInputError("mode", f"expected one of {', '.join(MODES)}, found "
                                          f"{self.mode!r}")
         lengths = [y.size for _, y in pairs]
+        splits = list(enumerate(free_run_folds(lengths, self.folds, 2)))
         out = []
-        for fold, (train, held) in enumerate(free_run_folds(lengths, self.folds, 2)):
-            with recorded_warnings() as messages:
-                outcome = self._fold(fold, estimator, pairs, train, held)
-            out.append(replace(outcome, warnings=tuple(messages)))
-            if outcome.rejected:
+        workers = running_workers()
+        if workers:
+            # fold k always to worker k (mod n): it keeps that fold's reusable parts; the
+            # outcomes are read in fold order and cut at the first rejected one, as below
+            futures = [workers[fold % len(workers)].submit(
+                           scored_fold, self, fold, estimator, pairs, train, held)
+                       for fold, (train, held) in splits]
+            for future in futures:
+                out.append(future.result())
+                if out[-1].rejected:
+                    break
+            for future in futures:
+                future.cancel()
+            return out
+        for fold, (train, held) in splits:
+            out.append(scored_fold(self, fold, estimator, pairs, train, held))
+            if out[-1].rejected:
                 break
         return out
 
@@ -381,7 +395,8 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None,
                   orders: dict | list | None = None,
                   cost: Callable | None = None, grid: int | tuple[int, int] = 5,
                   refine: bool = True, max_refine: int = 20,
-                  smoothing: float | str = 0.0, ensemble: int = 1, rule: str = "min"):
+                  smoothing: float | str = 0.0, ensemble: int = 1, rule: str = "min",
+                  n_jobs: int = 1):
     """Tune a model's hyper-parameters (and orders) on its cross-validated free run.
 
     Parameters
@@ -434,6 +449,14 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None,
         the kernel part most penalised, so the parametric part of a partially linear NARX
         (or the bias) carries the model where data are sparse.  Not used with
         ``smoothing``.  The ensemble takes the next candidates in the same order.
+    n_jobs : int, default 1
+        Worker processes that score the folds (a :class:`FreeRunCV` cost only): fold k of
+        every candidate goes to worker k mod n_jobs, which keeps what that fold's fits
+        share (:mod:`certkit.ident.reuse`).  The same numbers whatever ``n_jobs``.  The
+        workers are forked where the system can; where it cannot (Windows) they re-import
+        the calling script, which then needs an ``if __name__ == "__main__":`` guard.
+        Inside a process that already runs one worker per core (certkit's model stages
+        do), keep 1.
 
     Returns
     -------
@@ -459,6 +482,11 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None,
     if isinstance(ensemble, bool) or not isinstance(ensemble, (int, np.integer)) \
             or ensemble < 1:
         raise DataInputError("ensemble", f"expected a positive integer, found {ensemble!r}")
+    if isinstance(n_jobs, bool) or not isinstance(n_jobs, (int, np.integer)) or n_jobs < 1:
+        raise DataInputError("n_jobs", f"expected a positive integer, found {n_jobs!r}")
+    if n_jobs > 1 and not isinstance(cost, FreeRunCV):
+        raise DataInputError("n_jobs", f"expected 1 with a cost other than FreeRunCV (only "
+                                       f"its folds are scored in parallel), found {n_jobs}")
     folds: dict = {}                     # (orders, γ, σ²) -> per-fold NRMSE² ("one-se")
     found: dict = {}                     # (orders, γ, σ²) -> a FreeRunCV's fold outcomes
     variance = output_variance(pairs)
@@ -482,32 +510,33 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None,
     keys: list[tuple] = []               # each row's key of found
     raised: list[tuple[str, ...]] = []   # each row's warnings from a cost of the user's
     searched: dict = {}                  # setting (index) -> its (γ, σ²) ranges
-    for setting, chosen in enumerate(space.settings):
-        base = clone(estimator).set_params(**{**engine, **chosen})
-        if not hyper:
-            with recorded_warnings() as messages:
-                value = evaluate(base, (setting, None, None))
-            rows.append({**chosen, "cost": value, "stage": "grid", "orders": setting})
-            keys.append((setting, None, None))
-            raised.append(tuple(messages))
-            continue
-        ranges = default_ranges(base, pairs[0][0].shape[1])
-        ranges.update({k: _resolve(v, base) for k, v in (("gamma", gamma), ("sigma2", sigma2))
-                       if v is not None})
-        searched[setting] = ranges
-        result = tune(lambda g, s, base=base, c=setting: evaluate(
-                          clone(base).set_params(gamma=g, sigma2=s), (c, g, s)),
-                      grid=grid, refine=refine and smoothing == 0.0,
-                      max_refine=max_refine, allow_infinite=True, **ranges)
-        points = (grid, grid) if np.ndim(grid) == 0 else tuple(grid)
-        n_grid = int(np.prod([n for n, k in zip(points, ("gamma", "sigma2"))
-                              if np.ndim(ranges[k]) > 0]))
-        for index, (g, s, value) in enumerate(result.evaluations):
-            rows.append({**chosen, "gamma": g, "sigma2": s, "cost": value,
-                         "stage": "grid" if index < n_grid else "refine",
-                         "orders": setting})
-            keys.append((setting, g, s))
-            raised.append(result.warnings[index])
+    with fold_workers(n_jobs):
+        for setting, chosen in enumerate(space.settings):
+            base = clone(estimator).set_params(**{**engine, **chosen})
+            if not hyper:
+                with recorded_warnings() as messages:
+                    value = evaluate(base, (setting, None, None))
+                rows.append({**chosen, "cost": value, "stage": "grid", "orders": setting})
+                keys.append((setting, None, None))
+                raised.append(tuple(messages))
+                continue
+            ranges = default_ranges(base, pairs[0][0].shape[1])
+            ranges.update({k: _resolve(v, base) for k, v in (("gamma", gamma), ("sigma2", sigma2))
+                           if v is not None})
+            searched[setting] = ranges
+            result = tune(lambda g, s, base=base, c=setting: evaluate(
+                              clone(base).set_params(gamma=g, sigma2=s), (c, g, s)),
+                          grid=grid, refine=refine and smoothing == 0.0,
+                          max_refine=max_refine, allow_infinite=True, **ranges)
+            points = (grid, grid) if np.ndim(grid) == 0 else tuple(grid)
+            n_grid = int(np.prod([n for n, k in zip(points, ("gamma", "sigma2"))
+                                  if np.ndim(ranges[k]) > 0]))
+            for index, (g, s, value) in enumerate(result.evaluations):
+                rows.append({**chosen, "gamma": g, "sigma2": s, "cost": value,
+                             "stage": "grid" if index < n_grid else "refine",
+                             "orders": setting})
+                keys.append((setting, g, s))
+                raised.append(result.warnings[index])
     outcomes = tuple(found.get(key, ()) for key in keys)
     messages = tuple(tuple(dict.fromkeys([m for o in outcome for m in o.warnings] + list(r)))
                      for outcome, r in zip(outcomes, raised))

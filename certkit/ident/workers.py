@@ -1,0 +1,54 @@
+"""The worker processes of a tuning search (:func:`certkit.ident.tune_free_run`'s
+``n_jobs``): :class:`~certkit.ident.tuning.FreeRunCV` sends fold k of every candidate to
+worker k mod n, which keeps what that fold's fits share (:mod:`certkit.ident.reuse`)."""
+
+from __future__ import annotations
+
+import multiprocessing
+from collections.abc import Iterator
+from concurrent.futures import ProcessPoolExecutor
+from contextlib import contextmanager
+from dataclasses import replace
+
+from certkit.ident.lssvm import recorded_warnings
+from certkit.ident.reuse import keep_in_this_process
+
+#: The worker processes of the search in progress, or None.
+_workers: list[ProcessPoolExecutor] | None = None
+
+
+def running_workers() -> list[ProcessPoolExecutor] | None:
+    """The worker processes of the search in progress (None outside one, or with one)."""
+    return _workers
+
+
+@contextmanager
+def fold_workers(n_jobs: int) -> Iterator[None]:
+    """``n_jobs`` worker processes that score the folds of every candidate of a search
+    (none for 1; a search inside a search uses the outer one's); each keeps its folds'
+    reusable parts until the search ends.  Forked where the system can (a script needs no
+    ``if __name__ == "__main__"`` guard), else started afresh ("spawn", which re-imports
+    the calling script: it needs the guard)."""
+    global _workers
+    if n_jobs == 1 or _workers is not None:
+        yield
+        return
+    methods = multiprocessing.get_all_start_methods()
+    context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+    _workers = [ProcessPoolExecutor(1, mp_context=context, initializer=keep_in_this_process)
+                for _ in range(n_jobs)]
+    try:
+        yield
+    finally:
+        pools, _workers = _workers, None
+        for pool in pools:
+            pool.shutdown(cancel_futures=True)
+
+
+def scored_fold(cv, fold: int, estimator, pairs, train, held):
+    """``cv``'s outcome of one fold (a :class:`~certkit.ident.tuning.FoldOutcome`), with
+    the numerical warnings it raised recorded in it, not shown: in this process or a
+    worker's."""
+    with recorded_warnings() as messages:
+        outcome = cv._fold(fold, estimator, pairs, train, held)
+    return replace(outcome, warnings=tuple(messages))
