@@ -375,7 +375,8 @@ def test_remembered_measures_change_no_figure_and_read_a_changed_record_again():
     # assess() probes with RepeatedMeasures (a gear's records read once while they are the
     # same arrays); the budgets must be those of probes that read every record every time
     from certkit.compliance.engine import evaluate
-    from certkit.compliance.measures import RepeatedMeasures, measure_gear
+    from certkit.compliance.measures import measure_gear
+    from certkit.compliance.uncertainty_inputs import RepeatedMeasures
     from certkit.compliance.verdict_uncertainty import budgets
 
     campaign = load_campaign(SEED)

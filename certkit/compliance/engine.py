@@ -20,9 +20,10 @@ from certkit.compliance.assessment import (Assessment, BasisResult, GearResult, 
 from certkit.compliance.criteria import evaluate as evaluate_criteria
 from certkit.compliance.drop_conditions import drop_weight_share, lift_force_ratio, lift_ratio
 from certkit.compliance.measures import (SETTLING_BAND, TOUCHDOWN_SHARE, VELOCITY_WINDOW,
-                                         GearMeasures, RepeatedMeasures, contact_velocity,
-                                         drop_mass_load_factor, measure_gear)
+                                         GearMeasures, contact_velocity, drop_mass_load_factor,
+                                         measure_gear)
 from certkit.compliance.quality import audit
+from certkit.compliance.uncertainty_inputs import RepeatedMeasures
 from certkit.compliance.verdict_uncertainty import budgets
 from certkit.display import SI_UNITS, number, with_unit
 from certkit.results import Value
@@ -507,7 +508,7 @@ def evaluate(campaign: Campaign, measure: Callable = measure_gear) -> Assessment
     uncertainties: the function every sensitivity of
     :mod:`certkit.compliance.verdict_uncertainty` is a difference of.  ``measure`` reads a
     gear unit's records (:func:`~certkit.compliance.measures.measure_gear`, or one that
-    remembers its results: :class:`~certkit.compliance.measures.RepeatedMeasures`)."""
+    remembers its results: :class:`~certkit.compliance.uncertainty_inputs.RepeatedMeasures`)."""
     design = _design_values(campaign)
     basis = []
     for entry in campaign.spec.certification_basis:

@@ -210,31 +210,6 @@ def measure_gear(time: np.ndarray, load: np.ndarray, stroke: np.ndarray | None,
         energy_at_max_travel=at_max_travel)
 
 
-
-class RepeatedMeasures:
-    """:func:`measure_gear` that remembers its results for records it has read before.
-
-    The uncertainty probes of one assessment evaluate the campaign again with one input
-    moved: a drop height, a mass or another gear's channel leaves a gear unit's records the
-    very same arrays, and reading them again would give the same measures.  A result is
-    remembered under the identity of the arrays and the value of every other argument; the
-    arrays are kept with it, so no other array can take their identity while it is
-    remembered.  Meant for one assessment (the arrays are never modified in place)."""
-
-    def __init__(self) -> None:
-        self._seen: dict[tuple, tuple[GearMeasures, tuple]] = {}
-
-    def __call__(self, time: np.ndarray, load: np.ndarray, stroke: np.ndarray | None,
-                 tyre: np.ndarray | None, static_weight: float, inclination: float = 0.0,
-                 unsprung_mass: float = 0.0) -> GearMeasures:
-        records = (time, load, stroke, tyre)
-        key = tuple(id(array) for array in records) + (static_weight, inclination,
-                                                        unsprung_mass)
-        if key not in self._seen:
-            self._seen[key] = (measure_gear(time, load, stroke, tyre, static_weight,
-                                            inclination, unsprung_mass), records)
-        return self._seen[key][0]
-
 def _before_contact(time: np.ndarray, values: np.ndarray, index: int) -> float:
     """A channel's reading just before contact: its median over :data:`ZERO_WINDOW` before
     sample ``index`` (the sample at ``index`` itself when the record starts there)."""
