@@ -20,7 +20,7 @@ $(VENV)/.installed: pyproject.toml constraints.txt
 	    -e '.[test]'
 	touch $@
 
-.PHONY: install report test test-slow bench clean
+.PHONY: install report test test-slow lint bench clean
 install: $(VENV)/.installed
 
 report: $(VENV)/.installed
@@ -31,6 +31,12 @@ test: $(VENV)/.installed
 
 test-slow: $(VENV)/.installed
 	$(VENV)/bin/python -m pytest -q -n auto --dist loadfile -m slow
+
+# ruff from pip, pinned here (its rules are in pyproject.toml); CI runs it
+RUFF ?= ruff==0.8.4
+lint: $(VENV)/.installed
+	$(VENV)/bin/python -m pip install --quiet --disable-pip-version-check "$(RUFF)"
+	$(VENV)/bin/ruff check .
 
 bench: $(VENV)/.installed
 	$(VENV)/bin/python benchmarks/bench_report.py

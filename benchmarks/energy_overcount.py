@@ -17,7 +17,7 @@ stroke to the gas-law static stroke.
 
 from __future__ import annotations
 
-import blas_threads  # first: pins the BLAS threads before numpy is loaded
+import blas_threads  # noqa: F401  (first: pins the BLAS threads before numpy is loaded)
 
 # isort: split
 import itertools

@@ -212,7 +212,7 @@ def test_gap_command_on_the_example_names_effects_of_its_truth(physics_campaign)
 def test_each_candidate_decision_names_the_rule_that_made_it(monkeypatch):
     from types import SimpleNamespace as Form
 
-    from certkit.gap.attribution import Attribution, Decision, Score
+    from certkit.gap.attribution import Attribution, Score
     from certkit.gap import selection
     from certkit.gap.selection import (DETECTABLE, GAIN, LEADING, RELEVANT, TIE_COST, judge,
                                        refit_decisions)

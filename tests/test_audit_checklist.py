@@ -7,7 +7,6 @@ drop is W_drop = 292.5 kgf × 650/648.637 = 293.115 kgf = 2874.47 N (certkit W1)
 
 from __future__ import annotations
 
-import math
 import re
 from pathlib import Path
 
