@@ -84,6 +84,34 @@ def test_parquet_data_give_the_same_results_as_csv(timeseries_campaign):
         assert from_parquet.get(key) == from_csv.get(key), key
 
 
+def test_without_pyarrow_a_parquet_file_is_an_input_error_saying_how_to_read_it(
+        timeseries_campaign, monkeypatch):
+    # Parquet is an optional extra: without pyarrow the campaign's data file is named, with
+    # the extra to install, exit 2 through the command line; CSV campaigns need nothing more
+    import sys
+
+    import pandas as pd
+
+    from certkit.cli import app
+    from certkit.errors import CertkitInputError
+    from typer.testing import CliRunner
+
+    folder = timeseries_campaign.parent
+    pd.read_csv(folder / "data" / "r1.csv").to_parquet(folder / "data" / "r1.parquet")
+    text = timeseries_campaign.read_text(encoding="utf-8").replace("data/r1.csv", "data/r1.parquet")
+    timeseries_campaign.write_text(text, encoding="utf-8")
+    for name in [m for m in sys.modules if m == "pyarrow" or m.startswith("pyarrow.")]:
+        monkeypatch.delitem(sys.modules, name)
+    monkeypatch.setitem(sys.modules, "pyarrow", None)       # import pyarrow -> ImportError
+    with pytest.raises(CertkitInputError) as raised:
+        load_campaign(timeseries_campaign)
+    message = str(raised.value)
+    assert "r1.parquet" in message and "needs pyarrow" in message
+    assert "pip install 'certkit[parquet]'" in message and "Traceback" not in message
+    result = CliRunner().invoke(app, ["validate", str(timeseries_campaign)])
+    assert result.exit_code == 2 and "certkit[parquet]" in result.output
+
+
 LAYOUTS = [
     # (separator, decimal mark, layout the audit states)
     (";", ",", "semicolon-separated with decimal commas"),
