@@ -13,14 +13,16 @@ OUT    ?= out
 unexport PYTHONDONTWRITEBYTECODE
 
 # constraints.txt pins every package to the versions the tests (and the committed reference
-# page images) were made with, so a fresh machine gets the same bytes
+# page images) were made with, so a fresh machine gets the same bytes.  It is made by
+# pip-compile from pyproject.toml (`make constraints`), which keeps the pins already in it:
+# `make constraints COMPILE_OPTIONS="--upgrade-package NAME"` moves one package
 $(VENV)/.installed: pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(VENV)/bin/python -m pip install --quiet --disable-pip-version-check -c constraints.txt \
 	    -e '.[test]'
 	touch $@
 
-.PHONY: install report test test-slow lint bench clean
+.PHONY: install report test test-slow lint constraints bench clean
 install: $(VENV)/.installed
 
 report: $(VENV)/.installed
@@ -38,8 +40,17 @@ lint: $(VENV)/.installed
 	$(VENV)/bin/python -m pip install --quiet --disable-pip-version-check "$(RUFF)"
 	$(VENV)/bin/ruff check .
 
+PIP_TOOLS ?= pip-tools==7.6.2
+COMPILE_OPTIONS ?=
+constraints: pyproject.toml
+	$(PYTHON) -m venv .venv-tools
+	.venv-tools/bin/python -m pip install --quiet --disable-pip-version-check "$(PIP_TOOLS)"
+	.venv-tools/bin/pip-compile --quiet --extra test --strip-extras --no-emit-index-url \
+	    --no-emit-trusted-host --no-emit-find-links --annotation-style line \
+	    $(COMPILE_OPTIONS) --output-file constraints.txt pyproject.toml
+
 bench: $(VENV)/.installed
 	$(VENV)/bin/python benchmarks/bench_report.py
 
 clean:
-	rm -rf $(VENV) $(OUT)
+	rm -rf $(VENV) .venv-tools $(OUT)
