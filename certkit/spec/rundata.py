@@ -196,15 +196,14 @@ DATA_SUFFIXES = (".csv", ".parquet", ".pq")
 
 
 def _parquet_reader(display: str):
-    """pyarrow's Parquet module, or an input error saying how to get it (an optional extra:
-    most campaigns' logger files are CSV)."""
+    """pyarrow's Parquet module, or an input error saying how to get it (an optional extra)."""
     try:
         import pyarrow.parquet as pq
     except ImportError:
-        raise CertkitInputError.single(
-            display, None, "", "reading a Parquet file needs pyarrow, which is not installed: "
-            "install certkit's parquet extra (pip install 'certkit[parquet]') or write the "
-            "file as CSV") from None
+        raise CertkitInputError.single(display, None, "", "reading a Parquet file needs "
+                                       "pyarrow, which is not installed: install certkit's "
+                                       "parquet extra (pip install 'certkit[parquet]') or "
+                                       "write the file as CSV") from None
     return pq
 
 
@@ -223,6 +222,7 @@ def _read_table(path: Path, display: str):
         raise fail(f"unsupported data format {suffix!r} (expected one of "
                    f"{', '.join(DATA_SUFFIXES)})")
     separator, decimal = _csv_layout(path, display) if suffix == ".csv" else (",", ".")
+    pq = None if suffix == ".csv" else _parquet_reader(display)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error", pd.errors.ParserWarning)
@@ -232,7 +232,6 @@ def _read_table(path: Path, display: str):
                 with path.open(newline="", encoding="utf-8-sig", errors="replace") as handle:
                     header = next(csv.reader(handle, delimiter=separator), [])
             else:   # the names first: pyarrow cannot read a file that repeats one
-                pq = _parquet_reader(display)
 
                 header, first_line = pq.read_schema(path).names, 0
                 frame = None if len(set(header)) < len(header) else pd.read_parquet(path)
@@ -246,8 +245,6 @@ def _read_table(path: Path, display: str):
             raise _not_utf8(path, display) from None
         raise fail("a column name or text value is not UTF-8 text; write the file again "
                    "with UTF-8 strings") from None
-    except CertkitInputError:
-        raise
     except Exception as exc:  # pandas and pyarrow raise many types for malformed files
         raise fail(f"cannot read data file: {exc}") from None
     repeated = sorted({name for name in header if header.count(name) > 1})
