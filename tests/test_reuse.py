@@ -9,15 +9,11 @@ import pytest
 from certkit.ident import NARX, FreeRunCV, tune_free_run
 from certkit.ident import reuse
 
+from .conftest import saturating_plant
 
-def _record(n: int = 700, seed: int = 3):
-    # a first-order plant with a saturating input: y_t = 0.7·y_{t−1} + tanh(2·u_{t−1})
-    rng = np.random.default_rng(seed)
-    u = rng.uniform(-1.0, 1.0, n)
-    y = np.zeros(n)
-    for t in range(1, n):
-        y[t] = 0.7 * y[t - 1] + np.tanh(2.0 * u[t - 1])
-    return u, y + 0.01 * rng.standard_normal(n)
+
+def _record():
+    return saturating_plant(700, seed=3, pole=0.7)
 
 
 def _search(engine: str):

@@ -3,23 +3,19 @@ reasons and the errors of a search in one process."""
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
 from certkit.errors import DataInputError
 from certkit.ident import NARX, FreeRunCV, tune_free_run
 
+from .conftest import saturating_plant
+
 pytestmark = pytest.mark.filterwarnings(
     "ignore::certkit.ident.search_space.SearchEdgeWarning")
 
 
-def _record(n: int = 600, seed: int = 5):
-    rng = np.random.default_rng(seed)
-    u = rng.uniform(-1.0, 1.0, n)
-    y = np.zeros(n)
-    for t in range(1, n):
-        y[t] = 0.8 * y[t - 1] + np.tanh(2.0 * u[t - 1])
-    return u, y + 0.01 * rng.standard_normal(n)
+def _record():
+    return saturating_plant(600, seed=5, pole=0.8)
 
 
 def _search(n_jobs: int, **options):

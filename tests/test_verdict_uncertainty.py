@@ -371,15 +371,20 @@ def test_a_campaign_that_states_no_uncertainty_says_so_and_probes_nothing(tmp_pa
     assert "Input (an error, estimate 0)" not in html
 
 
-def test_remembered_measures_change_no_figure_and_read_a_changed_record_again():
+SECOND = SEED.parent.parent / "lsa-main-gear-rig" / "campaign.yaml"
+
+
+@pytest.mark.parametrize("spec", [SEED, SECOND], ids=["seed", "imperial-2kHz-rig"])
+def test_remembered_measures_change_no_figure_and_read_a_changed_record_again(spec):
     # assess() probes with RepeatedMeasures (a gear's records read once while they are the
-    # same arrays); the budgets must be those of probes that read every record every time
+    # same arrays); the budgets must be those of probes that read every record every time,
+    # on both examples (two main gears at 1 kHz in SI; a rig in US units at 2 kHz)
     from certkit.compliance.engine import evaluate
     from certkit.compliance.measures import measure_gear
     from certkit.compliance.uncertainty_inputs import RepeatedMeasures
     from certkit.compliance.verdict_uncertainty import budgets
 
-    campaign = load_campaign(SEED)
+    campaign = load_campaign(spec)
     remembered = assess(campaign).uncertainty
     plain = budgets(evaluate(campaign), evaluate)
     assert remembered.values == plain.values
