@@ -59,3 +59,15 @@ def test_workers_score_the_folds_of_a_free_run_cost_only():
     u, y = _record()
     with pytest.raises(DataInputError, match="n_jobs: expected 1 with a cost other than"):
         tune_free_run(NARX(na=1, nb=1), u, y, cost=lambda estimator, pairs: 1.0, n_jobs=2)
+
+
+def test_a_worker_scores_a_search_of_its_own_in_itself():
+    # a forked worker inherits the list of the search's pools: its own searches must not
+    # use them (they are the parent's), but score their folds in the worker
+    from certkit.ident import workers
+
+    with workers.fold_workers(2):
+        pools = workers.running_workers()
+        assert len(pools) == 2
+        assert pools[0].submit(workers.running_workers).result() is None
+    assert workers.running_workers() is None

@@ -35,7 +35,7 @@ def fold_workers(n_jobs: int) -> Iterator[None]:
         return
     methods = multiprocessing.get_all_start_methods()
     context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
-    _workers = [ProcessPoolExecutor(1, mp_context=context, initializer=keep_in_this_process)
+    _workers = [ProcessPoolExecutor(1, mp_context=context, initializer=_start_worker)
                 for _ in range(n_jobs)]
     try:
         yield
@@ -43,6 +43,15 @@ def fold_workers(n_jobs: int) -> Iterator[None]:
         pools, _workers = _workers, None
         for pool in pools:
             pool.shutdown(cancel_futures=True)
+
+
+def _start_worker() -> None:
+    """A worker keeps its folds' reusable parts for its whole life, and has no workers of
+    its own: a forked one inherits this module's list of the search's pools, which are not
+    its to use (a search inside its fits scores its folds in the worker itself)."""
+    global _workers
+    _workers = None
+    keep_in_this_process()
 
 
 def scored_fold(cv, fold: int, estimator, pairs, train, held):
