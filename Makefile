@@ -22,7 +22,7 @@ $(VENV)/.installed: pyproject.toml constraints.txt
 	    -e '.[test]'
 	touch $@
 
-.PHONY: install report test test-slow lint constraints bench clean
+.PHONY: install report test test-slow lint docs docs-linkcheck constraints bench clean
 install: $(VENV)/.installed
 
 report: $(VENV)/.installed
@@ -40,12 +40,29 @@ lint: $(VENV)/.installed
 	$(VENV)/bin/python -m pip install --quiet --disable-pip-version-check "$(RUFF)"
 	$(VENV)/bin/ruff check .
 
+# the documentation site (Sphinx, numpydoc, PyData theme; docs/conf.py says why), built with
+# warnings as errors; then its examples run (console sessions and doctests) and its links
+# are followed (docs/test_examples.py); CI runs it
+$(VENV)/.docs-installed: $(VENV)/.installed
+	$(VENV)/bin/python -m pip install --quiet --disable-pip-version-check -c constraints.txt \
+	    -e '.[test,docs]'
+	touch $@
+
+docs: $(VENV)/.docs-installed
+	rm -rf docs/_build
+	$(VENV)/bin/python -m sphinx -b html -W --keep-going -q docs docs/_build/html
+	$(VENV)/bin/python -m pytest -q -p no:cacheprovider --doctest-glob='*.md' docs
+
+# the site's links to other sites: needs the network, which CI's machine has not
+docs-linkcheck: $(VENV)/.docs-installed
+	$(VENV)/bin/python -m sphinx -b linkcheck -q docs docs/_build/linkcheck
+
 PIP_TOOLS ?= pip-tools==7.6.2
 COMPILE_OPTIONS ?=
 constraints: pyproject.toml
 	$(PYTHON) -m venv .venv-tools
 	.venv-tools/bin/python -m pip install --quiet --disable-pip-version-check "$(PIP_TOOLS)"
-	.venv-tools/bin/pip-compile --quiet --extra test --strip-extras --no-emit-index-url \
+	.venv-tools/bin/pip-compile --quiet --extra test --extra docs --strip-extras --no-emit-index-url \
 	    --no-emit-trusted-host --no-emit-find-links --annotation-style line \
 	    $(COMPILE_OPTIONS) --output-file constraints.txt pyproject.toml
 
@@ -53,4 +70,4 @@ bench: $(VENV)/.installed
 	$(VENV)/bin/python benchmarks/bench_report.py
 
 clean:
-	rm -rf $(VENV) .venv-tools $(OUT)
+	rm -rf $(VENV) .venv-tools $(OUT) docs/_build

@@ -74,3 +74,37 @@ def test_validate_exits_2_with_located_messages_in_a_real_process(timeseries_cam
     assert f"campaign.yaml:{typo} runs[0].drop_heigth: unknown key 'drop_heigth': did you " \
            f"mean 'drop_height'?" in completed.stderr
     assert "drop_height: required key is missing" not in completed.stderr
+
+
+def _every_command():
+    """(path, click command) of the application and every command under it."""
+    import typer
+
+    stack = [((), typer.main.get_command(app))]
+    while stack:
+        path, command = stack.pop()
+        yield path, command
+        for name, sub in getattr(command, "commands", {}).items():
+            stack.append(((*path, name), sub))
+
+
+COMMANDS = dict(_every_command())
+
+
+@pytest.mark.parametrize("path", sorted(COMMANDS), ids=" ".join)
+def test_help_names_each_value_in_words_and_cuts_no_sentence(path):
+    result = runner.invoke(app, [*path, "--help"], terminal_width=80)
+    assert result.exit_code == 0
+    text = result.output
+    # no type column of typer's (<path>, <bool>, <list[Path]>), no braces around arguments
+    assert "<" not in text and "{" not in text, text
+    # every option or argument that takes a value names it in words, in capitals (FILE,
+    # FOLDER, SHARE, DATE, ...); a flag takes none
+    for param in COMMANDS[path].params:
+        if getattr(param, "is_flag", False) or param.name == "help":
+            continue
+        assert param.metavar and param.metavar.rstrip(".").isupper(), (path, param.name)
+    # the list of commands shows each one's first clause whole, not cut with "..."
+    if "Commands:" in text:
+        listing = text.split("Commands:")[1].split("\n\n")[0]
+        assert "..." not in listing, listing

@@ -178,3 +178,14 @@ def test_the_identification_package_stands_on_its_own():
     assert _outside_ident("import certkit.units\nfrom certkit.errors import DataInputError\n"
                           "def f():\n    from certkit.physics.simulation import x\n") == [
         "line 1 imports certkit.units", "line 4 imports certkit.physics.simulation"]
+
+
+def test_the_documented_layout_names_every_module():
+    # docs/development.md's layout tree is where a newcomer looks for a module: a module
+    # it does not name (an effect is covered by "effects/ ... one module per effect") is
+    # a layout gone stale
+    layout = (PACKAGE.parent / "docs" / "development.md").read_text(encoding="utf-8")
+    unnamed = [name for name, path in MODULES.items()
+               if path.name != "__init__.py" and ".effects." not in name
+               and ".requirement_sets." not in name and path.name not in layout]
+    assert not unnamed, f"docs/development.md's layout does not name {unnamed}"

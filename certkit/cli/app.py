@@ -16,6 +16,7 @@ from __future__ import annotations
 import functools
 import inspect
 import os
+import re
 import sys
 from pathlib import Path
 from typing import Annotated, NoReturn
@@ -34,6 +35,7 @@ EXIT_CODES = ("Exit codes: 0 success; 1 a check does not pass; 2 bad input; 3 an
               "error (a certkit bug); 4 the machine refused (no space, no permission, a "
               "read-only disk, another run writing the same output).")
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+                  rich_markup_mode=None,
                   help="Turn a landing-gear drop-test campaign into airworthiness evidence.",
                   epilog=EXIT_CODES)
 catalog_app = typer.Typer(no_args_is_help=True, help="An SQLite index of archived campaigns: "
@@ -42,7 +44,8 @@ app.add_typer(catalog_app, name="catalog")
 err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)
 out = Console(highlight=False, soft_wrap=True, markup=False)
 
-SpecArgument = Annotated[Path, typer.Argument(help="campaign spec (YAML)", show_default=False)]
+SpecArgument = Annotated[Path, typer.Argument(help="the campaign spec, a YAML file",
+                                              metavar="SPEC", show_default=False)]
 
 
 def error(message: str) -> None:
@@ -88,6 +91,46 @@ def _report_environment(problem: Exception) -> NoReturn:
     raise typer.Exit(4)
 
 
+class PlainCommand(typer.core.TyperCommand):
+    """click's plain help, with each argument named as its metavar says (``SPEC``,
+    ``BAG...``): no type column (``<path>``) and no braces in the usage line."""
+
+    @staticmethod
+    def _name(param) -> str:
+        name = param.metavar or param.name.upper()
+        return name if param.metavar or param.nargs == 1 else f"{name}..."
+
+    def collect_usage_pieces(self, ctx) -> list[str]:
+        pieces = [self.options_metavar] if self.options_metavar else []
+        for param in self.get_params(ctx):
+            if param.param_type_name == "argument":
+                pieces.append(self._name(param) if param.required else f"[{self._name(param)}]")
+        return pieces
+
+    def format_options(self, ctx, formatter) -> None:
+        arguments, options = [], []
+        for param in self.get_params(ctx):
+            record = param.get_help_record(ctx)
+            if record is None:
+                continue
+            if param.param_type_name == "argument":
+                arguments.append((self._name(param), record[1]))
+            else:
+                options.append(record)
+        for title, rows in (("Arguments", arguments), ("Options", options)):
+            if rows:
+                with formatter.section(title):
+                    formatter.write_dl(rows)
+
+
+def summary(doc: str | None) -> str | None:
+    """A command's line in the list of commands: its docstring's first clause (to the first
+    full stop, colon or semicolon), whole, where click would cut it at the terminal's width."""
+    if not doc:
+        return None
+    return re.split(r"[.:;](?:\s|$)", " ".join(doc.split()), maxsplit=1)[0]
+
+
 def command(group: typer.Typer = app, name: str | None = None, context: str = ""):
     """Register a command whose user-caused errors exit 2 with a message.
 
@@ -112,7 +155,8 @@ def command(group: typer.Typer = app, name: str | None = None, context: str = ""
                     raise
                 _report_environment(problem)
 
-        return group.command(name)(handled)
+        return group.command(name, cls=PlainCommand,
+                             short_help=summary(function.__doc__))(handled)
 
     return register
 

@@ -21,8 +21,8 @@ from certkit.cli.app import SpecArgument, bad_option, catalog_app, command, err,
 @command()
 def archive(spec: SpecArgument,
             output: Annotated[Path, typer.Option(
-                "-o", "--output", help="the bag to write: a new folder, or a .zip",
-                show_default=False)],
+                "-o", "--output", help="the bag to write: a new folder, or a file ending in .zip",
+                metavar="BAG", show_default=False)],
             model: Annotated[bool, typer.Option(
                 "--model/--no-model", help="include the drop-model sections (calibration, "
                                            "identification, gap) in the archived report")] = True,
@@ -38,16 +38,19 @@ def archive(spec: SpecArgument,
 
 
 @command(context="the recomputation failed: ")
-def verify(bag: Annotated[Path, typer.Argument(help="a bag folder or a .zip of one",
-                                               show_default=False)],
+def verify(bag: Annotated[Path, typer.Argument(help="a bag: its folder, or a .zip of one",
+                                               metavar="BAG", show_default=False)],
            recompute: Annotated[bool, typer.Option(
                "--recompute", help="also re-run the assessment from the archived inputs and "
                                    "check the archived results.json reproduces")] = False,
            tolerance: Annotated[float, typer.Option(
-               help="with --recompute: relative difference allowed between numbers")] = 1e-9,
+               metavar="SHARE",
+               help="with --recompute: the relative difference allowed between two numbers, "
+                    "e.g. 1e-6")] = 1e-9,
            expect_hash: Annotated[str | None, typer.Option(
-               "--expect-hash", help="the bag hash recorded when it was archived (or in the "
-                                     "catalog): a bag re-hashed after tampering differs")] = None,
+               "--expect-hash", metavar="SHA256",
+               help="the bag hash recorded when it was archived (or in the catalog), 64 hex "
+                    "digits: a bag re-hashed after tampering differs")] = None,
            ) -> None:
     """Check an archive against its manifests: every added, removed or modified file is
     named (exit 1); exit 0 when it is intact (and, with --recompute, reproduces)."""
@@ -114,7 +117,7 @@ def _show_entries(entries, as_json: bool, catalog: Path) -> None:
 
 
 @command(catalog_app, "add")
-def catalog_add(bag: Annotated[list[Path], typer.Argument(help="bag folder(s) or .zip file(s)",
+def catalog_add(bag: Annotated[list[Path], typer.Argument(help="bag folders or .zip files", metavar="BAG...",
                                                           show_default=False)],
                 catalog: CatalogOption = DEFAULT_CATALOG) -> None:
     """Verify each bag and add it to the catalog (a bag already there is left as it is);
@@ -142,7 +145,7 @@ def catalog_add(bag: Annotated[list[Path], typer.Argument(help="bag folder(s) or
 
 @command(catalog_app, "list")
 def catalog_list(catalog: CatalogOption = DEFAULT_CATALOG,
-                 as_json: Annotated[bool, typer.Option("--json", help="print JSON")] = False,
+                 as_json: Annotated[bool, typer.Option("--json", help="print the entries as JSON")] = False,
                  ) -> None:
     """Every catalogued campaign, by aircraft."""
 
@@ -161,21 +164,27 @@ def _date_option(value: str | None, key: str) -> str | None:
 @command(catalog_app, "search")
 def catalog_search(text: Annotated[str | None, typer.Argument(
                        help="words in the campaign id, title, aircraft or report number",
+                       metavar="TEXT",
                        show_default=False)] = None,
-                   aircraft: Annotated[str | None, typer.Option(help="aircraft model contains")] = None,
-                   campaign: Annotated[str | None, typer.Option(help="campaign id contains")] = None,
+                   aircraft: Annotated[str | None, typer.Option(metavar="TEXT", help="the aircraft model contains TEXT")] = None,
+                   campaign: Annotated[str | None, typer.Option(metavar="TEXT", help="the campaign id contains TEXT")] = None,
                    outcome: Annotated[str | None, typer.Option(
-                       help="campaign outcome, e.g. 'COMPLIANCE SHOWN'")] = None,
+                       metavar="OUTCOME",
+                       help="the campaign outcome: COMPLIANT, 'COMPLIANT SUBJECT TO CONFIRMATION', "
+                            "'COMPLIANCE NOT SHOWN', 'NOT COMPLIANT' or 'PLANNING ONLY: NOT "
+                            "COMPLIANCE EVIDENCE'")] = None,
                    since: Annotated[str | None, typer.Option(
-                       "--from", help="tested on or after (YYYY-MM-DD)")] = None,
+                       "--from", metavar="DATE", help="tested on or after DATE, written YYYY-MM-DD")] = None,
                    until: Annotated[str | None, typer.Option(
-                       "--to", help="tested on or before (YYYY-MM-DD)")] = None,
+                       "--to", metavar="DATE", help="tested on or before DATE, written YYYY-MM-DD")] = None,
                    verdict: Annotated[str | None, typer.Option(
+                       metavar="VERDICT",
                        help="has a criterion with this verdict: PASS, FAIL or 'NOT SHOWN'")] = None,
                    clause: Annotated[str | None, typer.Option(
-                       help="has a criterion whose clause or id contains this")] = None,
+                       metavar="TEXT",
+                       help="has a criterion whose clause or id contains TEXT")] = None,
                    catalog: CatalogOption = DEFAULT_CATALOG,
-                   as_json: Annotated[bool, typer.Option("--json", help="print JSON")] = False,
+                   as_json: Annotated[bool, typer.Option("--json", help="print the entries as JSON")] = False,
                    ) -> None:
     """Catalogued campaigns matching every filter given."""
 

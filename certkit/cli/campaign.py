@@ -35,18 +35,20 @@ def validate(spec: SpecArgument) -> None:
 
 @command()
 def report(spec: SpecArgument,
-           output: Annotated[Path, typer.Option("-o", "--output", help="output folder")] = Path("out"),
+           output: Annotated[Path, typer.Option("-o", "--output", metavar="FOLDER",
+                                                help="the folder to write the report into")] = Path("out"),
            strict: Annotated[bool, typer.Option(
                "--strict", help="exit 1 when a criterion fails or the data-quality audit "
                                 "finds an error")] = False,
            model: Annotated[bool, typer.Option(
-               "--model/--no-model", help="calibrate the drop model against the runs and add "
-                                          "the governing-equation section")] = True,
+               "--model/--no-model", help="add the drop model's appendices: calibration, "
+                                          "identification and gap diagnosis")] = True,
            cache: Annotated[bool, typer.Option(
                "--cache/--no-cache", help="take the drop model's evidence from the user's "
                                           "cache when the inputs and the code that makes it "
                                           "are unchanged")] = True) -> None:
-    """Write report.html, report.pdf (PDF/A-3b), results.json and tables/*.csv."""
+    """Write the evidence: report.html, report.pdf (PDF/A-3b), results.json and
+    tables/*.csv."""
     status = Status("loading campaign", console=err) if err.is_terminal else None
     if status:
         status.start()
@@ -92,20 +94,23 @@ def _write_both(files: list[tuple[Path, str]]) -> None:
 @command()
 def audit(spec: SpecArgument,
           format: Annotated[str, typer.Option(
-              "--format", help="the table on standard output (or -o): md, csv or json")] = "md",
+              "--format", metavar="FORMAT",
+              help="the table on standard output (or -o): md (Markdown), csv or json")] = "md",
           output: Annotated[Path | None, typer.Option(
-              "-o", "--output", help="write the table to this file instead")] = None,
+              "-o", "--output", metavar="FILE", help="write the table to FILE instead")] = None,
           junit: Annotated[Path | None, typer.Option(
-              "--junit", help="also write JUnit XML here (a test case per row)")] = None,
+              "--junit", metavar="FILE", help="also write JUnit XML to FILE (a test case per row)")] = None,
           baseline: Annotated[Path | None, typer.Option(
-              "--baseline", help="an earlier results.json: report every number that "
-                                 "drifted, criterion added or removed, verdict changed")] = None,
+              "--baseline", metavar="RESULTS",
+              help="an earlier results.json: report every number that drifted, every "
+                   "criterion added or removed, every verdict changed")] = None,
           tolerance: Annotated[float, typer.Option(
-              help="with --baseline: relative drift allowed before a number counts as "
-                   "changed")] = 1e-9,
+              metavar="SHARE",
+              help="with --baseline: the relative drift allowed before a number counts as "
+                   "changed, e.g. 1e-6")] = 1e-9,
           ) -> None:
-    """One row per criterion per run and per data-quality finding (and per change since a
-    baseline); exit 0 when every criterion passes, no finding is an error and nothing
+    """Audit tables for CI: one row per criterion per run and per data-quality finding (and
+    per change since a baseline); exit 0 when every criterion passes, no finding is an error and nothing
     changed, 1 otherwise, 2 on bad input."""
     writers = {"md": None, "csv": to_csv, "json": to_json}
     if format not in writers:

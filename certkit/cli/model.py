@@ -44,8 +44,11 @@ def _write_json(path: Path, document: dict) -> None:
 
 @command()
 def simulate(spec: SpecArgument,
-             output: Annotated[Path, typer.Option("-o", "--output", help="output folder")],
-             seed: Annotated[int, typer.Option(help="seed of the sensor noise")] = 0,
+             output: Annotated[Path, typer.Option(
+                 "-o", "--output", metavar="FOLDER",
+                 help="the folder to write the new campaign and its data files into")],
+             seed: Annotated[int, typer.Option(metavar="INTEGER",
+                                              help="the seed of the sensor noise")] = 0,
              noise: Annotated[bool, typer.Option(
                  "--noise/--no-noise", help="add sensor noise, quantisation and offsets")] = True,
              ) -> None:
@@ -62,16 +65,19 @@ def simulate(spec: SpecArgument,
 @command()
 def calibrate(spec: SpecArgument,
               parameter: Annotated[list[str] | None, typer.Option(
-                  "-p", "--parameter", help="parameter to fit (repeat); default: the spec's "
-                                            "model.calibration, else C_d, pre-charge, n, tyre "
-                                            "stiffness and friction")] = None,
+                  "-p", "--parameter", metavar="NAME",
+                  help="a parameter to fit, by its name in the spec's model.calibration "
+                       "(repeat the option for several); default: the spec's "
+                       "model.calibration, else C_d, pre-charge, n, tyre stiffness and "
+                       "friction")] = None,
               gear: Annotated[list[str] | None, typer.Option(
-                  "-g", "--gear", help="gear unit to calibrate (repeat); default: all "
-                                       "recorded")] = None,
+                  "-g", "--gear", metavar="GEAR",
+                  help="the id of a gear unit to calibrate (repeat the option for several); "
+                       "default: every recorded one")] = None,
               json_file: Annotated[Path | None, typer.Option(
-                  "--json", help="also write the results (SI) to this JSON file")] = None,
+                  "--json", metavar="FILE", help="also write the results, in SI, to FILE (JSON)")] = None,
               ) -> None:
-    """Fit the drop model's parameters to the measured runs, all drop heights jointly."""
+    """Fit the drop model's parameters to the measured runs; all drop heights jointly."""
     from certkit.physics.calibration import calibrate as run_calibration
     from certkit.physics.calibration import calibration_document
 
@@ -122,8 +128,9 @@ def calibrate(spec: SpecArgument,
 @command()
 def identify(spec: SpecArgument,
              json_file: Annotated[Path | None, typer.Option(
-                 "--json", help="also write the results to this JSON file")] = None) -> None:
-    """Identify Hammerstein, Wiener and NARX models of each gear and validate them."""
+                 "--json", metavar="FILE", help="also write the results, in SI, to FILE (JSON)")] = None) -> None:
+    """Identify Hammerstein, Wiener and NARX models of each gear; validate them on held-out
+    drops."""
     from certkit.gear_identification import (OUTPUT_LABELS, PROTOCOL_NAMES,
                                              identification_document)
     from certkit.gear_identification import identify as run_identification
@@ -165,9 +172,12 @@ def identify(spec: SpecArgument,
 @command()
 def gap(spec: SpecArgument,
         gear: Annotated[list[str] | None, typer.Option(
-            "-g", "--gear", help="gear unit (repeat); default: every recorded one")] = None,
+            "-g", "--gear", metavar="GEAR",
+            help="the id of a gear unit (repeat the option for several); default: every "
+                 "recorded one")] = None,
         ) -> None:
-    """Where the nominal model disagrees with the runs, and which effect explains it."""
+    """Where the nominal model disagrees with the runs; which effect explains it, and how
+    far the held-out error shrinks with it."""
     from certkit.gap.diagnosis import gap_diagnosis
 
     campaign = load_campaign(spec)

@@ -49,7 +49,7 @@ REPORT_FILES = {"report.html", "report.pdf", "results.json"} | {f"tables/{name}.
 
 def render_report(assessment: Assessment, out_dir: str | Path, progress=None,
                   model=None) -> Path:
-    """Write report.html, report.pdf, results.json and tables/*.csv into ``out_dir``.
+    """Write report.html, report.pdf, results.json and ``tables/*.csv`` into ``out_dir``.
 
     ``model``: the governing-equation model evidence
     (:func:`certkit.evidence.model_evidence.model_evidence`); without it the section says the model
