@@ -15,6 +15,7 @@
 
 from __future__ import annotations
 
+import functools
 import html.parser
 import os
 import re
@@ -90,6 +91,7 @@ class _Links(html.parser.HTMLParser):
                 self.links.append(attrs[key])
 
 
+@functools.cache
 def _parsed(page: Path) -> _Links:
     parser = _Links()
     parser.feed(page.read_text(encoding="utf-8"))
@@ -99,11 +101,9 @@ def _parsed(page: Path) -> _Links:
 def test_every_link_of_the_site_leads_somewhere():
     if not (SITE / "index.html").exists():
         pytest.fail(f"no built site in {SITE}: run `make docs`, which builds it first")
-    parsed: dict[Path, _Links] = {}
     broken = []
     for page in sorted(p for p in SITE.rglob("*.html") if "_static" not in p.parts):
-        links = parsed.setdefault(page, _parsed(page))
-        for link in links.links:
+        for link in _parsed(page).links:
             parts = urlsplit(link)
             if parts.scheme in ("http", "https", "mailto", "data", "javascript"):
                 continue
@@ -113,7 +113,6 @@ def test_every_link_of_the_site_leads_somewhere():
             if not target.exists():
                 broken.append(f"{page.relative_to(SITE)}: {link} (no such file)")
             elif parts.fragment and target.suffix == ".html":
-                ids = parsed.setdefault(target, _parsed(target)).ids
-                if unquote(parts.fragment) not in ids:
+                if unquote(parts.fragment) not in _parsed(target).ids:
                     broken.append(f"{page.relative_to(SITE)}: {link} (no such anchor)")
     assert not broken, "broken links:\n" + "\n".join(broken)

@@ -6,6 +6,7 @@ not committed (``.gitignore``)."""
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 PAGE = "spec-reference.md"
@@ -19,6 +20,11 @@ shown *required* must be given; an optional key left out takes the default shown
 as `gear_units[].strut` means the `strut` block of each entry of the `gear_units` list.
 Keys not listed here are refused with the file, line and key named.
 """
+
+
+def _label(path: str) -> str:
+    """The anchor of a block's section (``gear_units[].strut`` -> ``spec-gear-units-strut``)."""
+    return "spec-" + re.sub(r"[^a-z0-9]+", "-", path.lower()).strip("-")
 
 
 def _cell(text: str) -> str:
@@ -41,11 +47,11 @@ def _kind(node: dict, defs: dict) -> tuple[str, str | None, bool]:
     """(what to write, the block it opens or None, whether it is a list of that block)."""
     inner = _optional_inner(node)
     if "$ref" in inner:
-        return "a block (below)", inner["$ref"].rsplit("/", 1)[1], False
+        return "a block", inner["$ref"].rsplit("/", 1)[1], False
     if inner.get("type") == "array":
         items = inner.get("items", {})
         if "$ref" in items:
-            return "a list of blocks (below)", items["$ref"].rsplit("/", 1)[1], True
+            return "a list of blocks", items["$ref"].rsplit("/", 1)[1], True
         what, _, _ = _kind(items, defs)
         return f"a list, each {what}", None, False
     if "const" in inner:
@@ -103,18 +109,21 @@ def reference(schema: dict) -> str:
         path, block = queue.pop(0)
         properties = block.get("properties", {})
         required = set(block.get("required", []))
-        lines += ["", f"## `{path}`" if path != "(top level)" else "## The top level", ""]
+        lines += ["", f"({_label(path)})=", f"## `{path}`" if path != "(top level)"
+                  else "## The top level", ""]
         if path != "(top level)" and block.get("description"):
             lines += [_cell(block["description"]), ""]
         lines += ["| key | what to write | required / default | meaning |",
                   "|---|---|---|---|"]
         for name, node in properties.items():
             what, ref, is_list = _kind(node, defs)
-            lines.append(f"| `{name}` | {_cell(what)} | {_default(node, name in required)} "
-                         f"| {_cell(_meaning(name, node, defs))} |")
             if ref is not None:
                 child = f"{name}[]" if is_list else name
                 child = child if path == "(top level)" else f"{path}.{child}"
+                what = f"[{'a list of blocks' if is_list else 'a block'}](#{_label(child)})"
+            lines.append(f"| `{name}` | {_cell(what)} | {_default(node, name in required)} "
+                         f"| {_cell(_meaning(name, node, defs))} |")
+            if ref is not None:
                 if child not in seen:
                     seen.add(child)
                     queue.append((child, defs[ref]))
