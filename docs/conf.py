@@ -44,7 +44,10 @@ numpydoc_xref_param_type = False
 html_theme = "pydata_sphinx_theme"
 html_title = f"certkit {VERSION}"
 html_static_path = ["_static"]
+# every page is listed in the header; the left sidebar would be empty
+html_sidebars = {"**": []}
 html_theme_options = {
+    "header_links_before_dropdown": 6,
     "navigation_with_keys": False,
     "show_toc_level": 2,
     "footer_start": ["copyright"],

@@ -69,7 +69,8 @@ def calibrate(spec: SpecArgument,
                   help="a parameter to fit, by its name in the spec's model.calibration "
                        "(repeat the option for several); default: the spec's "
                        "model.calibration, else C_d, pre-charge, n, tyre stiffness and "
-                       "friction")] = None,
+                       "exponent, top-out compression, and the friction level and load-cell "
+                       "gain where those effects are on")] = None,
               gear: Annotated[list[str] | None, typer.Option(
                   "-g", "--gear", metavar="GEAR",
                   help="the id of a gear unit to calibrate (repeat the option for several); "

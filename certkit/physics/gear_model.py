@@ -122,10 +122,13 @@ def drop_model_for(spec: CampaignSpec, run: Run, gear_id: str, spec_file: str = 
     gas = GasSpring(pneumatic.si, volume.si, absolute, exponent.si)
     static_load = static_strut_load(unit.static_weight.si, unsprung.si, inclination)
     if gas.equilibrium_stroke(static_load) >= unit.design_stroke.si:
+        # at rest V = V0·(p0/p)^(1/n): a larger V0 (or a lower p0) sits deeper in the stroke
         raise CertkitInputError.single(
-            spec_file, None, f"gear_units[{index}].strut",
+            spec_file, line_of(lines, ("gear_units", index, "strut")) if lines else None,
+            f"gear_units[{index}].strut",
             f"the gas spring cannot hold the static load within the design stroke "
-            f"{unit.design_stroke.text} (pre-charge too low or gas volume too small)")
+            f"{unit.design_stroke.text}: the pre-charge is too low, or the gas volume too "
+            f"large, for the static weight {unit.static_weight.text}")
     orifice = Orifice(hydraulic.si, orifice_area, discharge.si, density.si)
     gear = Gear(unit, index, platform, orifice, unsprung.si, spec_file,
                 lambda location: line_of(lines, location) if lines else None)

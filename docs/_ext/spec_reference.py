@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import re
+import typing
 from pathlib import Path
 
 PAGE = "spec-reference.md"
@@ -48,10 +49,14 @@ def _kind(node: dict, defs: dict) -> tuple[str, str | None, bool]:
     inner = _optional_inner(node)
     if "$ref" in inner:
         return "a block", inner["$ref"].rsplit("/", 1)[1], False
+    if inner.get("type") == "object" and "$ref" in inner.get("additionalProperties", {}):
+        return "a mapping", inner["additionalProperties"]["$ref"].rsplit("/", 1)[1], False
     if inner.get("type") == "array":
         items = inner.get("items", {})
         if "$ref" in items:
             return "a list of blocks", items["$ref"].rsplit("/", 1)[1], True
+        if "oneOf" in items and all("$ref" in c for c in items["oneOf"]):
+            return "a list of blocks", items["oneOf"][0]["$ref"].rsplit("/", 1)[1], True
         what, _, _ = _kind(items, defs)
         return f"a list, each {what}", None, False
     if "const" in inner:
@@ -60,7 +65,10 @@ def _kind(node: dict, defs: dict) -> tuple[str, str | None, bool]:
         return "one of " + ", ".join(f"`{v}`" for v in inner["enum"]), None, False
     if inner.get("format") == "date":
         return "a date, `YYYY-MM-DD`", None, False
-    if _describes_a_value(inner.get("description")):
+    # the description of an optional key's one choice is its type's (the key's own sits
+    # beside the anyOf)
+    if _describes_a_value(inner.get("description")) or (inner is not node
+                                                        and inner.get("description")):
         return inner["description"], None, False
     if "anyOf" in inner:
         parts = [_kind(c, defs)[0] for c in inner["anyOf"]]
@@ -74,13 +82,16 @@ def _describes_a_value(text: str | None) -> bool:
     """Whether a schema description says what to write (a quantity type's "a length with
     its unit, e.g. '1 mm'") rather than what the key means."""
     return bool(text) and text.startswith(("a ", "an ")) and any(
-        mark in text for mark in ("e.g.", "with its unit", "percentage"))
+        mark in text for mark in ("e.g.", "with its unit", "percentage", "a unit of"))
 
 
 def _default(node: dict, required: bool) -> str:
     if required:
         return "required"
-    if isinstance(node.get("default"), dict):
+    default = node.get("default")
+    if isinstance(default, dict) and "text" in default:
+        return f"default `{default['text']}`"      # a typed value: as the user writes it
+    if isinstance(default, dict):
         return "optional (defaults in its block below)"
     if "default" not in node or node["default"] is None:
         return "optional"
@@ -100,13 +111,43 @@ def _meaning(name: str, node: dict, defs: dict) -> str:
     return text or ""
 
 
-def reference(schema: dict) -> str:
+def _model_in(annotation):
+    """The pydantic model an annotation holds (``X``, ``X | None``, ``list[X]``,
+    ``dict[str, X]``, a union of models: its first), or None."""
+    from pydantic import BaseModel
+
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for argument in typing.get_args(annotation):
+        found = _model_in(argument)
+        if found is not None:
+            return found
+    return None
+
+
+def _value_kind(field, defs: dict) -> str | None:
+    """What to write for a key whose own description hides its type's in the schema (a
+    weight with a note of its own): the type's schema, asked of pydantic alone."""
+    from pydantic import TypeAdapter
+
+    annotation = (typing.Annotated[field.annotation, *field.metadata] if field.metadata
+                  else field.annotation)
+    try:
+        alone = TypeAdapter(annotation).json_schema()
+    except Exception:            # a type pydantic cannot describe alone: keep the schema's
+        return None
+    what, ref, _ = _kind(alone, alone.get("$defs", defs))
+    return None if ref is not None else what
+
+
+def reference(schema: dict, model) -> str:
+    """The reference page of ``schema``, the JSON Schema of the pydantic ``model``."""
     defs = schema.get("$defs", {})
     lines = [HEAD]
-    queue = [("(top level)", schema)]
+    queue = [("(top level)", schema, model)]
     seen: set[str] = set()
     while queue:
-        path, block = queue.pop(0)
+        path, block, model = queue.pop(0)
         properties = block.get("properties", {})
         required = set(block.get("required", []))
         lines += ["", f"({_label(path)})=", f"## `{path}`" if path != "(top level)"
@@ -116,24 +157,47 @@ def reference(schema: dict) -> str:
         lines += ["| key | what to write | required / default | meaning |",
                   "|---|---|---|---|"]
         for name, node in properties.items():
+            field = model.model_fields[name] if model is not None else None
             what, ref, is_list = _kind(node, defs)
+            if ref is None and field is not None and field.description and \
+                    what in ("text", "a number or text", "a value"):
+                what = _value_kind(field, defs) or what
             if ref is not None:
-                child = f"{name}[]" if is_list else name
+                child = f"{name}[]" if is_list else (f"{name}.ID" if what == "a mapping"
+                                                     else name)
                 child = child if path == "(top level)" else f"{path}.{child}"
-                what = f"[{'a list of blocks' if is_list else 'a block'}](#{_label(child)})"
+                kind = {"a mapping": "a mapping from an id to a block",
+                        "a list of blocks": "a list of blocks"}.get(what, "a block")
+                what = f"[{kind}](#{_label(child)})"
             lines.append(f"| `{name}` | {_cell(what)} | {_default(node, name in required)} "
                          f"| {_cell(_meaning(name, node, defs))} |")
-            if ref is not None:
-                if child not in seen:
-                    seen.add(child)
-                    queue.append((child, defs[ref]))
+            if ref is not None and child not in seen:
+                seen.add(child)
+                variants = _variants(node)
+                child_block = dict(defs[ref])
+                if variants:
+                    child_block["description"] = (
+                        f"One block per `{variants[0]}`: " + ", ".join(
+                            f"`{v}`" for v in variants[1]) + ". The keys are the same for each "
+                        "(shown here for the first).")
+                queue.append((child, child_block,
+                              _model_in(field.annotation) if field is not None else None))
     return "\n".join(lines) + "\n"
 
 
-def write(app) -> None:
-    from certkit.spec.schema import json_schema
+def _variants(node: dict):
+    """(discriminating key, its values) of a list of blocks told apart by one key, or None."""
+    items = _optional_inner(node).get("items", {})
+    discriminator = items.get("discriminator")
+    if not discriminator:
+        return None
+    return discriminator["propertyName"], list(discriminator.get("mapping", {}))
 
-    text = reference(json_schema())
+
+def write(app) -> None:
+    from certkit.spec.schema import CampaignSpec, json_schema
+
+    text = reference(json_schema(), CampaignSpec)
     target = Path(app.srcdir) / PAGE
     # rewritten only when it changed, so that an unchanged schema rebuilds nothing
     if not target.exists() or target.read_text(encoding="utf-8") != text:
