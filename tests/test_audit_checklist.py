@@ -185,6 +185,19 @@ def test_T2_stroke_past_the_design_stroke(seed_copy):
     edit(seed_copy, "design_stroke: 200 mm", "design_stroke: 90 mm")
     assert _ids(assess(load_campaign(seed_copy)), "near-bottoming") == [
         "QA/near-bottoming/D250/right-main", "QA/near-bottoming/D300/right-main"]
+    near = _found(assess(load_campaign(seed_copy)), "near-bottoming")
+    assert "within 5% of the design stroke 90 mm" in near["QA/near-bottoming/D250/right-main"].message
+
+
+def test_T2_a_stroke_at_the_stops_within_the_tolerance_is_said_to_bottom(seed_copy):
+    # right D250 stroke 89.51 mm against a design stroke of 89 mm: 0.51 mm past the stops,
+    # within the 1 mm tolerance: a warning that the strut bottomed, not "within 5 %"
+    edit(seed_copy, "design_stroke: 200 mm", "design_stroke: 89 mm")   # left
+    edit(seed_copy, "design_stroke: 200 mm", "design_stroke: 89 mm")   # right
+    found = _found(assess(load_campaign(seed_copy)), "near-bottoming")
+    message = found["QA/near-bottoming/D250/right-main"].message
+    assert "reaches the design stroke 89 mm (past it by 0.5100 mm" in message, message
+    assert "the strut bottomed" in message and "within 5%" not in message
 
 
 def test_T4_left_and_right_agree(seed):

@@ -101,9 +101,14 @@ def check_bottoming(assessment: Assessment) -> None:
                 f"offset, or gear_units[].design_stroke", stroke=d_s,
                 design=unit.design_stroke.si)
         elif d_s >= (1 - margin) * unit.design_stroke.si:
+            # at or past the stops but within the tolerance: the strut bottomed
+            reach = (f"reaches the design stroke {unit.design_stroke.text} (past it by "
+                     f"{shown(assessment, d_s - unit.design_stroke.si, 'length')}, within the "
+                     f"tolerance {shown(assessment, slack, 'length')}): the strut bottomed"
+                     if d_s >= unit.design_stroke.si else
+                     f"is within {margin:.0%} of the design stroke {unit.design_stroke.text}")
             add(assessment, "near-bottoming", "warning", run.run.id, gear.gear_id,
-                f"{where}: stroke {shown(assessment, d_s, 'length')} is within {margin:.0%} of "
-                f"the design stroke {unit.design_stroke.text}",
+                f"{where}: stroke {shown(assessment, d_s, 'length')} {reach}",
                 stroke=d_s, design=unit.design_stroke.si)
 
 
