@@ -301,6 +301,13 @@ def _verdict_run(document):
     return document
 
 
+def _verdict_id(value):
+    def change(document):
+        document["verdicts"][0]["id"] = value
+        return document
+    return change
+
+
 HOSTILE_RESULTS = {
     "nested 100,000 deep": (lambda d: "[" * 100_000 + "]" * 100_000, "nested too deeply"),
     "a 5,000-digit integer": (lambda d: '{"format": ' + "9" * 5000 + "}",
@@ -309,6 +316,10 @@ HOSTILE_RESULTS = {
     "a count that is NaN": (_counts(float("nan")), "where the catalog indexes passed"),
     "a count beyond SQLite": (_counts(2 ** 64), "where the catalog indexes passed"),
     "a verdict's run that is a list": (_verdict_run, "verdicts[].run: expected text"),
+    # text neither database stores: PostgreSQL refuses a NUL, UTF-8 a lone surrogate
+    "a NUL in a verdict's id": (_verdict_id("D1\0"), "verdicts[].id: expected text"),
+    "a lone surrogate in a verdict's id": (_verdict_id("D1\ud800"),
+                                           "verdicts[].id: expected text"),
 }
 
 
@@ -407,3 +418,168 @@ def test_a_failed_addition_removes_the_empty_catalog_it_created(bags, tmp_path, 
     with pytest.raises(sqlite3.OperationalError):
         add(catalog, bags["A"])
     assert not (tmp_path / "sub").exists()
+
+
+# ------------------------------------------------------------------ concurrent additions
+def _store(catalog, entry, verdicts) -> bool:
+    """The addition of rows already described, on either backend (no verification)."""
+    import certkit.archive.catalog as catalog_module
+
+    if isinstance(catalog, Path):
+        return catalog_module._insert(catalog, entry, verdicts, entry.location)
+    from certkit.archive import catalog_postgresql
+
+    return catalog_postgresql.insert(catalog, entry, verdicts, entry.location)
+
+
+def test_two_bags_added_at_one_location_at_once_one_lands_the_other_is_refused(bags, catalog):
+    # the check "another bag at this location?" and the insertion are one decision: two
+    # additions racing at one location never both land (the bag changed between them)
+    import dataclasses
+    import threading
+
+    from certkit.archive.catalog import CatalogRefusal, describe
+
+    entry, verdicts = describe(bags["A"])
+    _store(catalog, *describe(bags["B"]))           # the schema exists: only the race
+    for round_ in range(8):
+        location = f"/lab/bags/{round_}"
+        first = dataclasses.replace(entry, location=location)
+        second = dataclasses.replace(first, bag_hash="f" * 64)
+        start, outcomes = threading.Barrier(2), []
+
+        def add_at_once(rows):
+            start.wait()
+            try:
+                outcomes.append(_store(catalog, rows, verdicts))
+            except CatalogRefusal as refusal:
+                outcomes.append(str(refusal))
+
+        threads = [threading.Thread(target=add_at_once, args=(rows,))
+                   for rows in (first, second)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join(timeout=120)
+        assert sum(outcome is True for outcome in outcomes) == 1, outcomes
+        assert any("the catalog holds another bag at" in str(o) for o in outcomes), outcomes
+        assert len([e for e in search(catalog) if e.location == location]) == 1
+
+
+MANY_ADDER = textwrap.dedent("""
+    import sys, time
+    from pathlib import Path
+    from certkit.archive.catalog import add
+    catalog, go, *bags = sys.argv[1:]
+    print("ready", flush=True)
+    while not Path(go).exists():
+        time.sleep(0.005)
+    for bag in bags:
+        add(catalog, bag)
+    print("added", flush=True)
+""")
+
+
+@pytest.mark.slow   # several processes adding 11 bags each
+def test_four_processes_adding_at_once_all_land_once(tmp_path, catalog):
+    # each adds 10 bags of its own and one bag all of them add: 41 entries, none twice
+    shared = make_bag(tmp_path / "shared", "SHARED", "Heron amphibian", ["2024-02-01"],
+                      {"CFR23.725a/D1": "PASS"})
+    script, go = tmp_path / "adder.py", tmp_path / "go"
+    script.write_text(MANY_ADDER)
+    processes = []
+    for worker in range(4):
+        own = [make_bag(tmp_path / f"w{worker}-{n}", f"W{worker}-{n:02d}", "Skylark LSA",
+                        ["2025-03-02"], {"CFR23.725a/D1": "PASS"}) for n in range(10)]
+        processes.append(subprocess.Popen(
+            [sys.executable, str(script), str(catalog), str(go), str(shared), *map(str, own)],
+            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True))
+    for process in processes:
+        assert process.stdout.readline().strip() == "ready", process.stderr.read()
+    go.touch()
+    _finish(processes)
+    entries = search(catalog)
+    assert len(entries) == 41
+    assert len({(e.bag_hash, e.location) for e in entries}) == 41
+    assert sorted(e.campaign_id for e in entries)[:2] == ["SHARED", "W0-00"]
+    assert rows(catalog, "SELECT count(*) FROM verdicts") == [(41,)]
+
+
+# ------------------------------------------------------------------ the schema's versions
+V1_CATALOG = Path(__file__).parent / "data" / "catalog-v1.sqlite"
+
+
+def test_a_catalog_made_by_the_first_certkit_is_read_and_added_to(bags, tmp_path):
+    # tests/data/catalog-v1.sqlite was made by certkit before the PostgreSQL backend
+    # (schema version 1 in PRAGMA user_version): two campaigns, bags no longer there
+    import shutil
+
+    catalog = tmp_path / "catalog.sqlite"
+    shutil.copyfile(V1_CATALOG, catalog)
+    assert [e.campaign_id for e in search(catalog)] == ["AMPH-1", "LSA-1"]
+    assert add(catalog, bags["B"])[1] is True
+    assert [e.campaign_id for e in search(catalog, aircraft="skylark")] == ["LSA-1", "LSA-2"]
+    # still what the first certkit reads: version 1, no table but its own two
+    assert rows(catalog, "PRAGMA user_version") == [(1,)]
+    assert rows(catalog, "SELECT name FROM sqlite_master WHERE type = 'table' ORDER BY name") \
+        == [("campaigns",), ("verdicts",)]
+
+
+def _version(catalog) -> int:
+    if isinstance(catalog, Path):
+        return rows(catalog, "PRAGMA user_version")[0][0]
+    return rows(catalog, "SELECT schema_version FROM certkit_catalog")[0][0]
+
+
+def test_an_older_catalog_is_migrated_by_the_next_addition(bags, catalog, monkeypatch):
+    # a later certkit appends a step (here: an index); the catalog it finds at version 1
+    # is migrated inside the addition's transaction
+    from certkit.archive import catalog_rows
+
+    add(catalog, bags["A"])
+    assert _version(catalog) == 1
+    step = ["CREATE INDEX IF NOT EXISTS verdicts_verdict ON verdicts (verdict)"]
+    monkeypatch.setattr(catalog_rows, "MIGRATIONS", [*catalog_rows.MIGRATIONS, step])
+    assert [e.campaign_id for e in search(catalog)] == ["LSA-1"]      # read as it is
+    assert add(catalog, bags["B"])[1] is True
+    assert _version(catalog) == 2
+    index = "SELECT name FROM sqlite_master WHERE name = 'verdicts_verdict'" \
+        if isinstance(catalog, Path) else \
+        "SELECT indexname FROM pg_indexes WHERE indexname = 'verdicts_verdict'"
+    assert rows(catalog, index) == [("verdicts_verdict",)]
+    assert [e.campaign_id for e in search(catalog)] == ["LSA-1", "LSA-2"]
+
+
+def test_a_catalog_of_a_newer_certkit_is_refused_not_changed(bags, catalog):
+    add(catalog, bags["A"])
+    rows(catalog, "PRAGMA user_version = 7" if isinstance(catalog, Path) else
+         "UPDATE certkit_catalog SET schema_version = 7")
+    for command in (["add", str(bags["B"])], ["list"]):
+        result = runner.invoke(app, ["catalog", *command, "--catalog", str(catalog)])
+        assert result.exit_code == 2, result.output
+        assert "made by a newer certkit (schema version 7" in result.output
+    assert _version(catalog) == 7 and rows(catalog, "SELECT count(*) FROM campaigns") == [(1,)]
+
+
+def test_four_additions_creating_the_catalog_at_once_all_land(bags, tmp_path, catalog):
+    # each finds no schema and creates it: creating tables at once must not collide
+    import dataclasses
+    import threading
+
+    from certkit.archive.catalog import describe
+
+    entry, verdicts = describe(bags["A"])
+    start, outcomes = threading.Barrier(4), []
+
+    def add_at_once(number):
+        start.wait()
+        outcomes.append(_store(catalog, dataclasses.replace(entry, location=f"/lab/{number}"),
+                               verdicts))
+
+    threads = [threading.Thread(target=add_at_once, args=(n,)) for n in range(4)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join(timeout=120)
+    assert outcomes == [True] * 4
+    assert sorted(e.location for e in search(catalog)) == [f"/lab/{n}" for n in range(4)]

@@ -38,7 +38,6 @@ from certkit.outputs import writing_failure
 
 __all__ = ["CatalogRefusal", "Entry", "add", "describe", "search", "shown_catalog"]
 
-SCHEMA_VERSION = schema_version()
 TIMEOUT_S = 60.0
 
 
@@ -85,13 +84,13 @@ def _connect(path: Path) -> sqlite3.Connection:
             "SELECT name FROM sqlite_master WHERE type = 'table'")}
     except sqlite3.Error as error:
         raise _sqlite_failure(path, error, "cannot open the catalog") from None
-    if version > SCHEMA_VERSION:
+    if version > schema_version():
         connection.close()
         raise _catalog_error(path, newer_catalog(version))
     if version < 0 or not tables <= set(TABLES):
         connection.close()
         found = f"schema version {version}" if version < 0 else f"tables {sorted(tables)}"
-        raise _catalog_error(path, f"not a certkit catalog of version {SCHEMA_VERSION} "
+        raise _catalog_error(path, f"not a certkit catalog of version {schema_version()} "
                                    f"({found})")
     return connection
 
@@ -169,13 +168,13 @@ def _insert(catalog: Path, entry: Entry, verdicts: list[tuple], bag: str | Path)
     try:
         connection.execute("BEGIN IMMEDIATE")
         version = connection.execute("PRAGMA user_version").fetchone()[0]
-        if version > SCHEMA_VERSION:        # made newer while this call waited
+        if version > schema_version():        # made newer while this call waited
             connection.execute("ROLLBACK")
             raise _catalog_error(catalog, newer_catalog(version))
         for statement in migration(version, "INTEGER"):
             connection.execute(statement)   # (executescript would commit first)
-        if version != SCHEMA_VERSION:
-            connection.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+        if version != schema_version():
+            connection.execute(f"PRAGMA user_version = {schema_version()}")
         before = connection.execute(
             "SELECT bag_hash FROM campaigns WHERE location = ? AND bag_hash != ?",
             (entry.location, entry.bag_hash)).fetchone()

@@ -164,12 +164,23 @@ _COUNTS = {"passed", "failed", "not_shown", "dq_errors", "dq_warnings"}
 _VERDICT_FIELDS = ("bag_hash", "id", "clause", "run", "gear", "verdict")
 
 
+def _is_text(value: object) -> bool:
+    """Text both databases store as it is: UTF-8 (a lone surrogate, which JSON's \\ud800
+    gives, is not) without a NUL character (PostgreSQL's text cannot hold one)."""
+    if not isinstance(value, str) or "\0" in value:
+        return False
+    try:
+        value.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
+
+
 def _check_indexed(bag: Path, entry: Entry, verdicts: list[tuple]) -> None:
     """Raise BagError unless every value indexed is what its column holds: a count a
     whole number from 0 to 2^63 - 1 (the 64-bit integers of SQLite and of PostgreSQL's
-    BIGINT), anything else text without a NUL character (PostgreSQL's text cannot hold
-    one); a verdict's run and gear may be null.  A results.json edited and re-hashed can
-    hold anything."""
+    BIGINT), anything else text (:func:`_is_text`); a verdict's run and gear may be null.
+    A results.json edited and re-hashed can hold anything."""
     def refuse(name: str, value: object, expected: str):
         raise BagError(f"{bag}: its results.json holds {shown(value)} where the catalog "
                        f"indexes {name}: expected {expected}")
@@ -178,13 +189,13 @@ def _check_indexed(bag: Path, entry: Entry, verdicts: list[tuple]) -> None:
         if name in _COUNTS:
             if type(value) is not int or not 0 <= value < 2 ** 63:
                 refuse(name, value, "a count (a whole number from 0)")
-        elif not isinstance(value, str) or "\0" in value:
+        elif not _is_text(value):
             refuse(name, value, "text")
     for row in verdicts:
         for name, value in zip(_VERDICT_FIELDS, row):
             if name in ("run", "gear") and value is None:
                 continue
-            if not isinstance(value, str) or "\0" in value:
+            if not _is_text(value):
                 refuse(f"verdicts[].{name}", value, "text")
 
 
