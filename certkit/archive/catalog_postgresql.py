@@ -200,10 +200,10 @@ def insert(url: str, entry: Entry, verdicts: list[tuple], bag: str | Path) -> bo
     """Add the verified bag's rows to the catalog at ``url`` in one transaction; False when
     the bag was already catalogued at its location.  Raises CatalogRefusal when another
     bag is catalogued at its location."""
+    connection = connect(url)
     import psycopg
     from psycopg import errors
 
-    connection = connect(url)
     try:
         for attempt in range(RETRIES):
             try:
@@ -224,10 +224,10 @@ def insert(url: str, entry: Entry, verdicts: list[tuple], bag: str | Path) -> bo
 def search(url: str, text: str | None = None, **filters) -> list[Entry]:
     """:func:`certkit.archive.catalog.search` on the catalog at ``url``: ILIKE for
     SQLite's case-insensitive LIKE, the "C" collation for its byte order."""
-    import psycopg
-
     query, values = search_query("%s", "ILIKE", ' COLLATE "C"', text, **filters)
     connection = connect(url)
+    import psycopg
+
     try:
         with connection.transaction():
             connection.execute("SET TRANSACTION READ ONLY")
