@@ -216,3 +216,28 @@ def test_the_command_line_and_an_sqlite_catalog_do_not_import_psycopg(bag, tmp_p
                                timeout=120)
     assert completed.returncode == 0, completed.stderr
     assert completed.stdout.strip() == "[]"
+
+
+def test_a_deadlock_is_retried_and_at_last_reported(postgresql_database, bag, monkeypatch):
+    from psycopg import errors
+
+    from certkit.archive import catalog_postgresql
+
+    real, calls = catalog_postgresql._add_rows, []
+
+    def deadlocked(times):
+        def add_rows(*arguments):
+            calls.append(1)
+            if len(calls) <= times:
+                raise errors.DeadlockDetected("deadlock detected")
+            return real(*arguments)
+        return add_rows
+
+    monkeypatch.setattr(catalog_postgresql, "_add_rows", deadlocked(2))
+    assert add(postgresql_database, bag)[1] is True and len(calls) == 3
+    calls.clear()
+    monkeypatch.setattr(catalog_postgresql, "_add_rows", deadlocked(99))
+    result = runner.invoke(app, ["catalog", "add", str(bag), "--catalog", postgresql_database])
+    assert result.exit_code == 4 and "it collided with other additions 5 times (deadlock " \
+        "detected); try again" in result.output, result.output
+    assert len(calls) == catalog_postgresql.RETRIES

@@ -36,8 +36,10 @@ password, unknown database) or a URL it cannot read is bad input (exit 2).
 
 from __future__ import annotations
 
+import hashlib
 import os
 import re
+import urllib.parse
 from pathlib import Path
 
 from certkit.archive.catalog_rows import (FIELDS, TABLES, Entry, changed_bag, migration,
@@ -48,7 +50,7 @@ from certkit.errors import CertkitInputError, EnvironmentFailure
 TIMEOUT_S = 60.0
 CONNECT_TIMEOUT_S = 10
 #: The first key of certkit's advisory locks ("ck" in ASCII); the second is 0 for the
-#: schema, else the hash of a location (two locations sharing a hash only wait in turn).
+#: schema, else a location's :func:`location_key`.
 LOCK_KEY = 0x636B
 RETRIES = 5
 META = "certkit_catalog"
@@ -65,8 +67,6 @@ def _said(error: Exception, url: str) -> str:
     text = re.sub(r"^connection failed: ", "", text)
     text = re.sub(r"\b(FATAL|ERROR):\s+", "", text)
     try:
-        import urllib.parse
-
         password = urllib.parse.urlsplit(url).password
     except ValueError:
         password = None
@@ -117,8 +117,8 @@ def connect(url: str):
 def failure(url: str, error: Exception, doing: str) -> Exception:
     """The one mapping of a PostgreSQL error on the catalog at ``url``, by its SQLSTATE
     (PostgreSQL docs, "PostgreSQL Error Codes"): what the server or the machine refuses
-    (a lock held too long, a full disk, a lost connection, a shutdown, a read-only
-    standby, no privilege) is an EnvironmentFailure (exit 4); anything else means the
+    (a lock held too long, collisions retried in vain, a full disk, a lost connection, a
+    shutdown, a read-only standby, no privilege) is an EnvironmentFailure (exit 4); anything else means the
     database holds something that is not a certkit catalog (exit 2)."""
     import psycopg
 
@@ -128,6 +128,9 @@ def failure(url: str, error: Exception, doing: str) -> Exception:
     if state == "55P03":
         return EnvironmentFailure(shown, f"{doing}: another process held it for "
                                          f"{TIMEOUT_S:g} s; try again when it has finished")
+    if state[:2] == "40":                   # a deadlock or serialization failure, retried
+        return EnvironmentFailure(shown, f"{doing}: it collided with other additions "
+                                         f"{RETRIES} times ({said}); try again")
     if state == "42501":
         return EnvironmentFailure(shown, f"{doing}: {said}; the role needs the privilege "
                                          f"(the database's owner, or GRANT CREATE ON SCHEMA "
@@ -176,11 +179,18 @@ def _migrate(connection, url: str) -> None:
     connection.execute(f"INSERT INTO {META} VALUES (%s)", (schema_version(),))
 
 
+def location_key(location: str) -> int:
+    """The second key of a location's advisory lock: 32 bits of its SHA-256 (two locations
+    sharing a key only wait for each other)."""
+    return int.from_bytes(hashlib.sha256(location.encode("utf-8")).digest()[:4], "big",
+                          signed=True)
+
+
 def _add_rows(connection, entry: Entry, verdicts: list[tuple], bag: str | Path) -> bool:
     """The addition's statements, in its transaction: lock the location, refuse another
     bag there, insert the campaign and its verdicts (each once)."""
-    connection.execute("SELECT pg_advisory_xact_lock(%s::integer, hashtext(%s))",
-                       (LOCK_KEY, entry.location))
+    connection.execute("SELECT pg_advisory_xact_lock(%s::integer, %s::integer)",
+                       (LOCK_KEY, location_key(entry.location)))
     before = connection.execute(
         "SELECT bag_hash FROM campaigns WHERE location = %s AND bag_hash <> %s LIMIT 1",
         (entry.location, entry.bag_hash)).fetchone()
@@ -205,16 +215,17 @@ def insert(url: str, entry: Entry, verdicts: list[tuple], bag: str | Path) -> bo
     from psycopg import errors
 
     try:
-        for attempt in range(RETRIES):
+        attempt = 1
+        while True:
             try:
                 with connection.transaction():
                     connection.execute(f"SET LOCAL lock_timeout = '{TIMEOUT_S:g}s'")
                     _migrate(connection, url)
                     return _add_rows(connection, entry, verdicts, bag)
             except (errors.SerializationFailure, errors.DeadlockDetected):
-                if attempt == RETRIES - 1:
+                if attempt == RETRIES:
                     raise
-        raise AssertionError("unreachable")
+                attempt += 1
     except psycopg.Error as error:
         raise failure(url, error, "cannot add to the catalog") from None
     finally:
