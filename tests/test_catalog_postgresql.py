@@ -241,3 +241,22 @@ def test_a_deadlock_is_retried_and_at_last_reported(postgresql_database, bag, mo
     assert result.exit_code == 4 and "it collided with other additions 5 times (deadlock " \
         "detected); try again" in result.output, result.output
     assert len(calls) == catalog_postgresql.RETRIES
+
+
+def test_a_catalog_held_past_the_timeout_is_the_machines_refusal(postgresql_database, bag,
+                                                                 tmp_path, monkeypatch):
+    import psycopg
+
+    from certkit.archive import catalog_postgresql
+
+    add(postgresql_database, make_bag(tmp_path / "other", "AMPH-1", "Heron amphibian",
+                                      ["2024-01-10"], {"CFR23.725a/D1": "PASS"}))
+    monkeypatch.setattr(catalog_postgresql, "TIMEOUT_S", 0.5)
+    with psycopg.connect(postgresql_database) as holder:       # a transaction left open
+        holder.execute("LOCK TABLE campaigns IN SHARE ROW EXCLUSIVE MODE")
+        result = runner.invoke(app, ["catalog", "add", str(bag), "--catalog",
+                                     postgresql_database])
+    assert result.exit_code == 4, (result.output, result.exception)
+    assert "cannot add to the catalog: another process held it for 0.5 s; try again" \
+        in result.output
+    assert [e.campaign_id for e in search(postgresql_database)] == ["AMPH-1"]
