@@ -159,7 +159,18 @@ def test_a_role_that_may_not_create_the_tables_is_told_what_to_grant(postgresql_
         assert "permission denied for schema public" in result.output
         assert "GRANT CREATE ON SCHEMA" in result.output
         assert runner.invoke(app, ["catalog", "list", "--catalog", url]).exit_code == 0
+        # a reader's role: the catalog made by its owner, SELECT granted, nothing more
+        add(postgresql_database, bag)
+        admin_execute(postgresql_database, f"GRANT SELECT ON campaigns, verdicts, "
+                                           f"certkit_catalog TO {role}")
+        result = runner.invoke(app, ["catalog", "list", "--catalog", url])
+        assert result.exit_code == 0 and result.output.startswith("1 archived campaign(s)")
+        other = make_bag(bag.parent / "other", "AMPH-1", "Heron", ["2024-01-10"],
+                         {"CFR23.725a/D1": "PASS"})
+        result = runner.invoke(app, ["catalog", "add", str(other), "--catalog", url])
+        assert result.exit_code == 4 and "permission denied for table" in result.output
     finally:
+        admin_execute(postgresql_database, f"DROP OWNED BY {role}")
         admin_execute(postgresql_server, f"DROP ROLE {role}")
 
 
