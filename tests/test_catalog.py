@@ -561,25 +561,42 @@ def test_a_catalog_of_a_newer_certkit_is_refused_not_changed(bags, catalog):
     assert _version(catalog) == 7 and rows(catalog, "SELECT count(*) FROM campaigns") == [(1,)]
 
 
-def test_four_additions_creating_the_catalog_at_once_all_land(bags, tmp_path, catalog):
-    # each finds no schema and creates it: creating tables at once must not collide
+def test_eight_additions_creating_the_catalog_at_once_all_land(bags, tmp_path, catalog,
+                                                               request):
+    # each finds no schema and creates it: creating tables at once must not collide, nor
+    # may one see another's catalog half made (8 rounds, each on a new catalog)
     import dataclasses
     import threading
 
     from certkit.archive.catalog import describe
 
     entry, verdicts = describe(bags["A"])
-    start, outcomes = threading.Barrier(4), []
+    for round_ in range(8):
+        if isinstance(catalog, Path):
+            fresh = tmp_path / f"catalog-{round_}.sqlite"
+        else:
+            from .conftest import admin_execute, database_url
 
-    def add_at_once(number):
-        start.wait()
-        outcomes.append(_store(catalog, dataclasses.replace(entry, location=f"/lab/{number}"),
-                               verdicts))
+            server = request.getfixturevalue("postgresql_server")
+            name = f"{catalog.rpartition('/')[2]}_{round_}"
+            admin_execute(server, f"CREATE DATABASE {name}")
+            request.addfinalizer(lambda name=name: admin_execute(
+                server, f"DROP DATABASE IF EXISTS {name} WITH (FORCE)"))
+            fresh = database_url(server, name)
+        start, outcomes = threading.Barrier(8), []
 
-    threads = [threading.Thread(target=add_at_once, args=(n,)) for n in range(4)]
-    for thread in threads:
-        thread.start()
-    for thread in threads:
-        thread.join(timeout=120)
-    assert outcomes == [True] * 4
-    assert sorted(e.location for e in search(catalog)) == [f"/lab/{n}" for n in range(4)]
+        def add_at_once(number):
+            start.wait()
+            try:
+                outcomes.append(_store(fresh, dataclasses.replace(
+                    entry, location=f"/lab/{number}"), verdicts))
+            except Exception as error:     # noqa: BLE001 - reported by the assertion
+                outcomes.append(error)
+
+        threads = [threading.Thread(target=add_at_once, args=(n,)) for n in range(8)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join(timeout=120)
+        assert outcomes == [True] * 8, outcomes
+        assert sorted(e.location for e in search(fresh)) == [f"/lab/{n}" for n in range(8)]

@@ -147,12 +147,18 @@ def failure(url: str, error: Exception, doing: str) -> Exception:
 
 def _version(connection, url: str) -> int:
     """The catalog's schema version, 0 when none was made in this database yet; refuses a
-    database whose certkit tables were not made by certkit."""
-    made = connection.execute("SELECT to_regclass(%s), to_regclass(%s), to_regclass(%s)",
-                              (META, *TABLES)).fetchone()
-    if made[0] is None:
-        if any(made[1:]):
-            found = [name for name, there in zip(TABLES, made[1:]) if there]
+    database whose certkit tables were not made by certkit.
+
+    The tables are looked up before certkit_catalog, one statement each.  One transaction
+    makes them all, but another process's may commit between two look-ups (a name is
+    looked up in the system catalogs as they are at that moment, not as of the
+    statement's snapshot: tests/test_catalog.py's eight additions creating a catalog at
+    once saw campaigns and no certkit_catalog when they were looked up the other way
+    round); tables seen first, and no certkit_catalog seen after them, are not certkit's."""
+    found = [name for name in TABLES if connection.execute(
+        "SELECT to_regclass(%s)", (name,)).fetchone()[0] is not None]
+    if connection.execute("SELECT to_regclass(%s)", (META,)).fetchone()[0] is None:
+        if found:
             raise _input_error(url, f"not a certkit catalog: the database holds table(s) "
                                     f"{', '.join(found)} without {META}")
         return 0
