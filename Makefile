@@ -40,7 +40,7 @@ test-slow: $(VENV)/.installed
 test-postgresql: $(VENV)/.installed
 	@dir="$$(mktemp -d)"; url="$$(.ci/postgresql start "$$dir" --no-fsync)" || exit 1; \
 	CERTKIT_TEST_POSTGRESQL_URL="$$url" $(VENV)/bin/python -m pytest -q -n auto \
-	    --dist loadfile tests/test_catalog.py tests/test_catalog_schema.py tests/test_catalog_postgresql.py; \
+	    --dist loadfile tests/test_catalog*.py; \
 	status=$$?; .ci/postgresql stop "$$dir"; exit $$status
 
 # ruff from pip, pinned here (its rules are in pyproject.toml); CI runs it
