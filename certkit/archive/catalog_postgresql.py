@@ -61,16 +61,19 @@ def _input_error(url: str, message: str) -> CertkitInputError:
 
 
 def _said(error: Exception, url: str) -> str:
-    """The driver's message on one line, the password of ``url`` (if libpq ever echoed it)
-    blanked out."""
+    """The driver's message on one line, the passwords of ``url`` (its user part's, its
+    ``password=`` parameter's) blanked out, should libpq ever echo one."""
     text = "; ".join(line.strip() for line in str(error).splitlines() if line.strip())
     text = re.sub(r"^connection failed: ", "", text)
     text = re.sub(r"\b(FATAL|ERROR):\s+", "", text)
     try:
-        password = urllib.parse.urlsplit(url).password
+        parts = urllib.parse.urlsplit(url)
+        passwords = [parts.password, *urllib.parse.parse_qs(parts.query).get("password", [])]
     except ValueError:
-        password = None
-    return text.replace(password, "***") if password else text
+        passwords = []
+    for password in filter(None, passwords):
+        text = text.replace(password, "***")
+    return text
 
 
 # What a login refused for what the URL says reads like (libpq's and the server's
@@ -118,8 +121,9 @@ def failure(url: str, error: Exception, doing: str) -> Exception:
     """The one mapping of a PostgreSQL error on the catalog at ``url``, by its SQLSTATE
     (PostgreSQL docs, "PostgreSQL Error Codes"): what the server or the machine refuses
     (a lock held too long, collisions retried in vain, a full disk, a lost connection, a
-    shutdown, a read-only standby, no privilege) is an EnvironmentFailure (exit 4); anything else means the
-    database holds something that is not a certkit catalog (exit 2)."""
+    shutdown, a read-only standby, no privilege) is an EnvironmentFailure (exit 4);
+    anything else means the database holds something that is not a certkit catalog
+    (exit 2)."""
     import psycopg
 
     shown = without_password(url)
