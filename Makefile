@@ -22,7 +22,7 @@ $(VENV)/.installed: pyproject.toml constraints.txt
 	    -e '.[test]'
 	touch $@
 
-.PHONY: install report test test-slow lint docs docs-linkcheck constraints bench clean
+.PHONY: install report test test-slow test-postgresql lint docs docs-linkcheck constraints bench bench-catalog clean
 install: $(VENV)/.installed
 
 report: $(VENV)/.installed
@@ -33,6 +33,15 @@ test: $(VENV)/.installed
 
 test-slow: $(VENV)/.installed
 	$(VENV)/bin/python -m pytest -q -n auto --dist loadfile -m slow
+
+# the catalog's tests (slow ones too) on SQLite and on a throwaway PostgreSQL server started
+# and stopped by .ci/postgresql (Debian's postgresql package; CI runs them within make test
+# and make test-slow, with the server .ci/run starts)
+test-postgresql: $(VENV)/.installed
+	@dir="$$(mktemp -d)"; url="$$(.ci/postgresql start "$$dir" --no-fsync)" || exit 1; \
+	CERTKIT_TEST_POSTGRESQL_URL="$$url" $(VENV)/bin/python -m pytest -q -n auto \
+	    --dist loadfile tests/test_catalog*.py; \
+	status=$$?; .ci/postgresql stop "$$dir"; exit $$status
 
 # ruff from pip, pinned here (its rules are in pyproject.toml); CI runs it
 RUFF ?= ruff==0.8.4
@@ -68,6 +77,10 @@ constraints: pyproject.toml
 
 bench: $(VENV)/.installed
 	$(VENV)/bin/python benchmarks/bench_report.py
+
+# 8 processes x 50 bags added at once, on SQLite and on a throwaway PostgreSQL server
+bench-catalog: $(VENV)/.installed
+	$(VENV)/bin/python benchmarks/bench_catalog.py
 
 clean:
 	rm -rf $(VENV) .venv-tools $(OUT) docs/_build

@@ -299,3 +299,73 @@ def full_report(tmp_path_factory) -> Path:
     (out.parent / "report.stderr").write_text(completed.stderr, encoding="utf-8")
     return out
 
+
+
+# ------------------------------------------------------------------ the catalog's databases
+#: An administrator's URL of a PostgreSQL server on which the catalog tests create a
+#: database each (.ci/run starts one with .ci/postgresql and sets it).
+POSTGRESQL_URL = "CERTKIT_TEST_POSTGRESQL_URL"
+
+
+def in_ci() -> bool:
+    return os.environ.get("CI", "").lower() not in ("", "0", "false", "no")
+
+
+def skip_or_fail(reason: str) -> None:
+    """Skip with ``reason`` on a developer's machine; fail in CI, which must run it."""
+    if in_ci():
+        pytest.fail(f"{reason} (CI=true: CI must run the PostgreSQL catalog tests)")
+    pytest.skip(reason)
+
+
+def database_url(admin_url: str, name: str) -> str:
+    """The admin URL naming database ``name`` instead."""
+    from urllib.parse import urlsplit
+
+    return urlsplit(admin_url)._replace(path="/" + name).geturl()
+
+
+@pytest.fixture(scope="session")
+def postgresql_server() -> str:
+    """The admin URL of the test PostgreSQL server (skips without one, fails in CI)."""
+    url = os.environ.get(POSTGRESQL_URL)
+    if not url:
+        skip_or_fail(f"no PostgreSQL server: set {POSTGRESQL_URL}; .ci/run starts one "
+                     f"(or `make test-postgresql`)")
+    if importlib.util.find_spec("psycopg") is None:
+        skip_or_fail("psycopg is not installed: pip install 'certkit[postgresql]'")
+    import psycopg
+
+    try:
+        psycopg.connect(url, connect_timeout=10).close()
+    except psycopg.Error as error:
+        pytest.fail(f"{POSTGRESQL_URL} names a server certkit cannot reach: {error}")
+    return url
+
+
+def admin_execute(admin_url: str, *statements: str) -> None:
+    import psycopg
+
+    with psycopg.connect(admin_url, autocommit=True) as connection:
+        for statement in statements:
+            connection.execute(statement)
+
+
+@pytest.fixture
+def postgresql_database(postgresql_server) -> str:
+    """The URL of a new, empty database of its own on the test server, dropped after."""
+    import uuid
+
+    name = f"certkit_test_{uuid.uuid4().hex[:16]}"
+    admin_execute(postgresql_server, f"CREATE DATABASE {name}")
+    yield database_url(postgresql_server, name)
+    admin_execute(postgresql_server, f"DROP DATABASE IF EXISTS {name} WITH (FORCE)")
+
+
+@pytest.fixture(params=["sqlite", "postgresql"])
+def catalog(request, tmp_path):
+    """A catalog that does not exist yet, on each backend: an SQLite file's path (a Path),
+    or the URL of an empty database (a str)."""
+    if request.param == "sqlite":
+        return tmp_path / "catalog.sqlite"
+    return request.getfixturevalue("postgresql_database")

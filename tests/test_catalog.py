@@ -1,5 +1,7 @@
-"""`certkit catalog`: an SQLite index of archived campaigns, searched by aircraft, date
-and verdict; a bag is indexed only when intact; concurrent additions all land."""
+"""`certkit catalog`: an index of archived campaigns, searched by aircraft, date and
+verdict; a bag is indexed only when intact; concurrent additions all land.  Every test
+taking the ``catalog`` fixture runs on both backends: an SQLite file and a database of its
+own on a PostgreSQL server (tests/conftest.py; skipped without one, except in CI)."""
 
 import json
 import sqlite3
@@ -20,6 +22,21 @@ from certkit.cli import app
 from .conftest import SEED
 
 runner = CliRunner()
+
+
+def rows(catalog, query: str) -> list[tuple]:
+    """What ``query`` reads from the catalog, on either backend."""
+    if isinstance(catalog, Path):
+        connection = sqlite3.connect(catalog)
+        try:
+            return connection.execute(query).fetchall()
+        finally:
+            connection.close()
+    import psycopg
+
+    with psycopg.connect(catalog) as connection:
+        cursor = connection.execute(query)
+        return [tuple(row) for row in cursor.fetchall()] if cursor.description else []
 
 
 def make_bag(folder: Path, campaign: str, aircraft: str, tested: list[str],
@@ -58,10 +75,9 @@ def bags(tmp_path) -> dict[str, Path]:
 
 
 @pytest.mark.slow   # several reports or archives in real processes: CI runs it
-def test_an_archived_campaign_is_indexed_from_its_bag(tmp_path):
+def test_an_archived_campaign_is_indexed_from_its_bag(tmp_path, catalog):
     bag = tmp_path / "seed-bag"
     archive_campaign(SEED, bag, model=False)
-    catalog = tmp_path / "catalog.sqlite"
     result = runner.invoke(app, ["catalog", "add", str(bag), "--catalog", str(catalog)])
     assert result.exit_code == 0, result.output
     assert result.output.startswith("added: SEED-AMPHIBIAN-DT")
@@ -78,13 +94,12 @@ def test_an_archived_campaign_is_indexed_from_its_bag(tmp_path):
     import hashlib
     assert entry.bag_hash == hashlib.sha256((bag / "tagmanifest-sha256.txt").read_bytes()) \
         .hexdigest()
-    with sqlite3.connect(catalog) as connection:
-        clauses = connection.execute("SELECT id, verdict FROM verdicts ORDER BY id").fetchall()
+    clauses = rows(catalog, "SELECT id, verdict FROM verdicts ORDER BY id")
     assert len(clauses) == 13 and ("CFR23.725a-limit-drop-height/D300", "PASS") in clauses
 
 
-def test_adding_the_same_bag_twice_keeps_one_entry_and_a_copy_is_another(bags, tmp_path):
-    catalog = tmp_path / "catalog.sqlite"
+def test_adding_the_same_bag_twice_keeps_one_entry_and_a_copy_is_another(bags, tmp_path,
+                                                                          catalog):
     assert add(catalog, bags["A"])[1] is True
     assert add(catalog, bags["A"])[1] is False
     result = runner.invoke(app, ["catalog", "add", str(bags["A"]), "--catalog", str(catalog)])
@@ -98,8 +113,7 @@ def test_adding_the_same_bag_twice_keeps_one_entry_and_a_copy_is_another(bags, t
     assert entries[0].bag_hash == entries[1].bag_hash
 
 
-def test_search_by_aircraft_text_dates_outcome_and_verdict(bags, tmp_path):
-    catalog = tmp_path / "catalog.sqlite"
+def test_search_by_aircraft_text_dates_outcome_and_verdict(bags, catalog):
     for bag in bags.values():
         add(catalog, bag)
 
@@ -124,8 +138,14 @@ def test_search_by_aircraft_text_dates_outcome_and_verdict(bags, tmp_path):
     assert ids(aircraft="Skylark", verdict="FAIL") == ["LSA-2"]
 
 
-def test_search_on_the_command_line(bags, tmp_path):
-    catalog = tmp_path / "catalog.sqlite"
+def test_counts_beyond_32_bits_are_indexed(bags, catalog):
+    # PostgreSQL's INTEGER has 32 bits: the counts are BIGINT there, as SQLite's integers
+    bag = _rewritten(bags["A"], _counts(2 ** 40))
+    add(catalog, bag)
+    assert [e.passed for e in search(catalog)] == [2 ** 40]
+
+
+def test_search_on_the_command_line(bags, catalog):
     result = runner.invoke(app, ["catalog", "add", *map(str, bags.values()), "--catalog",
                                  str(catalog)])
     assert result.exit_code == 0 and result.output.count("added: ") == 3
@@ -145,10 +165,9 @@ def test_search_on_the_command_line(bags, tmp_path):
     assert result.exit_code == 2
 
 
-def test_a_bag_changed_since_it_was_catalogued_is_refused_at_its_location(bags, tmp_path):
+def test_a_bag_changed_since_it_was_catalogued_is_refused_at_its_location(bags, catalog):
     from .test_archive import _rehash
 
-    catalog = tmp_path / "catalog.sqlite"
     entry, _ = add(catalog, bags["B"])
     results = bags["B"] / "data" / "results" / "results.json"
     results.write_text(results.read_text().replace('"COMPLIANCE NOT SHOWN"',
@@ -161,8 +180,7 @@ def test_a_bag_changed_since_it_was_catalogued_is_refused_at_its_location(bags, 
     assert [e.bag_hash for e in search(catalog)] == [entry.bag_hash]
 
 
-def test_a_bag_that_is_not_intact_is_not_added(bags, tmp_path):
-    catalog = tmp_path / "catalog.sqlite"
+def test_a_bag_that_is_not_intact_is_not_added(bags, catalog):
     add(catalog, bags["A"])
     (bags["B"] / "data" / "results" / "results.json").write_text("{}")
     result = runner.invoke(app, ["catalog", "add", str(bags["B"]), str(bags["C"]),
@@ -173,12 +191,24 @@ def test_a_bag_that_is_not_intact_is_not_added(bags, tmp_path):
     assert [e.campaign_id for e in search(catalog)] == ["AMPH-1", "LSA-1"]  # C still added
 
 
-def test_listing_a_catalog_that_does_not_exist_creates_nothing(tmp_path):
-    catalog = tmp_path / "none.sqlite"
+def _made(catalog) -> bool:
+    """Whether anything of the catalog exists: its file, or a table in its database."""
+    if isinstance(catalog, Path):
+        return catalog.exists()
+    return rows(catalog, "SELECT count(*) FROM pg_tables WHERE schemaname = 'public'") != [(0,)]
+
+
+def test_listing_a_catalog_that_does_not_exist_creates_nothing(catalog):
     result = runner.invoke(app, ["catalog", "list", "--catalog", str(catalog)])
     assert result.exit_code == 0 and "no catalogued campaign matches" in result.output
-    assert not catalog.exists()
-    catalog.write_text("not a database, just text that is long enough " * 40)
+    result = runner.invoke(app, ["catalog", "search", "LSA", "--catalog", str(catalog)])
+    assert result.exit_code == 0 and "no catalogued campaign matches" in result.output
+    assert not _made(catalog)
+    # something else where the catalog should be: a text file, another program's table
+    if isinstance(catalog, Path):
+        catalog.write_text("not a database, just text that is long enough " * 40)
+    else:
+        rows(catalog, "CREATE TABLE campaigns (name TEXT)")
     result = runner.invoke(app, ["catalog", "list", "--catalog", str(catalog)])
     assert result.exit_code == 2 and "not a certkit catalog" in result.output
 
@@ -196,7 +226,7 @@ ADDER = textwrap.dedent("""
 """)
 
 
-def _start(script: Path, catalog: Path, bag: Path, go: Path) -> subprocess.Popen:
+def _start(script: Path, catalog, bag: Path, go: Path) -> subprocess.Popen:
     process = subprocess.Popen([sys.executable, str(script), str(catalog), str(bag), str(go)],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     assert process.stdout.readline().strip() == "ready", process.stderr.read()
@@ -209,9 +239,9 @@ def _finish(processes) -> None:
         assert process.returncode == 0 and out.strip() == "added", error
 
 
-def test_two_concurrent_additions_to_a_new_catalog_both_land(bags, tmp_path):
+def test_two_concurrent_additions_to_a_new_catalog_both_land(bags, tmp_path, catalog):
     # both processes wait at the start line, then add at once, each creating the schema
-    script, catalog, go = tmp_path / "adder.py", tmp_path / "new.sqlite", tmp_path / "go"
+    script, go = tmp_path / "adder.py", tmp_path / "go"
     script.write_text(ADDER)
     processes = [_start(script, catalog, bags[k], go) for k in ("A", "B")]
     go.touch()
@@ -220,12 +250,20 @@ def test_two_concurrent_additions_to_a_new_catalog_both_land(bags, tmp_path):
 
 
 @pytest.mark.slow   # several reports or archives in real processes: CI runs it
-def test_two_additions_blocked_by_a_writer_both_land_when_it_finishes(bags, tmp_path):
-    script, catalog, go = tmp_path / "adder.py", tmp_path / "busy.sqlite", tmp_path / "go"
+def test_two_additions_blocked_by_a_writer_both_land_when_it_finishes(bags, tmp_path,
+                                                                     catalog):
+    script, go = tmp_path / "adder.py", tmp_path / "go"
     script.write_text(ADDER)
     add(catalog, bags["C"])
-    holder = sqlite3.connect(catalog, isolation_level=None)
-    holder.execute("BEGIN IMMEDIATE")       # another writer holds the catalog
+    if isinstance(catalog, Path):
+        holder = sqlite3.connect(catalog, isolation_level=None)
+        holder.execute("BEGIN IMMEDIATE")   # another writer holds the catalog
+    else:
+        import psycopg
+
+        holder = psycopg.connect(catalog, autocommit=True)
+        holder.execute("BEGIN")             # another writer holds its campaigns
+        holder.execute("LOCK TABLE campaigns IN SHARE ROW EXCLUSIVE MODE")
     processes = [_start(script, catalog, bags[k], go) for k in ("A", "B")]
     go.touch()
     time.sleep(6.0)           # both wait on the lock, longer than SQLite's default 5 s
@@ -263,6 +301,13 @@ def _verdict_run(document):
     return document
 
 
+def _verdict_id(value):
+    def change(document):
+        document["verdicts"][0]["id"] = value
+        return document
+    return change
+
+
 HOSTILE_RESULTS = {
     "nested 100,000 deep": (lambda d: "[" * 100_000 + "]" * 100_000, "nested too deeply"),
     "a 5,000-digit integer": (lambda d: '{"format": ' + "9" * 5000 + "}",
@@ -271,16 +316,19 @@ HOSTILE_RESULTS = {
     "a count that is NaN": (_counts(float("nan")), "where the catalog indexes passed"),
     "a count beyond SQLite": (_counts(2 ** 64), "where the catalog indexes passed"),
     "a verdict's run that is a list": (_verdict_run, "verdicts[].run: expected text"),
+    # text neither database stores: PostgreSQL refuses a NUL, UTF-8 a lone surrogate
+    "a NUL in a verdict's id": (_verdict_id("D1\0"), "verdicts[].id: expected text"),
+    "a lone surrogate in a verdict's id": (_verdict_id("D1\ud800"),
+                                           "verdicts[].id: expected text"),
 }
 
 
 @pytest.mark.parametrize("name", HOSTILE_RESULTS)
-def test_a_hostile_results_file_in_an_intact_bag_is_refused_naming_it(bags, tmp_path, name):
+def test_a_hostile_results_file_in_an_intact_bag_is_refused_naming_it(bags, catalog, name):
     # before: RecursionError and OverflowError were "a certkit bug" (exit 3), a mapping was
     # blamed on --catalog, and a NaN count was silently not added ("already catalogued")
     change, words = HOSTILE_RESULTS[name]
     bag = _rewritten(bags["A"], change)
-    catalog = tmp_path / "catalog.sqlite"
     result = runner.invoke(app, ["catalog", "add", str(bag), "--catalog", str(catalog)])
     assert result.exit_code == 2, (result.output, result.exception)
     assert str(bag) in result.output and words in result.output, result.output
@@ -370,3 +418,129 @@ def test_a_failed_addition_removes_the_empty_catalog_it_created(bags, tmp_path, 
     with pytest.raises(sqlite3.OperationalError):
         add(catalog, bags["A"])
     assert not (tmp_path / "sub").exists()
+
+
+# ------------------------------------------------------------------ concurrent additions
+def _store(catalog, entry, verdicts) -> bool:
+    """The addition of rows already described, on either backend (no verification)."""
+    import certkit.archive.catalog as catalog_module
+
+    if isinstance(catalog, Path):
+        return catalog_module._insert(catalog, entry, verdicts, entry.location)
+    from certkit.archive import catalog_postgresql
+
+    return catalog_postgresql.insert(catalog, entry, verdicts, entry.location)
+
+
+def test_two_bags_added_at_one_location_at_once_one_lands_the_other_is_refused(bags, catalog):
+    # the check "another bag at this location?" and the insertion are one decision: two
+    # additions racing at one location never both land (the bag changed between them)
+    import dataclasses
+    import threading
+
+    from certkit.archive.catalog import CatalogRefusal, describe
+
+    entry, verdicts = describe(bags["A"])
+    _store(catalog, *describe(bags["B"]))           # the schema exists: only the race
+    for round_ in range(8):
+        location = f"/lab/bags/{round_}"
+        first = dataclasses.replace(entry, location=location)
+        second = dataclasses.replace(first, bag_hash="f" * 64)
+        start, outcomes = threading.Barrier(2), []
+
+        def add_at_once(rows):
+            start.wait()
+            try:
+                outcomes.append(_store(catalog, rows, verdicts))
+            except CatalogRefusal as refusal:
+                outcomes.append(str(refusal))
+
+        threads = [threading.Thread(target=add_at_once, args=(rows,))
+                   for rows in (first, second)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join(timeout=120)
+        assert sum(outcome is True for outcome in outcomes) == 1, outcomes
+        assert any("the catalog holds another bag at" in str(o) for o in outcomes), outcomes
+        assert len([e for e in search(catalog) if e.location == location]) == 1
+
+
+MANY_ADDER = textwrap.dedent("""
+    import sys, time
+    from pathlib import Path
+    from certkit.archive.catalog import add
+    catalog, go, *bags = sys.argv[1:]
+    print("ready", flush=True)
+    while not Path(go).exists():
+        time.sleep(0.005)
+    for bag in bags:
+        add(catalog, bag)
+    print("added", flush=True)
+""")
+
+
+@pytest.mark.slow   # several processes adding 11 bags each
+def test_four_processes_adding_at_once_all_land_once(tmp_path, catalog):
+    # each adds 10 bags of its own and one bag all of them add: 41 entries, none twice
+    shared = make_bag(tmp_path / "shared", "SHARED", "Heron amphibian", ["2024-02-01"],
+                      {"CFR23.725a/D1": "PASS"})
+    script, go = tmp_path / "adder.py", tmp_path / "go"
+    script.write_text(MANY_ADDER)
+    processes = []
+    for worker in range(4):
+        own = [make_bag(tmp_path / f"w{worker}-{n}", f"W{worker}-{n:02d}", "Skylark LSA",
+                        ["2025-03-02"], {"CFR23.725a/D1": "PASS"}) for n in range(10)]
+        processes.append(subprocess.Popen(
+            [sys.executable, str(script), str(catalog), str(go), str(shared), *map(str, own)],
+            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True))
+    for process in processes:
+        assert process.stdout.readline().strip() == "ready", process.stderr.read()
+    go.touch()
+    _finish(processes)
+    entries = search(catalog)
+    assert len(entries) == 41
+    assert len({(e.bag_hash, e.location) for e in entries}) == 41
+    assert sorted(e.campaign_id for e in entries)[:2] == ["SHARED", "W0-00"]
+    assert rows(catalog, "SELECT count(*) FROM verdicts") == [(41,)]
+
+
+def test_eight_additions_creating_the_catalog_at_once_all_land(bags, tmp_path, catalog,
+                                                               request):
+    # each finds no schema and creates it: creating tables at once must not collide, nor
+    # may one see another's catalog half made (8 rounds, each on a new catalog)
+    import dataclasses
+    import threading
+
+    from certkit.archive.catalog import describe
+
+    entry, verdicts = describe(bags["A"])
+    for round_ in range(8):
+        if isinstance(catalog, Path):
+            fresh = tmp_path / f"catalog-{round_}.sqlite"
+        else:
+            from .conftest import admin_execute, database_url
+
+            server = request.getfixturevalue("postgresql_server")
+            name = f"{catalog.rpartition('/')[2]}_{round_}"
+            admin_execute(server, f"CREATE DATABASE {name}")
+            request.addfinalizer(lambda name=name: admin_execute(
+                server, f"DROP DATABASE IF EXISTS {name} WITH (FORCE)"))
+            fresh = database_url(server, name)
+        start, outcomes = threading.Barrier(8), []
+
+        def add_at_once(number):
+            start.wait()
+            try:
+                outcomes.append(_store(fresh, dataclasses.replace(
+                    entry, location=f"/lab/{number}"), verdicts))
+            except Exception as error:     # noqa: BLE001 - reported by the assertion
+                outcomes.append(error)
+
+        threads = [threading.Thread(target=add_at_once, args=(n,)) for n in range(8)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join(timeout=120)
+        assert outcomes == [True] * 8, outcomes
+        assert sorted(e.location for e in search(fresh)) == [f"/lab/{n}" for n in range(8)]

@@ -1,11 +1,24 @@
-"""An SQLite index of archived campaigns, so that a lab finds every campaign of an
-aircraft type, a date range or a failed clause without opening the bags.
+"""The index of archived campaigns, so that a lab finds every campaign of an aircraft
+type, a date range or a failed clause without opening the bags: in an SQLite file (the
+embedded default, this module) or on a PostgreSQL server (a ``postgresql://`` URL,
+:mod:`certkit.archive.catalog_postgresql`), with the same commands and guarantees.
 
 A bag is catalogued only after it verifies intact; what is indexed comes from its
-bag-info.txt and its archived results.json (a row per criterion).  A bag is keyed by its
-hash (SHA-256 of its tag manifest) and its location, so the same bag added twice is one
-entry and a copy elsewhere is another.  Each addition is one ``BEGIN IMMEDIATE``
-transaction with a generous busy timeout: two processes adding at once both land.
+bag-info.txt and its archived results.json (a row per criterion,
+:mod:`certkit.archive.catalog_rows`).  A bag is keyed by its hash (SHA-256 of its tag
+manifest) and its location, so the same bag added twice is one entry and a copy elsewhere
+is another; a location that holds another bag (changed and re-hashed since) is refused.
+
+In SQLite each addition is one ``BEGIN IMMEDIATE`` transaction, which takes the database's
+write lock at once (SQLite docs, "BEGIN TRANSACTION": "IMMEDIATE causes the database
+connection to start a new write immediately"), with a generous busy timeout
+(``sqlite3.connect(timeout=)``, SQLite's ``sqlite3_busy_timeout``): additions run one at
+a time, two processes adding at once both land, and the check of the location and the
+insertion see the same catalog.  The schema version is SQLite's ``PRAGMA user_version``
+(SQLite docs, "PRAGMA user_version": an integer "available to applications"), as it
+has been since version 1, so a catalog made by an earlier certkit is read and added to as
+it is; the schema is created, and migrated (:data:`~certkit.archive.catalog_rows.MIGRATIONS`),
+inside the addition's transaction.
 """
 
 from __future__ import annotations
@@ -14,81 +27,18 @@ import contextlib
 import errno
 import os
 import sqlite3
-from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from certkit.archive.bag import BagError, bag_hash, check_bag, read_info
-from certkit.archive.campaign_bag import archived_results, opened_bag
-from certkit.errors import CertkitInputError, EnvironmentFailure, shown
+from certkit.archive.catalog_rows import (TABLES, CatalogRefusal, Entry, changed_bag,
+                                          describe, migration, newer_catalog,
+                                          postgresql_url, schema_version, search_query,
+                                          without_password)
+from certkit.errors import CertkitInputError, EnvironmentFailure
 from certkit.outputs import writing_failure
 
-SCHEMA_VERSION = 1
-SCHEMA = """
-CREATE TABLE IF NOT EXISTS campaigns (
-    bag_hash        TEXT NOT NULL,
-    location        TEXT NOT NULL,
-    campaign_id     TEXT NOT NULL,
-    title           TEXT NOT NULL,
-    aircraft        TEXT NOT NULL,
-    report_number   TEXT NOT NULL,
-    revision        TEXT NOT NULL,
-    issue_date      TEXT NOT NULL,
-    first_test_date TEXT NOT NULL,
-    last_test_date  TEXT NOT NULL,
-    outcome         TEXT NOT NULL,
-    passed          INTEGER NOT NULL,
-    failed          INTEGER NOT NULL,
-    not_shown       INTEGER NOT NULL,
-    dq_errors       INTEGER NOT NULL,
-    dq_warnings     INTEGER NOT NULL,
-    software        TEXT NOT NULL,
-    PRIMARY KEY (bag_hash, location)
-);
-CREATE TABLE IF NOT EXISTS verdicts (
-    bag_hash  TEXT NOT NULL,
-    id        TEXT NOT NULL,
-    clause    TEXT NOT NULL,
-    run       TEXT,
-    gear      TEXT,
-    verdict   TEXT NOT NULL,
-    PRIMARY KEY (bag_hash, id)
-);
-CREATE INDEX IF NOT EXISTS campaigns_aircraft ON campaigns (aircraft);
-"""
+__all__ = ["CatalogRefusal", "Entry", "add", "describe", "search", "shown_catalog"]
+
 TIMEOUT_S = 60.0
-
-
-class CatalogRefusal(Exception):
-    """The bag was not added: it is not intact (the changes are listed), or the catalog
-    holds another bag at its location (it changed since it was catalogued)."""
-
-    def __init__(self, bag: Path, reason: str, changes=()):
-        self.changes = list(changes)
-        super().__init__(f"{bag}: not added to the catalog: {reason}")
-
-
-@dataclass(frozen=True)
-class Entry:
-    bag_hash: str
-    location: str
-    campaign_id: str
-    title: str
-    aircraft: str
-    report_number: str
-    revision: str
-    issue_date: str
-    first_test_date: str
-    last_test_date: str
-    outcome: str
-    passed: int
-    failed: int
-    not_shown: int
-    dq_errors: int
-    dq_warnings: int
-    software: str
-
-    def as_dict(self) -> dict:
-        return asdict(self)
 
 
 def _catalog_error(path: Path, message: str) -> CertkitInputError:
@@ -134,83 +84,35 @@ def _connect(path: Path) -> sqlite3.Connection:
             "SELECT name FROM sqlite_master WHERE type = 'table'")}
     except sqlite3.Error as error:
         raise _sqlite_failure(path, error, "cannot open the catalog") from None
-    if version not in (0, SCHEMA_VERSION) or not tables <= {"campaigns", "verdicts"}:
+    if version > schema_version():
         connection.close()
-        found = f"schema version {version}" if version else f"tables {sorted(tables)}"
-        raise _catalog_error(path, f"not a certkit catalog of version {SCHEMA_VERSION} "
+        raise _catalog_error(path, newer_catalog(version))
+    if version < 0 or not tables <= set(TABLES):
+        connection.close()
+        found = f"schema version {version}" if version < 0 else f"tables {sorted(tables)}"
+        raise _catalog_error(path, f"not a certkit catalog of version {schema_version()} "
                                    f"({found})")
     return connection
 
 
-def _first(info: dict[str, list[str]], label: str) -> str:
-    return (info.get(label) or [""])[0]
-
-
-def describe(bag: str | Path) -> tuple[Entry, list[tuple]]:
-    """The catalog entry and verdict rows of the bag at ``bag`` (a folder or a .zip).
-
-    Raises CatalogRefusal when the bag is not intact, BagError when it is not a bag.
-    """
-    bag = Path(bag)
-    with opened_bag(bag) as folder:
-        changes = check_bag(folder)
-        if changes:
-            raise CatalogRefusal(bag, "the bag is not intact", changes)
-        info = read_info(folder)
-        _, results = archived_results(folder)
-        digest = bag_hash(folder)
-    dates = sorted(info.get("Test-Date", [])) or [""]
-    try:
-        counts, findings = results["counts"], results["finding_counts"]
-        entry = Entry(
-            bag_hash=digest, location=str(bag.resolve()),
-            campaign_id=_first(info, "Campaign-Id"),
-            title=_first(info, "External-Description"),
-            aircraft=_first(info, "Aircraft-Model"),
-            report_number=_first(info, "Report-Number"),
-            revision=_first(info, "Report-Revision"), issue_date=_first(info, "Issue-Date"),
-            first_test_date=dates[0], last_test_date=dates[-1], outcome=results["outcome"],
-            passed=counts["PASS"], failed=counts["FAIL"], not_shown=counts["NOT SHOWN"],
-            dq_errors=findings["error"], dq_warnings=findings["warning"],
-            software=_first(info, "Bag-Software-Agent"))
-        verdicts = [(digest, v["id"], v["clause"], v["run"], v["gear"], v["verdict"])
-                    for v in results["verdicts"]]
-    except (KeyError, TypeError) as error:
-        raise BagError(f"{bag}: its results.json lacks what the catalog indexes "
-                       f"({error})") from None
-    _check_indexed(bag, entry, verdicts)
-    return entry, verdicts
-
-
-_COUNTS = {"passed", "failed", "not_shown", "dq_errors", "dq_warnings"}
-_VERDICT_FIELDS = ("bag_hash", "id", "clause", "run", "gear", "verdict")
-
-
-def _check_indexed(bag: Path, entry: Entry, verdicts: list[tuple]) -> None:
-    """Raise BagError unless every value indexed is what its column holds: a count a
-    whole number from 0 to 2^63 - 1 (SQLite's integers), anything else text (a verdict's run and
-    gear may be null).  A results.json edited and re-hashed can hold anything."""
-    def refuse(name: str, value: object, expected: str):
-        raise BagError(f"{bag}: its results.json holds {shown(value)} where the catalog "
-                       f"indexes {name}: expected {expected}")
-
-    for name, value in entry.as_dict().items():
-        if name in _COUNTS:
-            if type(value) is not int or not 0 <= value < 2 ** 63:
-                refuse(name, value, "a count (a whole number from 0)")
-        elif not isinstance(value, str):
-            refuse(name, value, "text")
-    for row in verdicts:
-        for name, value in zip(_VERDICT_FIELDS, row):
-            if not isinstance(value, str) and not (name in ("run", "gear") and value is None):
-                refuse(f"verdicts[].{name}", value, "text")
+def shown_catalog(catalog: str | Path) -> str:
+    """The catalog's location as messages print it: a path, or a URL without its password."""
+    return without_password(catalog)
 
 
 def add(catalog: str | Path, bag: str | Path) -> tuple[Entry, bool]:
     """Verify the bag and index it; (entry, False) when it was already catalogued.
 
-    A catalog this call created is removed again (with the folders it made) when the
-    addition fails, so a full or read-only disk leaves nothing behind."""
+    ``catalog`` is an SQLite file's path or a ``postgresql://`` URL (a string).  A failed
+    addition leaves the catalog as it was: on PostgreSQL the transaction is rolled back; an
+    SQLite catalog this call created is removed again (with the folders it made), so a full
+    or read-only disk leaves nothing behind."""
+    url = postgresql_url(catalog)
+    if url is not None:
+        from certkit.archive import catalog_postgresql
+
+        entry, verdicts = describe(bag)
+        return entry, catalog_postgresql.insert(url, entry, verdicts, bag)
     catalog = Path(catalog)
     entry, verdicts = describe(bag)
     made = [folder for folder in [catalog.parent, *catalog.parent.parents]
@@ -265,18 +167,20 @@ def _insert(catalog: Path, entry: Entry, verdicts: list[tuple], bag: str | Path)
     connection = _connect(catalog)
     try:
         connection.execute("BEGIN IMMEDIATE")
-        for statement in filter(str.strip, SCHEMA.split(";")):
+        version = connection.execute("PRAGMA user_version").fetchone()[0]
+        if version > schema_version():        # made newer while this call waited
+            connection.execute("ROLLBACK")
+            raise _catalog_error(catalog, newer_catalog(version))
+        for statement in migration(version, "INTEGER"):
             connection.execute(statement)   # (executescript would commit first)
-        connection.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+        if version != schema_version():
+            connection.execute(f"PRAGMA user_version = {schema_version()}")
         before = connection.execute(
             "SELECT bag_hash FROM campaigns WHERE location = ? AND bag_hash != ?",
             (entry.location, entry.bag_hash)).fetchone()
         if before is not None:
             connection.execute("ROLLBACK")
-            raise CatalogRefusal(Path(bag), f"the catalog holds another bag at "
-                                            f"{entry.location} (hash {before[0]}, now "
-                                            f"{entry.bag_hash}): the bag was changed and "
-                                            f"re-hashed since it was catalogued")
+            raise changed_bag(bag, entry, before[0])
         fields = list(entry.as_dict())
         cursor = connection.execute(
             f"INSERT OR IGNORE INTO campaigns ({', '.join(fields)}) "
@@ -299,7 +203,9 @@ def search(catalog: str | Path, text: str | None = None, *, aircraft: str | None
            campaign: str | None = None, outcome: str | None = None, since: str | None = None,
            until: str | None = None, verdict: str | None = None, clause: str | None = None
            ) -> list[Entry]:
-    """Catalogued campaigns matching every filter given (none: all of them).
+    """Catalogued campaigns matching every filter given (none: all of them), in the
+    catalog at ``catalog`` (an SQLite file's path or a ``postgresql://`` URL); a catalog
+    that does not exist yet is empty, and reading it creates nothing.
 
     ``text`` matches campaign id, title, aircraft or report number; ``aircraft``,
     ``campaign`` and ``clause`` are case-insensitive substrings; ``outcome`` is exact
@@ -307,41 +213,18 @@ def search(catalog: str | Path, text: str | None = None, *, aircraft: str | None
     the range; ``verdict`` keeps campaigns with at least one criterion of that verdict
     (of a clause matching ``clause``, when given).
     """
+    filters = dict(aircraft=aircraft, campaign=campaign, outcome=outcome, since=since,
+                   until=until, verdict=verdict, clause=clause)
+    url = postgresql_url(catalog)
+    if url is not None:
+        from certkit.archive import catalog_postgresql
+
+        return catalog_postgresql.search(url, text, **filters)
     catalog = Path(catalog)
     if not catalog.exists():
         return []
-    where, values = [], []
-
-    def like(columns: tuple[str, ...], value: str) -> str:
-        pattern = "%" + value.replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_") + "%"
-        values.extend([pattern] * len(columns))
-        return "(" + " OR ".join(f"{c} LIKE ? ESCAPE '\\'" for c in columns) + ")"
-
-    if text:
-        where.append(like(("campaign_id", "title", "aircraft", "report_number"), text))
-    if aircraft:
-        where.append(like(("aircraft",), aircraft))
-    if campaign:
-        where.append(like(("campaign_id",), campaign))
-    if outcome:
-        where.append("upper(outcome) = upper(?)")
-        values.append(outcome)
-    if since:
-        where.append("last_test_date >= ?")
-        values.append(since)
-    if until:
-        where.append("first_test_date <= ?")
-        values.append(until)
-    if verdict or clause:
-        inner = ["v.bag_hash = campaigns.bag_hash"]
-        if verdict:
-            inner.append("upper(v.verdict) = upper(?)")
-            values.append(verdict)
-        if clause:
-            inner.append(like(("v.clause", "v.id"), clause))
-        where.append(f"EXISTS (SELECT 1 FROM verdicts v WHERE {' AND '.join(inner)})")
-    query = "SELECT * FROM campaigns" + (" WHERE " + " AND ".join(where) if where else "") + \
-        " ORDER BY aircraft, campaign_id, issue_date, location"
+    # SQLite's LIKE ignores the case of ASCII letters; its BINARY collation is byte order
+    query, values = search_query("?", "LIKE", "", text, **filters)
     connection = _connect(catalog)
     try:
         rows = connection.execute(query, values).fetchall()

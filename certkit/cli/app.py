@@ -38,7 +38,8 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_
                   rich_markup_mode=None,
                   help="Turn a landing-gear drop-test campaign into airworthiness evidence.",
                   epilog=EXIT_CODES)
-catalog_app = typer.Typer(no_args_is_help=True, help="An SQLite index of archived campaigns: "
+catalog_app = typer.Typer(no_args_is_help=True, help="An index of archived campaigns, in an "
+                                                     "SQLite file or a PostgreSQL database: "
                                                      "add bags, list and search them.")
 app.add_typer(catalog_app, name="catalog")
 err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)

@@ -13,7 +13,7 @@ from rich.text import Text
 
 from certkit.archive.bag import BagError
 from certkit.archive.campaign_bag import archive_campaign, verify_archive
-from certkit.archive.catalog import CatalogRefusal, add
+from certkit.archive.catalog import CatalogRefusal, add, shown_catalog
 from certkit.archive.catalog import search as run_search
 from certkit.cli.app import SpecArgument, bad_option, catalog_app, command, err, error, out
 
@@ -89,13 +89,16 @@ def verify(bag: Annotated[Path, typer.Argument(help="a bag: its folder, or a .zi
     raise typer.Exit(0 if result.passed else 1)
 
 
-DEFAULT_CATALOG = Path.home() / ".local" / "share" / "certkit" / "catalog.sqlite"
-CatalogOption = Annotated[Path, typer.Option(
+DEFAULT_CATALOG = str(Path.home() / ".local" / "share" / "certkit" / "catalog.sqlite")
+CatalogOption = Annotated[str, typer.Option(
     "--catalog", envvar="CERTKIT_CATALOG",
-    help="the catalog file (a lab shares one by setting CERTKIT_CATALOG)")]
+    help="the catalog: an SQLite file's path, or a PostgreSQL database's URL, "
+         "postgresql://user@host[:port]/database (give the password in ~/.pgpass or "
+         "PGPASSWORD, not in the URL); a lab shares one by setting CERTKIT_CATALOG")]
 
 
-def _show_entries(entries, as_json: bool, catalog: Path) -> None:
+def _show_entries(entries, as_json: bool, catalog: str) -> None:
+    catalog = shown_catalog(catalog)
     if as_json:
         sys.stdout.write(json.dumps([e.as_dict() for e in entries], indent=2,
                                     ensure_ascii=False) + "\n")
