@@ -41,7 +41,8 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_
 catalog_app = typer.Typer(no_args_is_help=True, help="An index of archived campaigns, in an "
                                                      "SQLite file or a PostgreSQL database: "
                                                      "add bags, list and search them.")
-app.add_typer(catalog_app, name="catalog")
+app.add_typer(catalog_app, name="catalog",
+              short_help="An index of archived campaigns (SQLite or PostgreSQL)")
 err = Console(stderr=True, highlight=False, soft_wrap=True, markup=False)
 out = Console(highlight=False, soft_wrap=True, markup=False)
 

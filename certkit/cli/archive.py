@@ -91,7 +91,8 @@ def verify(bag: Annotated[Path, typer.Argument(help="a bag: its folder, or a .zi
 
 DEFAULT_CATALOG = str(Path.home() / ".local" / "share" / "certkit" / "catalog.sqlite")
 CatalogOption = Annotated[str, typer.Option(
-    "--catalog", envvar="CERTKIT_CATALOG",
+    "--catalog", envvar="CERTKIT_CATALOG", metavar="CATALOG",
+    show_default="~/.local/share/certkit/catalog.sqlite",
     help="the catalog: an SQLite file's path, or a PostgreSQL database's URL, "
          "postgresql://user@host[:port]/database (give the password in ~/.pgpass or "
          "PGPASSWORD, not in the URL); a lab shares one by setting CERTKIT_CATALOG")]
