@@ -4,7 +4,7 @@ page cannot drift from the commands.  The generated page is not committed."""
 
 from __future__ import annotations
 
-from pathlib import Path
+from generated_page import register
 
 PAGE = "cli.md"
 HEAD = """\
@@ -47,13 +47,5 @@ def _help(command, path) -> str:
     return command.get_help(context).rstrip()
 
 
-def write(app) -> None:
-    text = reference()
-    target = Path(app.srcdir) / PAGE
-    if not target.exists() or target.read_text(encoding="utf-8") != text:
-        target.write_text(text, encoding="utf-8")
-
-
 def setup(app):
-    app.connect("builder-inited", write)
-    return {"parallel_read_safe": True, "parallel_write_safe": True}
+    return register(app, PAGE, reference)

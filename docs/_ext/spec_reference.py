@@ -8,7 +8,7 @@ from __future__ import annotations
 import json
 import re
 import typing
-from pathlib import Path
+from generated_page import register
 
 PAGE = "spec-reference.md"
 HEAD = """\
@@ -194,16 +194,11 @@ def _variants(node: dict):
     return discriminator["propertyName"], list(discriminator.get("mapping", {}))
 
 
-def write(app) -> None:
+def _page() -> str:
     from certkit.spec.schema import CampaignSpec, json_schema
 
-    text = reference(json_schema(), CampaignSpec)
-    target = Path(app.srcdir) / PAGE
-    # rewritten only when it changed, so that an unchanged schema rebuilds nothing
-    if not target.exists() or target.read_text(encoding="utf-8") != text:
-        target.write_text(text, encoding="utf-8")
+    return reference(json_schema(), CampaignSpec)
 
 
 def setup(app):
-    app.connect("builder-inited", write)
-    return {"parallel_read_safe": True, "parallel_write_safe": True}
+    return register(app, PAGE, _page)
