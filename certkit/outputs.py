@@ -39,6 +39,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from certkit import stop
 from certkit.errors import CertkitInputError, EnvironmentFailure, named_file
 
 try:
@@ -422,6 +423,7 @@ def staged_folder(target: str | Path, inputs: list[Path], own_paths: set[str]):
         yield staging
         staging.chmod(_folder_mode(final))  # mkdtemp makes it 0700
         _sync_tree(staging)
+        stop.raise_if_stopped()   # a stop a finaliser dropped: the outputs are not made final
         _replace(staging, final)
 
 
@@ -447,6 +449,7 @@ def write_bytes_atomically(path: str | Path, data: bytes, private: bool = False)
             mask = os.umask(0)
             os.umask(mask)
             os.chmod(temporary, 0o666 & ~mask)
+        stop.raise_if_stopped()
         os.replace(temporary, path)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):

@@ -577,6 +577,70 @@ def test_ctrl_c_at_any_moment_exits_130_with_a_message_and_no_traceback(seed_cop
     assert litter(tmp_path) == [] and not out.exists()
 
 
+# A stop signal that arrives while a finaliser (__del__) runs: Python runs the handler
+# there and drops its exception ("Exception ignored in ..."), so the run went on as if no
+# stop had come (CI of 2026-11-27: Ctrl-C 2.5 s into a report, exit 0, the report written)
+INTERRUPTING = textwrap.dedent("""
+    import os, signal, sys
+    class Interrupting:
+        def __del__(self):
+            os.kill(os.getpid(), signal.SIGINT)
+            for _ in range(10000):   # the handler runs between these bytecodes
+                pass
+""")
+
+
+def test_a_stop_dropped_by_a_finaliser_still_keeps_the_outputs_from_being_made_final(tmp_path):
+    script = INTERRUPTING + textwrap.dedent("""
+        from certkit import outputs, stop
+        stop.install()
+        target = sys.argv[1]
+        try:
+            with outputs.staged_folder(target, [], {"a.txt"}) as folder:
+                (folder / "a.txt").write_text("x")
+                Interrupting()   # made and dropped at once: its finaliser runs here
+                print("the block went on")
+        except stop.Stopped as stopped:
+            print("stopped", stopped.code)
+        print("exists", os.path.exists(target))
+    """)
+    out = tmp_path / "out"
+    completed = subprocess.run([sys.executable, "-c", script, str(out)], capture_output=True,
+                               text=True, timeout=60)
+    assert "Exception ignored" in completed.stderr   # the situation is the one meant
+    assert completed.stdout.split("\n") == ["the block went on", "stopped 130", "exists False",
+                                            ""], completed.stdout
+    assert litter(tmp_path) == []
+
+
+def _run_command(body: str, tmp_path: Path, before: str = "") -> subprocess.CompletedProcess:
+    script = INTERRUPTING + textwrap.dedent("""
+        import atexit
+        from certkit.cli import app, run
+        @app.command("probe")
+        def probe():
+    """) + textwrap.indent(textwrap.dedent(body), "    ") + textwrap.dedent(before) + \
+        "sys.argv = ['certkit', 'probe']\nrun()\n"
+    return subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                          timeout=60, cwd=tmp_path)
+
+
+def test_a_stop_dropped_by_a_finaliser_still_ends_the_command_with_130(tmp_path):
+    completed = _run_command("Interrupting()\nprint('the command went on')\n", tmp_path)
+    assert completed.stdout == "the command went on\n"
+    assert completed.returncode == 130, completed.stderr
+    assert completed.stderr.rstrip().endswith(
+        "stopped (SIGINT, Ctrl-C); what the run had not finished writing was removed")
+
+
+def test_a_stop_signal_after_the_command_ended_is_ignored(tmp_path):
+    # at interpreter exit (an atexit callback): the outputs are in place, nothing to stop
+    completed = _run_command("print('done')\n", tmp_path, before="""
+        atexit.register(lambda: os.kill(os.getpid(), signal.SIGINT))
+    """)
+    assert (completed.returncode, completed.stdout, completed.stderr) == (0, "done\n", "")
+
+
 # --------------------------------------------------------------------------- the terminal
 def test_a_closed_standard_output_or_one_without_unicode_is_no_certkit_bug(small_campaign):
     # before: `certkit audit spec >&-` and PYTHONIOENCODING=ascii (a locale without UTF-8)

@@ -13,7 +13,8 @@ TEMPLATES = PACKAGE.parent / "templates"
 
 #: The stages in the order data flows through them; a module may import its own stage and
 #: earlier ones, never a later one.  Stage 0 is the foundation every stage may use.
-FOUNDATION = {"errors", "units", "results", "display", "outputs", "version", "threads"}
+FOUNDATION = {"errors", "units", "results", "display", "outputs", "version", "threads",
+              "stop"}
 STAGES = ["spec", "compliance", "physics", "ident", "gear_identification", "gap", "evidence",
           "archive", "cli"]
 LONGEST_MODULE = 600          # lines

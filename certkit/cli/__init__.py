@@ -10,7 +10,7 @@ schema, sets), :mod:`~certkit.cli.model` (simulate, calibrate, identify, gap) an
 :mod:`~certkit.cli.archive` (archive, verify, catalog).
 """
 
-from certkit.cli import stop
+from certkit import stop
 
 stop.install()   # first: a stop signal while the rest is imported ends the run quietly
 

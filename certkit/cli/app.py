@@ -25,7 +25,7 @@ import typer
 from rich.console import Console
 from rich.text import Text
 
-import certkit.cli.stop as stop
+import certkit.stop as stop
 from certkit.archive.bag import BagError
 from certkit.errors import (CampaignError, CertkitInputError, EnvironmentFailure,
                             is_environmental)
@@ -229,7 +229,10 @@ def run() -> None:
     """Console entry point: an unexpected error is reported as a bug (exit 3)."""
     _usable_streams()
     try:
-        app()
+        try:
+            app()
+        finally:
+            stop.finish()   # a stop signal from here on finds the outputs in place
     except (CertkitInputError, CampaignError, BagError) as problem:  # outside any command
         try:
             _report_user_error(problem, "certkit", "")
