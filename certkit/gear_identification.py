@@ -35,7 +35,7 @@ dimension), which makes other models, not the same ones.
 
 from __future__ import annotations
 
-import functools
+import contextlib
 import warnings
 from dataclasses import dataclass, field
 
@@ -46,7 +46,7 @@ from sklearn.base import clone
 from threadpoolctl import threadpool_limits
 
 from certkit.compliance.measures import touchdown_index, touchdown_time
-from certkit.display import with_unit
+from certkit.display import number, with_unit
 from certkit.errors import CertkitInputError
 from certkit.ident.hammerstein import HammersteinLSSVM
 from certkit.ident.linear_models import ARX
@@ -337,26 +337,35 @@ def _whiteness(result, name, output, test, predicted):
         y - predicted, test.load, max_lag=WHITENESS_LAGS, confidence=WHITENESS_CONFIDENCE)))
 
 
-def quiet_edges(identify):
-    """Run ``identify`` with :class:`~certkit.ident.search_space.SearchEdgeWarning` not
-    shown; every other warning is shown as usual.
+#: How the notes name a tuned hyper-parameter.
+SYMBOLS = {"gamma": "γ", "sigma2": "σ²"}
 
-    The drop protocol's searches keep their stated ranges (README, "Identification"), and
-    their tuned values often lie on an edge (on the example campaign the Hammerstein γ at
-    the lower end and σ² at the upper, the NARX γ and σ² at the upper).  The report does
-    not state that yet; a warning that tells a notebook user to widen a search has nothing
-    to act on in a report run.
-    """
-    @functools.wraps(identify)
-    def quiet(*args, **kwargs):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", SearchEdgeWarning)
-            return identify(*args, **kwargs)
-    return quiet
+
+@contextlib.contextmanager
+def _edges_as_notes(result: GearIdentification, output: str, model: str, block: str):
+    """The search edges of the tuning inside the block as notes of ``result`` (appendix B),
+    not as a :class:`~certkit.ident.search_space.SearchEdgeWarning` (the protocol keeps its
+    ranges: a report run can act only on a value fixed in the spec); others are shown."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", SearchEdgeWarning)
+        yield
+    for warning in caught:
+        if not isinstance(warning.message, SearchEdgeWarning):
+            warnings.warn_explicit(warning.message, warning.category, warning.filename,
+                                   warning.lineno)
+            continue
+        edges = warning.message.edges
+        where = "; ".join(f"{SYMBOLS.get(e.parameter, e.parameter)} = {number(e.value)}"
+                          f"{' kN²' * (e.parameter == 'sigma2' and block != 'narx')}, its "
+                          f"{e.side} end" for e in edges)
+        keys = ", ".join(f"model.identification.{block}.{e.parameter}" for e in edges)
+        result.notes.append(f"{OUTPUT_LABELS[output]}, {model}: the tuned point lies on the edge"
+                            f" of the protocol's search ({where}); a better fit may lie beyond "
+                            f"it. The protocol keeps its ranges; a value set in the spec "
+                            f"({keys}) is used instead of tuning")
 
 
 @one_blas_thread
-@quiet_edges
 def identify_gear(campaign: Campaign, gear_id: str,
                   calibration=None) -> GearIdentification | None:
     """Identify and validate every model of ``gear_id``; None without two usable runs.
@@ -404,7 +413,8 @@ def _identify_hammerstein(result, output, train, held, paper_train, settings, gr
     """Hammerstein LS-SVM of one output: tuned on the training runs, scored on both protocols."""
     first = held[0]
     # Hammerstein: tuned on the training runs only, for both protocols
-    tuned = _hammerstein(train, output, settings.hammerstein)
+    with _edges_as_notes(result, output, "Hammerstein", "hammerstein"):
+        tuned = _hammerstein(train, output, settings.hammerstein)
     paper = _refit(HammersteinLSSVM(settings.hammerstein.na, settings.hammerstein.nb,
                                     gamma=tuned.gamma, sigma2=tuned.sigma2,
                                     input_scale=RAW_UNITS),
@@ -432,10 +442,12 @@ def _identify_narx(result, output, train, held, paper_train, settings) -> None:
     first = held[0]
     # NARX (black-box reference), tuned on the training runs' free-run error
     spec = settings.narx
-    tuned_narx = NARX(spec.na, spec.nb, delay=1, gamma=spec.gamma.si if spec.gamma else None,
-                      sigma2=spec.sigma2.si if spec.sigma2 else None, engine="fixed-size",
-                      prototypes=150, tuning={"grid": 3, "max_refine": 8}).fit(
-        [d.load for d in train], [d.outputs[output] for d in train])
+    with _edges_as_notes(result, output, "NARX", "narx"):
+        tuned_narx = NARX(spec.na, spec.nb, delay=1,
+                          gamma=spec.gamma.si if spec.gamma else None,
+                          sigma2=spec.sigma2.si if spec.sigma2 else None, engine="fixed-size",
+                          prototypes=150, tuning={"grid": 3, "max_refine": 8}).fit(
+            [d.load for d in train], [d.outputs[output] for d in train])
     paper_narx = _refit(NARX(spec.na, spec.nb, delay=1, gamma=tuned_narx.gamma_,
                              sigma2=tuned_narx.sigma2_,
                              engine="fixed-size", prototypes=150), [paper_train], output)
@@ -511,11 +523,12 @@ def _identify_wiener(result, output, routes, train, held, paper_train, settings)
                                 f"gain is not determined (Σb or 1 − Σa near zero); it is "
                                 f"scaled to unit ‖b‖ instead of unit gain")
         spec = settings.wiener
-        wiener = WienerLSSVM(gamma=spec.gamma.si if spec.gamma else None,
-                             sigma2=spec.sigma2.si if spec.sigma2 else None,
-                             linear_block=block, input_scale=RAW_UNITS,
-                             tuning={"target": target}).fit(
-            [d.load for d in train], [d.outputs[output] for d in train])
+        with _edges_as_notes(result, output, name, "wiener"):
+            wiener = WienerLSSVM(gamma=spec.gamma.si if spec.gamma else None,
+                                 sigma2=spec.sigma2.si if spec.sigma2 else None,
+                                 linear_block=block, input_scale=RAW_UNITS,
+                                 tuning={"target": target}).fit(
+                [d.load for d in train], [d.outputs[output] for d in train])
         z_grid = np.linspace(*wiener.z_range_, 200)
         result.nonlinearities[(name, output)] = (z_grid, wiener.nonlinearity(z_grid))
         for test in held:

@@ -1,11 +1,15 @@
 """Identification on a synthetic campaign: every model scored by free-run simulation on
 the held-out drop, which is used for nothing else."""
 
+import re
+import warnings
+
 import numpy as np
 import pytest
 
 from certkit import load_campaign
 from certkit.gear_identification import identify_gear
+from certkit.ident.search_space import SearchEdgeWarning
 from certkit.physics.synthetic import simulate_campaign
 
 
@@ -19,8 +23,17 @@ def synthetic(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def result(synthetic):
-    return identify_gear(load_campaign(synthetic), "left-main")
+def identified(synthetic):
+    """The identification and the categories of the warnings it showed."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = identify_gear(load_campaign(synthetic), "left-main")
+    return result, [warning.category for warning in caught]
+
+
+@pytest.fixture(scope="module")
+def result(identified):
+    return identified[0]
 
 
 def test_every_model_is_scored_on_the_held_out_drop_in_free_run(result):
@@ -45,6 +58,26 @@ def test_the_true_model_family_predicts_the_held_out_drop_to_the_noise(result):
         score = next(s for s in result.scores if s.model == "governing equation, calibrated"
                      and s.output == output)
         assert score.rmse < 0.1  # mm
+
+
+def test_a_tuned_point_on_the_edge_of_the_protocols_search_is_a_note_not_a_warning(identified):
+    # before: the drop protocol's search edges were silenced (gear_identification.quiet_edges)
+    result, shown = identified
+    assert SearchEdgeWarning not in shown
+    notes = [n for n in result.notes if "lies on the edge of the protocol's search" in n]
+    hammerstein = [n for n in notes if ", Hammerstein: " in n]
+    assert hammerstein, result.notes
+    # the protocol's Hammerstein ranges (the identification page): γ in [10, 10⁶], σ² in
+    # [0.1, 1000] kN²; a point on an edge is at one of those ends, and the note names its key
+    ends = {"lower": {"γ": "10.00", "σ²": "0.1000 kN²"}, "upper": {"γ": "1.000×10⁶",
+                                                                   "σ²": "1000 kN²"}}
+    for note in hammerstein:
+        found = re.findall(r"(γ|σ²) = ([^,]+), its (lower|upper) end", note)
+        assert found, note
+        for symbol, value, side in found:
+            assert value == ends[side][symbol], note
+            key = {"γ": "gamma", "σ²": "sigma2"}[symbol]
+            assert f"model.identification.hammerstein.{key}" in note
 
 
 @pytest.mark.slow
@@ -108,6 +141,7 @@ def test_spec_chooses_held_out_runs_orders_and_fixed_hyper_parameters(synthetic)
     blocks = [block for (route, _), block in chosen.linear_blocks.items()]
     assert blocks and all(block.a_.size == 2 and block.b_.size == 2 for block in blocks)
     assert all(s.run == "D250" for s in chosen.scores)
+    assert not [n for n in chosen.notes if "edge of the protocol's search" in n]  # not tuned
 
 
 def test_identify_command_needs_two_recorded_drops(physics_campaign):

@@ -33,7 +33,12 @@ WIDEN_DECADES = 2
 
 
 class SearchEdgeWarning(CertkitWarning):
-    """The chosen point of a tuning search lies on a boundary of what was searched."""
+    """The chosen point of a tuning search lies on a boundary of what was searched;
+    ``edges``: the :class:`SearchEdge` s, for a caller that records them."""
+
+    def __init__(self, message: str, edges: tuple = ()):
+        super().__init__(message)
+        self.edges = tuple(edges)
 
 
 @dataclass(frozen=True)
@@ -135,9 +140,9 @@ def order_edges(point: dict, values: dict, ties: dict | None = None) -> list[Sea
 def warn_of_edges(edges: list[SearchEdge], who: str, stacklevel: int = 3) -> None:
     """A :class:`SearchEdgeWarning` listing every edge's advice (none without edges)."""
     if edges:
-        warnings.warn(f"{who}: the chosen point lies on the edge of the search, the best "
-                      f"may lie beyond it: " + "; ".join(e.advice for e in edges),
-                      SearchEdgeWarning, stacklevel=stacklevel)
+        warnings.warn(SearchEdgeWarning(
+            f"{who}: the chosen point lies on the edge of the search, the best may lie "
+            f"beyond it: " + "; ".join(e.advice for e in edges), edges), stacklevel=stacklevel)
 
 
 @dataclass(frozen=True)
