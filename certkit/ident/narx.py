@@ -4,7 +4,6 @@ automatic tuning uses the free-run simulation error on held-out data.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 
 import numpy as np
@@ -13,6 +12,7 @@ from certkit.ident.dynamic_model import DynamicModel, input_lags, regression_row
 from certkit.ident.experiments import (DataInputError, experiments, free_run_folds, order,
                                        per_channel, positive_number)
 from certkit.ident.fixed_size import FixedSizeLSSVM, renyi_bandwidth, select_prototypes
+from certkit.ident.free_run import low_pass, narx_steps
 from certkit.ident.lssvm import CHUNK_ENTRIES, LSSVMRegressor, rbf_kernel, tune
 from certkit.ident.search_space import warn_of_edges
 from certkit.ident.signature import orders_positional
@@ -50,7 +50,7 @@ OUTPUT_BOUNDS = ("none", "upper", "range")
 FILTER_STATE_GRID = 41      # candidate initial filter states over the training input range
 
 
-def input_filter(u: np.ndarray, pole: float, z0: float | None = None, delay: int = 1,
+def input_filter(u: np.ndarray, pole: float, z0=None, delay: int = 1,
                  cap: float = np.inf) -> np.ndarray:
     """Unit-gain first-order low-pass of one input channel, saturating at ``cap``.
 
@@ -59,18 +59,16 @@ def input_filter(u: np.ndarray, pole: float, z0: float | None = None, delay: int
     before the record starts.  A fixed filter of the input is an output-independent input
     "state", as the first Laguerre function of a Laguerre model, a first-order low-pass
     whose pole is fixed beforehand (Wahlberg, "System identification using Laguerre
-    models", IEEE Trans. Automatic Control 36(5), 1991).
+    models", IEEE Trans. Automatic Control 36(5), 1991).  ``z0`` an array of k starting
+    states: the k runs at once, as the columns of an (n, k) array.
     """
     u = np.asarray(u, dtype=float)
-    z = np.empty(u.size)
     if u.size == 0:
-        return z
+        return np.empty((0, np.size(z0))) if np.ndim(z0) else np.empty(0)
+    starts = np.atleast_1d(np.asarray(u[0] if z0 is None else z0, dtype=float))
     source = np.concatenate([np.full(delay, u[0]), u])[:u.size]     # u_{t−d}
-    gain = 1.0 - pole
-    z[0] = min(u[0] if z0 is None else z0, cap)
-    for t in range(1, u.size):
-        z[t] = min(pole * z[t - 1] + gain * source[t], cap)
-    return z
+    z = low_pass(source, float(pole), starts, float(cap))
+    return z if np.ndim(z0) else z[:, 0]
 
 
 class NARX(DynamicModel):
@@ -291,7 +289,7 @@ class NARX(DynamicModel):
         return [(u - u_mean) / u_std for u in us], [(y - y_mean) / y_std for y in ys]
 
     def _rows(self, us, ys):
-        X, target = narx_regressors(us, ys, self._na, self._nb, self._delay)
+        X, target = regression_rows(list(zip(us, ys)), self._na, self._nb, self._delay)
         if self.filter_pole is None:
             return X, target
         start = self.init_length
@@ -317,16 +315,19 @@ class NARX(DynamicModel):
         n0, start = y_init.size, self.init_length
         if n0 <= start:
             return None
-        X, target = narx_regressors([u[:n0]], [y_init], self._na, self._nb, self._delay)
+        X, target = regression_rows([(u[:n0], y_init)], self._na, self._nb, self._delay)
         z0 = u[0].copy()
+        column = X.shape[1]                  # the first filter column of the rows
         for c in range(u.shape[1]):
             grid = np.linspace(*self.u_range_[c], FILTER_STATE_GRID)
-            rows = []
-            for value in grid:
-                z0[c] = value
-                rows.append(np.hstack([X, self._filter_columns(u[:n0], z0)[start:]]))
-            # every grid value's rows predicted at once (one kernel evaluation, not 41)
-            error = model.predict(np.vstack(rows)).reshape(grid.size, -1) - target
+            # the rows of every grid value at once (one kernel evaluation, not 41): the
+            # other channels' states as chosen so far, channel c's from each grid value
+            rows = np.tile(np.hstack([X, self._filter_columns(u[:n0], z0)[start:]]),
+                           (grid.size, 1))
+            states = input_filter(u[:n0, c], float(self.filter_pole), grid, self._delay[c],
+                                  self.filter_cap_[c])
+            rows[:, column + c] = states[start:].T.ravel()
+            error = model.predict(rows).reshape(grid.size, -1) - target
             z0[c] = grid[int(np.argmin(np.einsum("ij,ij->i", error, error)))]
         return z0
 
@@ -334,7 +335,7 @@ class NARX(DynamicModel):
     def _fit(self, pairs) -> None:
         us, ys = [p[0] for p in pairs], [p[1] for p in pairs]
         self._check_structure(us[0].shape[1])
-        narx_regressors(us, ys, self._na, self._nb, self._delay)   # shape checks first
+        regression_rows(pairs, self._na, self._nb, self._delay)    # shape checks first
         self._choose_engine(ys)
         scaling = self._standardisation(us, ys)
         self.u_mean_, self.u_std_, self.y_mean_, self.y_std_ = scaling
@@ -442,7 +443,8 @@ class NARX(DynamicModel):
 
         The RBF kernel factorises over the regressor coordinates, so the input part
         exp(−‖u-window − c_u‖²/σ²)·α_j is computed for a block of steps at once and only
-        the output-lag part is evaluated inside the loop.
+        the output-lag part is evaluated inside the recursion
+        (:func:`certkit.ident.free_run.narx_steps`, compiled).
         """
         n, start, na = u.shape[0], y_init.size, self._na
         centres, coef, bias, s2 = model.support_, model.alpha_, model.b_, model.sigma2
@@ -452,7 +454,6 @@ class NARX(DynamicModel):
         if self.filter_pole is not None:
             states = self._filter_columns(u, self._initial_filter_state(model, u, y_init))
         low, high = self._low, self._high
-        bounded = math.isfinite(low) or math.isfinite(high)
         # parametric part (fixed-size engine; zero otherwise): β_y on the output lags in
         # time order, β_u on the input columns, θ on the cubic monomials of the lags
         beta = getattr(model, "linear_", np.zeros(centres.shape[1]))
@@ -477,15 +478,8 @@ class NARX(DynamicModel):
                 weights = np.broadcast_to(coef, (t.size, coef.size))
             if na == 0:
                 y[t] = weights.sum(axis=1) + shift
-                if bounded:
-                    y[t] = np.clip(y[t], low, high)
+                y[t] = np.clip(y[t], low, high)
                 continue
-            for row, step in enumerate(t):
-                history = y[step - na:step]                 # y_{t−na}, …, y_{t−1}
-                z = lin @ history + offset - (history @ history) / s2
-                value = weights[row] @ np.exp(np.minimum(z, 0.0)) + shift[row] \
-                    + beta_y @ history
-                if theta.size:
-                    value += theta @ np.prod(history[monomials], axis=1)
-                y[step] = min(max(value, low), high) if bounded else value
+            narx_steps(y, first, np.ascontiguousarray(weights), shift, lin, offset, s2, beta_y,
+                       theta, monomials, low, high)
         return y
