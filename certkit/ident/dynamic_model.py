@@ -198,17 +198,25 @@ def regressors(u: np.ndarray, y: np.ndarray, t: np.ndarray, na: int, nb: tuple[i
     return np.hstack(columns)
 
 
-def regression_rows(pairs, na: int, nb: tuple[int, ...], delay: tuple[int, ...]
-                    ) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`regressors` and targets y_t of every (u, y) experiment, each from
-    t0 = max(na, d_c + nb_c − 1), so that no window reaches into another experiment."""
+def lag_window(pairs, na: int, nb: tuple[int, ...], delay: tuple[int, ...]) -> int:
+    """t0 = max(na, d_c + nb_c − 1), the first sample with a regression row, after checking
+    that every (u, y) experiment has one."""
     start = max([na] + [d + n - 1 for d, n in zip(delay, nb)])
-    blocks, targets = [], []
-    for k, (u, y) in enumerate(pairs):
+    for k, (_, y) in enumerate(pairs):
         if y.size <= start:
             raise DataInputError(f"y[{k}]" if len(pairs) > 1 else "y",
                                  f"expected at least {start + 1} samples for these lags, "
                                  f"found {y.size} sample(s)")
+    return start
+
+
+def regression_rows(pairs, na: int, nb: tuple[int, ...], delay: tuple[int, ...]
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`regressors` and targets y_t of every (u, y) experiment, each from
+    t0 = :func:`lag_window`, so that no window reaches into another experiment."""
+    start = lag_window(pairs, na, nb, delay)
+    blocks, targets = [], []
+    for u, y in pairs:
         t = np.arange(start, y.size)
         blocks.append(regressors(u, y, t, na, nb, delay))
         targets.append(y[t])

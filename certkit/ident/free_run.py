@@ -20,16 +20,19 @@ from numba import njit
 
 
 @njit(cache=True, error_model="numpy")
-def low_pass(source: np.ndarray, pole: float, z0: np.ndarray, cap: float) -> np.ndarray:
-    """z[t, k] = min(pole·z[t−1, k] + (1 − pole)·source[t], cap) from z[0, k] = min(z0[k],
-    cap): one column per starting state z0[k], (n, len(z0))."""
+def low_pass(u: np.ndarray, pole: float, z0: np.ndarray, delay: int, cap: float
+             ) -> np.ndarray:
+    """z[t, k] = min(pole·z[t−1, k] + (1 − pole)·u[t − delay], cap) from z[0, k] =
+    min(z0[k], cap), with u[t − delay] = u[0] before the record starts: one column per
+    starting state z0[k], (n, len(z0))."""
     gain = 1.0 - pole
-    z = np.empty((source.size, z0.size))
+    z = np.empty((u.size, z0.size))
     for k in range(z0.size):
         z[0, k] = cap if cap < z0[k] else z0[k]
-    for t in range(1, source.size):
+    for t in range(1, u.size):
+        source = u[t - delay] if t >= delay else u[0]
         for k in range(z0.size):
-            value = pole * z[t - 1, k] + gain * source[t]
+            value = pole * z[t - 1, k] + gain * source
             z[t, k] = cap if cap < value else value
     return z
 

@@ -79,13 +79,20 @@ def feature_matrix(name: str, x) -> np.ndarray:
 
 
 
+def kept_kernel(x: np.ndarray, z: np.ndarray, sigma2: float) -> np.ndarray:
+    """:func:`rbf_kernel`, kept inside a tuning search (:mod:`certkit.ident.reuse`) under the
+    rows' bytes and σ²: the fits of one fold predict the same rows from the same centres
+    (its training rows) for every γ.  Not to be modified."""
+    return kept("kernel", digest(x, z, sigma2), lambda: rbf_kernel(x, z, sigma2))
+
+
 def kernel_expansion(x: np.ndarray, centres: np.ndarray, coef: np.ndarray, bias: float,
                       sigma2: float) -> np.ndarray:
     """Σ_j coef_j K(x, c_j) + bias, in row chunks so memory stays bounded."""
     rows = max(1, CHUNK_ENTRIES // max(1, centres.shape[0]))
     out = np.empty(x.shape[0])
     for start in range(0, x.shape[0], rows):
-        out[start:start + rows] = rbf_kernel(x[start:start + rows], centres, sigma2) @ coef
+        out[start:start + rows] = kept_kernel(x[start:start + rows], centres, sigma2) @ coef
     return out + bias
 
 
@@ -258,7 +265,9 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
          sigma2=(1e-2, 1e3), grid: int | tuple[int, int] = 7,
          start: tuple[float, float] | None = None,
          refine: bool = True, max_refine: int = 40,
-         tolerance: float = 0.02, allow_infinite: bool = False) -> TuningResult:
+         tolerance: float = 0.02, allow_infinite: bool = False,
+         prefetch: Callable[[list[tuple[float, float]]], None] | None = None
+         ) -> TuningResult:
     """Minimise a cross-validation cost over (γ, σ²): log grid, then Nelder–Mead.
 
     Parameters
@@ -283,6 +292,10 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
     allow_infinite : bool
         Return a result of cost +inf when no evaluation is finite, instead of raising
         (a caller that searches several structures and ranks them itself).
+    prefetch : callable, optional
+        Called once with the grid's (γ, σ²) points, in the order they are then evaluated,
+        before the first: a cost that scores in worker processes starts them all at once
+        (:func:`certkit.ident.tune_free_run`).
 
     Returns
     -------
@@ -301,11 +314,11 @@ def tune(cost: Callable[[float, float], float], *, gamma=(1e-2, 1e6),
     """
     with reusing():
         return _tune(cost, gamma, sigma2, grid, start, refine, max_refine, tolerance,
-                     allow_infinite)
+                     allow_infinite, prefetch)
 
 
 def _tune(cost, gamma, sigma2, grid, start, refine, max_refine, tolerance,
-          allow_infinite) -> TuningResult:
+          allow_infinite, prefetch) -> TuningResult:
     names = ("gamma", "sigma2")
     specs = (gamma, sigma2)
     fixed, bounds = {}, {}
@@ -328,8 +341,11 @@ def _tune(cost, gamma, sigma2, grid, start, refine, max_refine, tolerance,
         values.update({n: 10.0 ** float(v) for n, v in zip(free, logs)})
         return values
 
+    def rounded(logs) -> tuple:
+        return tuple(round(float(v), 9) for v in logs)
+
     def evaluate(logs) -> float:
-        key = tuple(round(float(v), 9) for v in logs)
+        key = rounded(logs)
         if key not in record:
             values = point(key)
             with recorded_warnings() as messages:
@@ -346,7 +362,10 @@ def _tune(cost, gamma, sigma2, grid, start, refine, max_refine, tolerance,
         if min(points[n] for n in free) < 2:
             raise ValueError("grid must be at least 2")
         axes = [np.linspace(*bounds[n], points[n]) for n in free]
-        for logs in np.array(np.meshgrid(*axes, indexing="ij")).reshape(len(free), -1).T:
+        grid_logs = np.array(np.meshgrid(*axes, indexing="ij")).reshape(len(free), -1).T
+        if prefetch is not None:
+            prefetch([(v["gamma"], v["sigma2"]) for v in map(point, map(rounded, grid_logs))])
+        for logs in grid_logs:
             evaluate(logs)
     else:
         start_values = dict(zip(names, start))

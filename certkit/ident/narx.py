@@ -8,12 +8,12 @@ from collections.abc import Callable
 
 import numpy as np
 
-from certkit.ident.dynamic_model import DynamicModel, input_lags, regression_rows
+from certkit.ident.dynamic_model import DynamicModel, input_lags, lag_window, regression_rows
 from certkit.ident.experiments import (DataInputError, experiments, free_run_folds, order,
                                        per_channel, positive_number)
 from certkit.ident.fixed_size import FixedSizeLSSVM, renyi_bandwidth, select_prototypes
 from certkit.ident.free_run import low_pass, narx_steps
-from certkit.ident.lssvm import CHUNK_ENTRIES, LSSVMRegressor, rbf_kernel, tune
+from certkit.ident.lssvm import CHUNK_ENTRIES, LSSVMRegressor, kept_kernel, tune
 from certkit.ident.search_space import warn_of_edges
 from certkit.ident.signature import orders_positional
 from certkit.ident.sizing import choose_engine
@@ -66,8 +66,7 @@ def input_filter(u: np.ndarray, pole: float, z0=None, delay: int = 1,
     if u.size == 0:
         return np.empty((0, np.size(z0))) if np.ndim(z0) else np.empty(0)
     starts = np.atleast_1d(np.asarray(u[0] if z0 is None else z0, dtype=float))
-    source = np.concatenate([np.full(delay, u[0]), u])[:u.size]     # u_{t−d}
-    z = low_pass(source, float(pole), starts, float(cap))
+    z = low_pass(u, float(pole), starts, int(delay), float(cap))
     return z if np.ndim(z0) else z[:, 0]
 
 
@@ -335,7 +334,7 @@ class NARX(DynamicModel):
     def _fit(self, pairs) -> None:
         us, ys = [p[0] for p in pairs], [p[1] for p in pairs]
         self._check_structure(us[0].shape[1])
-        regression_rows(pairs, self._na, self._nb, self._delay)    # shape checks first
+        lag_window(pairs, self._na, self._nb, self._delay)         # shape checks first
         self._choose_engine(ys)
         scaling = self._standardisation(us, ys)
         self.u_mean_, self.u_std_, self.y_mean_, self.y_std_ = scaling
@@ -472,7 +471,7 @@ class NARX(DynamicModel):
             if lags or states is not None:
                 columns = [u[t - lag, c] for c, lag in lags]
                 window = np.column_stack(columns + ([] if states is None else [states[t]]))
-                weights = rbf_kernel(window, c_u, s2) * coef
+                weights = kept_kernel(window, c_u, s2) * coef
                 shift += window @ beta_u
             else:
                 weights = np.broadcast_to(coef, (t.size, coef.size))

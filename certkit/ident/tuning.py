@@ -59,6 +59,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 from sklearn.base import clone
@@ -67,7 +68,8 @@ from certkit.ident.ensemble import EnsembleModel
 from certkit.ident.experiments import DataInputError, experiments, free_run_folds
 from certkit.ident.hammerstein import HammersteinLSSVM
 from certkit.ident.lssvm import recorded_warnings, tune
-from certkit.ident.workers import fold_workers, running_workers, scored_fold
+from certkit.ident.workers import (collected, fold_workers, running_workers, scored_fold,
+                                   submitted)
 from certkit.ident.narx import NARX
 from certkit.ident.search_space import (SearchEdge, order_edges, order_settings, range_edges,
                                         warn_of_edges)
@@ -173,31 +175,25 @@ class FreeRunCV:
         the first rejected fold ends the evaluation (one suffices to reject).  Every other
         method (the cost, :meth:`fold_errors`, :func:`tune_free_run`'s record) reads this
         one: a subclass that scores folds otherwise overrides it."""
-        if self.mode not in MODES:
-            raise DataInputError("mode", f"expected one of {', '.join(MODES)}, found "
-                                         f"{self.mode!r}")
-        lengths = [y.size for _, y in pairs]
-        splits = list(enumerate(free_run_folds(lengths, self.folds, 2)))
+        if running_workers():
+            return collected(self.start(estimator, pairs))
         out = []
-        workers = running_workers()
-        if workers:
-            # fold k always to worker k (mod n): it keeps that fold's reusable parts; the
-            # outcomes are read in fold order and cut at the first rejected one, as below
-            futures = [workers[fold % len(workers)].submit(
-                           scored_fold, self, fold, estimator, pairs, train, held)
-                       for fold, (train, held) in splits]
-            for future in futures:
-                out.append(future.result())
-                if out[-1].rejected:
-                    break
-            for future in futures:
-                future.cancel()
-            return out
-        for fold, (train, held) in splits:
+        for fold, (train, held) in self._splits(pairs):
             out.append(scored_fold(self, fold, estimator, pairs, train, held))
             if out[-1].rejected:
                 break
         return out
+
+    def start(self, estimator, pairs):
+        """The folds of :meth:`outcomes` submitted to the search's workers, for
+        :func:`~certkit.ident.workers.collected` to read (None without workers)."""
+        return running_workers() and submitted(self, estimator, pairs, self._splits(pairs))
+
+    def _splits(self, pairs) -> list:
+        if self.mode not in MODES:
+            raise DataInputError("mode", f"expected one of {', '.join(MODES)}, found "
+                                         f"{self.mode!r}")
+        return list(enumerate(free_run_folds([y.size for _, y in pairs], self.folds, 2)))
 
     def _fold(self, fold: int, estimator, pairs, train, held) -> FoldOutcome:
         model = clone(estimator)
@@ -311,9 +307,9 @@ def default_ranges(estimator, n_inputs: int) -> dict:
     """The (γ, σ²) search ranges of :func:`tune_free_run` when none are given.
 
     NARX: γ ∈ [1e-1, 1e7], σ² ∈ [0.01, 1000]·d, d = na + Σnb (+ one per input with
-    ``filter_pole``) in standardised regressor units
-    (lagged samples of an oversampled signal are strongly correlated, so the useful σ² can
-    be far above the dimension).  Hammerstein: γ ∈ [1e-1, 1e7], σ² ∈ [1e-2, 1e2]·n_inputs
+    ``filter_pole``) in standardised regressor units (lagged samples of an oversampled
+    signal are strongly correlated, so the useful σ² can be far above the dimension).
+    Hammerstein: γ ∈ [1e-1, 1e7], σ² ∈ [1e-2, 1e2]·n_inputs
     (standardised inputs).  Wiener: γ ∈ [1, 1e7], σ² ∈ [1e-3, 1e3] (standardised z: a
     smooth map needs σ² of several variances of z).  ARX: none (orders only)."""
     if isinstance(estimator, NARX):
@@ -479,8 +475,7 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None,
         raise DataInputError("rule", "expected a FreeRunCV cost and no smoothing with the "
                                      "one-standard-error rule (it needs the fold errors), "
                                      f"found cost {cost!r}, smoothing {smoothing!r}")
-    if isinstance(ensemble, bool) or not isinstance(ensemble, (int, np.integer)) \
-            or ensemble < 1:
+    if isinstance(ensemble, bool) or not isinstance(ensemble, (int, np.integer)) or ensemble < 1:
         raise DataInputError("ensemble", f"expected a positive integer, found {ensemble!r}")
     if isinstance(n_jobs, bool) or not isinstance(n_jobs, (int, np.integer)) or n_jobs < 1:
         raise DataInputError("n_jobs", f"expected a positive integer, found {n_jobs!r}")
@@ -489,12 +484,21 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None,
                                        f"its folds are scored in parallel), found {n_jobs}")
     folds: dict = {}                     # (orders, γ, σ²) -> per-fold NRMSE² ("one-se")
     found: dict = {}                     # (orders, γ, σ²) -> a FreeRunCV's fold outcomes
+    started: dict = {}                   # (orders, γ, σ²) -> its folds, started in the workers
     variance = output_variance(pairs)
+
+    def start(base, setting, points) -> None:
+        """Every grid point's folds started in the workers before the first is read, so
+        that they never wait for this process (a subclass's own outcomes are not)."""
+        if n_jobs > 1 and type(cost).outcomes is FreeRunCV.outcomes:
+            started.update({(setting, g, s): cost.start(clone(base).set_params(
+                gamma=g, sigma2=s), pairs) for g, s in points})
 
     def evaluate(candidate, key) -> float:
         if not isinstance(cost, FreeRunCV):
             return cost(candidate, pairs)
-        found[key] = tuple(cost.outcomes(candidate, pairs))
+        futures = started.pop(key, None)
+        found[key] = tuple(collected(futures) if futures else cost.outcomes(candidate, pairs))
         errors = [(o.squared, o.count) for o in found[key]]
         if rule == "one-se":
             folds[key] = [q / (n * variance) if n else math.inf for q, n in errors]
@@ -527,7 +531,8 @@ def tune_free_run(estimator, u, y, *, gamma=None, sigma2=None,
             result = tune(lambda g, s, base=base, c=setting: evaluate(
                               clone(base).set_params(gamma=g, sigma2=s), (c, g, s)),
                           grid=grid, refine=refine and smoothing == 0.0,
-                          max_refine=max_refine, allow_infinite=True, **ranges)
+                          max_refine=max_refine, allow_infinite=True,
+                          prefetch=partial(start, base, setting), **ranges)
             points = (grid, grid) if np.ndim(grid) == 0 else tuple(grid)
             n_grid = int(np.prod([n for n, k in zip(points, ("gamma", "sigma2"))
                                   if np.ndim(ranges[k]) > 0]))

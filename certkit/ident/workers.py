@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import multiprocessing
 from collections.abc import Iterator
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import Future, ProcessPoolExecutor
 from contextlib import contextmanager
 from dataclasses import replace
 
@@ -52,6 +52,27 @@ def _start_worker() -> None:
     global _workers
     _workers = None
     keep_in_this_process()
+
+
+def submitted(cv, estimator, pairs, splits) -> list[Future]:
+    """The folds ``splits`` ((fold, (train, held)) pairs) of ``estimator`` submitted to the
+    workers, fold k to worker k mod n (it keeps that fold's reusable parts)."""
+    return [_workers[fold % len(_workers)].submit(scored_fold, cv, fold, estimator, pairs,
+                                                  train, held)
+            for fold, (train, held) in splits]
+
+
+def collected(futures: list[Future]) -> list:
+    """The outcomes of :func:`submitted` folds in fold order, cut at the first rejected one
+    (as a search in one process stops there); the folds after it are cancelled."""
+    out = []
+    for future in futures:
+        out.append(future.result())
+        if out[-1].rejected:
+            break
+    for future in futures:
+        future.cancel()
+    return out
 
 
 def scored_fold(cv, fold: int, estimator, pairs, train, held):
