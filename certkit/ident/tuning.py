@@ -68,7 +68,7 @@ from certkit.ident.ensemble import EnsembleModel
 from certkit.ident.experiments import DataInputError, experiments, free_run_folds
 from certkit.ident.hammerstein import HammersteinLSSVM
 from certkit.ident.lssvm import recorded_warnings, tune
-from certkit.ident.workers import (collected, fold_workers, running_workers, scored_fold,
+from certkit.ident.workers import (collected, fold_workers, running_workers, scored_folds,
                                    submitted)
 from certkit.ident.narx import NARX
 from certkit.ident.search_space import (SearchEdge, order_edges, order_settings, range_edges,
@@ -177,12 +177,7 @@ class FreeRunCV:
         one: a subclass that scores folds otherwise overrides it."""
         if running_workers():
             return collected(self.start(estimator, pairs))
-        out = []
-        for fold, (train, held) in self._splits(pairs):
-            out.append(scored_fold(self, fold, estimator, pairs, train, held))
-            if out[-1].rejected:
-                break
-        return out
+        return scored_folds(self, estimator, pairs, self._splits(pairs))
 
     def start(self, estimator, pairs):
         """The folds of :meth:`outcomes` submitted to the search's workers, for

@@ -56,22 +56,30 @@ def _start_worker() -> None:
 
 def submitted(cv, estimator, pairs, splits) -> list[Future]:
     """The folds ``splits`` ((fold, (train, held)) pairs) of ``estimator`` submitted to the
-    workers, fold k to worker k mod n (it keeps that fold's reusable parts)."""
-    return [_workers[fold % len(_workers)].submit(scored_fold, cv, fold, estimator, pairs,
-                                                  train, held)
-            for fold, (train, held) in splits]
+    workers, fold k to worker k mod n (it keeps that fold's reusable parts): one task per
+    worker, its folds in order (:func:`scored_folds`)."""
+    n = len(_workers)
+    return [_workers[k].submit(scored_folds, cv, estimator, pairs, splits[k::n])
+            for k in range(min(n, len(splits)))]
 
 
 def collected(futures: list[Future]) -> list:
     """The outcomes of :func:`submitted` folds in fold order, cut at the first rejected one
-    (as a search in one process stops there); the folds after it are cancelled."""
+    (each worker stopped at its own first, after it)."""
+    outcomes = sorted((o for future in futures for o in future.result()),
+                      key=lambda o: o.fold)
+    cut = next((i + 1 for i, o in enumerate(outcomes) if o.rejected), len(outcomes))
+    return outcomes[:cut]
+
+
+def scored_folds(cv, estimator, pairs, splits) -> list:
+    """``cv``'s outcomes of the folds ``splits`` in order, up to the first rejected one (one
+    suffices to reject): in this process or a worker's."""
     out = []
-    for future in futures:
-        out.append(future.result())
+    for fold, (train, held) in splits:
+        out.append(scored_fold(cv, fold, estimator, pairs, train, held))
         if out[-1].rejected:
             break
-    for future in futures:
-        future.cancel()
     return out
 
 
