@@ -177,8 +177,9 @@ def main() -> None:
         print(f"{label:60s} {value:9.4f} {100 * value / (scale * np.std(y_val)):6.1f} "
               f"{tuning:10.1f} {fit:8.2f}")
     print(f"tuning: certkit's default search in {args.jobs} worker process(es) (median of "
-          f"{len(seconds)}); SysIdentPy's {len(FROLS_DEGREES) * len(FROLS_LAGS) ** 2} "
-          f"candidates x 8 folds in this process")
+          f"{len(seconds)})" + (f"; SysIdentPy's {len(FROLS_DEGREES) * len(FROLS_LAGS) ** 2} "
+                                f"candidates x 8 folds in this process" if len(rows) > 1
+                                else ""))
 
 
 if __name__ == "__main__":

@@ -476,9 +476,8 @@ class NARX(DynamicModel):
             else:
                 weights = np.broadcast_to(coef, (t.size, coef.size))
             if na == 0:
-                y[t] = weights.sum(axis=1) + shift
-                y[t] = np.clip(y[t], low, high)
+                y[t] = np.clip(weights.sum(axis=1) + shift, low, high)
                 continue
-            narx_steps(y, first, np.ascontiguousarray(weights), shift, lin, offset, s2, beta_y,
-                       theta, monomials, low, high)
+            narx_steps(y, first, np.ascontiguousarray(weights), shift, lin, offset, float(s2),
+                       beta_y, theta, monomials, low, high)
         return y
