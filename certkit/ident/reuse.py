@@ -3,10 +3,11 @@
 A grid over (γ, σ²) fits the same training rows many times: the fixed-size LS-SVM's
 prototypes do not depend on (γ, σ²) at all, and its normal equations ΦᵀΦ, Φᵀy, like the
 dual LS-SVM's squared distances between training rows and the kernel between the rows a
-fold's models predict and their centres, depend on σ² (or on neither) but not on γ.  Inside :func:`reusing` (entered by :func:`certkit.ident.lssvm.tune`) the fits
-keep those parts under a digest of everything they depend on — the rows' bytes, the
-parameters — and take them back when the same rows come again with another γ.  Outside
-it nothing is kept: a single fit computes everything as before.
+fold's models predict and their centres, depend on σ² (or on neither) but not on γ.
+Inside :func:`reusing` (entered by :func:`certkit.ident.lssvm.tune`) the fits keep those
+parts under a digest of everything they depend on — the rows' bytes, the parameters — and
+take them back when the same rows come again with another γ.  Outside it nothing is kept:
+a single fit computes everything as before.
 
 The parts kept are exact: a fit that takes one back computes from the same numbers as
 one that made it.  They are held in memory until the outermost :func:`reusing` ends, at
