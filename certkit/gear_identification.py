@@ -337,8 +337,7 @@ def _whiteness(result, name, output, test, predicted):
         y - predicted, test.load, max_lag=WHITENESS_LAGS, confidence=WHITENESS_CONFIDENCE)))
 
 
-#: How the notes name a tuned hyper-parameter.
-SYMBOLS = {"gamma": "γ", "sigma2": "σ²"}
+SYMBOLS = {"gamma": "γ", "sigma2": "σ²"}   # how the notes name a tuned hyper-parameter
 
 
 @contextlib.contextmanager
