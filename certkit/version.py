@@ -16,9 +16,12 @@ def git_commit() -> str | None:
     try:
         commit = subprocess.run(["git", "-C", str(source), "rev-parse", "HEAD"], check=True,
                                 capture_output=True, text=True, timeout=10).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(source), "status", "--porcelain",
-                                "--untracked-files=no"], check=True, capture_output=True,
-                               text=True, timeout=10).stdout.strip()
+        # no optional locks: a plain status refreshes the index under .git/index.lock, and
+        # a run stopped at that moment (Ctrl-C kills it) would leave the lock in the user's
+        # repository, refusing their next git command
+        dirty = subprocess.run(["git", "--no-optional-locks", "-C", str(source), "status",
+                                "--porcelain", "--untracked-files=no"], check=True,
+                               capture_output=True, text=True, timeout=10).stdout.strip()
     except (OSError, subprocess.SubprocessError):
         return None
     return commit + ("-dirty" if dirty else "")

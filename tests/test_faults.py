@@ -689,3 +689,22 @@ def test_the_command_line_imported_from_another_thread_leaves_signal_handlers_al
                                timeout=120)
     assert completed.returncode == 0, completed.stderr
     assert completed.stdout.strip() == "[] True"
+
+
+def test_reading_the_source_commit_takes_no_lock_in_the_repository(monkeypatch):
+    # a `git status` refreshes the index under .git/index.lock; a report stopped at that
+    # moment killed it and left the lock behind (make test, 2026-11-27), so the next git
+    # command in the checkout was refused
+    import certkit.version as version
+
+    commands = []
+
+    def run(command, **options):
+        commands.append(command)
+        return subprocess.CompletedProcess(command, 0, stdout="", stderr="")
+
+    monkeypatch.setattr(version.subprocess, "run", run)
+    monkeypatch.setattr(version.Path, "exists", lambda self: True)   # as in a checkout
+    version.git_commit()
+    status = [c for c in commands if "status" in c]
+    assert status and all(c[:2] == ["git", "--no-optional-locks"] for c in status), commands
