@@ -18,8 +18,6 @@ import importlib.util
 import math
 import os
 import shutil
-import subprocess
-import sys
 import textwrap
 from pathlib import Path
 
@@ -279,26 +277,22 @@ def evidence_cache(tmp_path_factory) -> Path:
 
 
 @pytest.fixture(scope="session")
-def full_report(tmp_path_factory) -> Path:
-    """The example's full report (drop-model appendices included), made once by the
-    command line in a fresh process; the slow checks share it."""
-    from .full_reports import SHARED_CACHE
+def full_report_run(tmp_path_factory) -> tuple[Path, tuple[int, str, str]]:
+    """The seed example's full report (drop-model appendices included), made once per test
+    worker by the command line in a fresh process, its drop-model evidence made afresh
+    (tests/full_reports.made): the output folder and the run's (exit code, stdout, stderr).
+    About a minute: only slow checks use it (tests/test_full_report_seed.py among them)."""
+    from .full_reports import made
 
-    out = tmp_path_factory.mktemp("full-report") / "out"
-    # the evidence test_full_report_seed.py made (when make test ran before on this machine:
-    # CI runs it first), else made here; a copy of that cache, so that nothing here writes
-    # into the shared one
-    cache = out.parent / "cache"
-    cache.mkdir(mode=0o700)
-    for entry in SHARED_CACHE.glob("*.pickle"):
-        shutil.copyfile(entry, cache / entry.name)
-    environment = dict(os.environ, CERTKIT_CACHE=str(cache))
-    completed = subprocess.run([sys.executable, "-m", "certkit.cli", "report", str(SEED),
-                                "-o", str(out)], check=True, capture_output=True, text=True,
-                               timeout=600, env=environment)
-    (out.parent / "report.stderr").write_text(completed.stderr, encoding="utf-8")
+    return made(SEED, tmp_path_factory.mktemp("full-report"))
+
+
+@pytest.fixture(scope="session")
+def full_report(full_report_run) -> Path:
+    """The output folder of :func:`full_report_run`, which must have succeeded."""
+    out, (code, _, stderr) = full_report_run
+    assert code == 0, stderr
     return out
-
 
 
 # ------------------------------------------------------------------ the catalog's databases

@@ -1,8 +1,9 @@
 """The checks of a shipped example's full report, made by the command line as a user makes
 it (the drop model's calibration, identification and gap diagnosis included).  Each
-example's test module (test_full_report_*.py) runs them on its own report, so that the two
-reports are made on two test workers at once (tests/test_thread_counts.py, slow, checks that
-two threads and two processes give the same bytes):
+example's test module (test_full_report_*.py) runs them on its own report: the second
+example's in make test, the seed's (a minute of one core) among the slow checks, on the
+report they share (conftest.full_report_run); tests/test_thread_counts.py, slow, checks that
+two threads and two processes give the same bytes:
 
 * the compliance body first: page 1 names every reason a criterion is not PASS, the body
   (before the first appendix) fits in 22 pages, each appendix opens saying it is not

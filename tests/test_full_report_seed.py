@@ -1,5 +1,9 @@
 """The seed example's full report (two main gear units, the paper's reported values beside
-synthetic records): the checks of tests/full_reports.py, and what its gap diagnosis finds."""
+synthetic records): the checks of tests/full_reports.py, and what its gap diagnosis finds.
+Slow (about a minute of one core, the largest single cost of make test before): the report
+is conftest.full_report_run, which the other slow checks of the full report share; the
+second example's full report (tests/test_full_report_second.py) keeps the same checks in
+make test."""
 
 from __future__ import annotations
 
@@ -7,14 +11,15 @@ import json
 
 import pytest
 
-from .conftest import SEED
 from .full_reports import *  # noqa: F403 - the shared checks, run on this example's report
-from .full_reports import made
+
+
+pytestmark = pytest.mark.slow
 
 
 @pytest.fixture(scope="module")
-def reports(tmp_path_factory):
-    return made(SEED, tmp_path_factory.mktemp("seed-full"))
+def reports(full_report_run):
+    return full_report_run
 
 
 def test_the_diagnosis_names_effects_of_the_synthetic_records_truth(reports):
