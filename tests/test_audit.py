@@ -256,10 +256,8 @@ RESERVE_RUN = """\
 """
 
 
-def _audit_exit(tmp_path, height: str, failure: str, basis: str = "14CFR23-amdt62"):
-    import subprocess
-    import sys
-
+def _reserve_campaign(tmp_path, height: str, failure: str, basis: str = "14CFR23-amdt62"):
+    """The timeseries campaign with a reserve-energy run R2 from ``height``."""
     from .conftest import TIMESERIES_SPEC, analytic_signals, write_campaign, write_csv
 
     folder = tmp_path / f"c-{height.replace(' ', '')}-{failure}-{basis}"
@@ -267,7 +265,14 @@ def _audit_exit(tmp_path, height: str, failure: str, basis: str = "14CFR23-amdt6
     write_csv(folder / "data" / "r1.csv", analytic_signals())
     text = TIMESERIES_SPEC.replace("requirement_set: 14CFR23-amdt62",
                                    f"requirement_set: {basis}")
-    spec = write_campaign(folder, text + RESERVE_RUN.format(height=height, failure=failure))
+    return write_campaign(folder, text + RESERVE_RUN.format(height=height, failure=failure))
+
+
+def _audit_exit(tmp_path, height: str, failure: str, basis: str = "14CFR23-amdt62"):
+    import subprocess
+    import sys
+
+    spec = _reserve_campaign(tmp_path, height, failure, basis)
     completed = subprocess.run([sys.executable, "-m", "certkit.cli", "audit", str(spec),
                                 "--format", "json"], capture_output=True, text=True,
                                timeout=300)
@@ -297,6 +302,20 @@ def test_exit_0_when_everything_passes_and_1_on_a_fail_through_the_entry_point(t
     assert abs(row["margin"] - (0.4 - reserve)) < 1e-6
     status, rows = _audit_exit(tmp_path, "450 mm", "true")       # the gear failed
     assert status == 1 and rows["CFR23.723b-reserve-no-failure/R2"]["outcome"] == "FAIL"
+
+
+def test_report_strict_exits_by_the_audits_rule(tmp_path):
+    # before: report --strict exited 0 on COMPLIANCE NOT SHOWN, where the audit exits 1
+    # (a criterion NOT SHOWN is not a pass); the campaigns of the test above
+    # (requirement values to confirm: the audit passes them, and so does --strict)
+    for basis, expected, outcome in (("ASTM-F2245", 0, "COMPLIANT SUBJECT TO CONFIRMATION"),
+                                     ("14CFR23-amdt62", 1, "COMPLIANCE NOT SHOWN")):
+        spec = _reserve_campaign(tmp_path, "450 mm", "false", basis)
+        result = runner.invoke(app, ["report", str(spec), "-o", str(tmp_path / basis),
+                                     "--strict", "--no-model"])
+        assert result.exit_code == expected, result.output
+        assert f"\n{outcome}: " in f"\n{result.output}", result.output
+        assert (tmp_path / basis / "report.pdf").exists()   # written whatever the exit
 
 
 def test_junit_stays_well_formed_with_a_control_character_in_a_message():

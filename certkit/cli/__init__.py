@@ -1,8 +1,9 @@
 """The certkit command line: a thin shell over the library.
 
-Exit codes: 0 success; 1 campaign not compliant (only with ``--strict``); 2 bad input;
-3 internal error (a certkit bug; no traceback unless CERTKIT_DEBUG is set); 4 the machine
-refused (no space, no permission, a read-only disk, another run writing the same output).
+Exit codes: 0 success; 1 a check did not pass (``report --strict``, ``audit``,
+``verify``); 2 bad input; 3 internal error (a certkit bug; no traceback unless CERTKIT_DEBUG
+is set); 4 the machine refused (no space, no permission, a read-only disk, another run
+writing the same output).
 
 :mod:`certkit.cli.app` holds the application and the one home of its error handling; the
 commands live by what they work on: :mod:`~certkit.cli.campaign` (validate, report, audit,
