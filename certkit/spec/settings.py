@@ -1,0 +1,193 @@
+"""The campaign spec's settings blocks: the data-quality audit's thresholds, the units the
+report shows numbers in, and the drop model's settings (effects, sensor, calibration,
+identification, gap diagnosis).
+
+:mod:`certkit.spec.schema` assembles the whole spec from these and the other block modules.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from certkit.spec.types import (Force, Fraction, Frequency, Identifier, Length, PositiveNumber,
+                                SpecBlock, Text, quantity, unit_text)
+from certkit.units import parse_quantity
+
+
+# --------------------------------------------------------------------------- audit
+class AuditSettings(SpecBlock):
+    asymmetry_threshold: Fraction = Field(parse_quantity("10 %", "dimensionless"))
+    reported_tolerance: Fraction = Field(parse_quantity("2 %", "dimensionless"))
+    energy_tolerance: Fraction = Field(parse_quantity("1 %", "dimensionless"))
+    energy_sum_tolerance: Fraction = Field(
+        parse_quantity("10 %", "dimensionless"),
+        description="how far E_s + E_t, each to its own peak, may exceed the energy available")
+    reported_energy_spread: Fraction = Field(
+        parse_quantity("15 %", "dimensionless"),
+        description="spread across runs of the drop weight implied by reported energies")
+    static_stroke_tolerance: Fraction = Field(
+        parse_quantity("15 %", "dimensionless"),
+        description="share of the static stroke seal friction and gas temperature may move it")
+    tyre_curve_tolerance: Fraction = Field(
+        parse_quantity("15 %", "dimensionless"),
+        description="how far the peak load may fall below the tyre curve at maximum deflection")
+    bottoming_margin: Fraction = Field(parse_quantity("5 %", "dimensionless"))
+    drop_mass_spread: Fraction = Field(parse_quantity("10 %", "dimensionless"))
+    sample_rate_tolerance: Fraction = Field(parse_quantity("1 %", "dimensionless"))
+    load_consistency_tolerance: Fraction = Field(parse_quantity("10 %", "dimensionless"))
+    zero_travel_tolerance: Length = Field(parse_quantity("1 mm", "length"))
+
+
+# --------------------------------------------------------------------------- display units
+#: Display units of each unit system; a unit not given in report.units comes from here.
+UNIT_SYSTEMS = {
+    "SI": {"length": "mm", "force": "N", "mass": "kg", "energy": "J", "velocity": "m/s",
+           "pressure": "kPa", "area": "m^2", "wing_loading": "N/m^2", "time": "ms"},
+    "US": {"length": "in", "force": "lbf", "mass": "lb", "energy": "ft*lbf", "velocity": "ft/s",
+           "pressure": "psi", "area": "ft^2", "wing_loading": "lbf/ft^2", "time": "ms"},
+}
+_US_LENGTHS = {"in", "inch", "inches", "ft", "foot", "feet", "yd", "yard", "mil", "thou"}
+_US_UNITS = _US_LENGTHS | {"lbf", "lb", "lbs", "pound", "pounds", "psi", "ksi", "mph", "kip",
+                           "slug", "ozf", "oz"}
+
+
+def _is_us(unit: object) -> bool:
+    """Whether a unit text names a US customary unit (in, ft, lbf, psi, ...)."""
+    return isinstance(unit, str) and bool(set(re.split(r"[\s*/·^0-9+\-]+", unit)) & _US_UNITS)
+
+
+class DisplayUnits(SpecBlock):
+    """The units every number a person reads is shown in.
+
+    A unit not given follows ``system``; without ``system``, the system of the length unit
+    (US customary for in or ft, else SI), or without a length unit the system of the units
+    given, so ``{length: in, force: lbf}`` and ``{force: lbf}`` show areas in ft^2 and
+    energies in ft*lbf.
+    """
+
+    system: Literal["SI", "US"] | None = Field(
+        None, description="unit system of the units not given (default: the length unit's)")
+    length: unit_text("length") = "mm"  # type: ignore[valid-type]
+    force: unit_text("weight") = "N"  # type: ignore[valid-type]
+    mass: unit_text("mass") = "kg"  # type: ignore[valid-type]
+    energy: unit_text("energy") = "J"  # type: ignore[valid-type]
+    velocity: unit_text("velocity") = "m/s"  # type: ignore[valid-type]
+    pressure: unit_text("pressure") = "kPa"  # type: ignore[valid-type]
+    area: unit_text("area") = "m^2"  # type: ignore[valid-type]
+    wing_loading: unit_text("wing_loading") = "N/m^2"  # type: ignore[valid-type]
+    time: unit_text("time") = "ms"  # type: ignore[valid-type]
+
+    @model_validator(mode="before")
+    @classmethod
+    def _fill_from_system(cls, data):
+        if not isinstance(data, dict):
+            return data
+        system = data.get("system")
+        if system not in UNIT_SYSTEMS:
+            given = [data["length"]] if "length" in data else list(data.values())
+            system = "US" if any(_is_us(unit) for unit in given) else "SI"
+        return {**UNIT_SYSTEMS[system], **data}
+
+
+class ReportSettings(SpecBlock):
+    units: DisplayUnits = DisplayUnits()
+
+
+# --------------------------------------------------------------------------- drop model
+#: The effects a campaign can switch on: the names of certkit.physics.effects' registry (kept
+#: here so a spec validates without the physics; tests/test_effect_registry.py holds the two
+#: equal).
+Effect = Literal["seal-friction", "rebound-orifice", "metering-pin", "tyre-hysteresis",
+                 "heat-transfer", "oil-compressibility", "leg-flexibility",
+                 "platform-compliance", "sensor-dynamics", "load-cell-gain"]
+
+
+class SensorSpec(SpecBlock):
+    """Low-pass and delay of the recorded channels (effect 'sensor-dynamics')."""
+
+    cutoff: Frequency
+    order: int = Field(2, ge=1, le=8)
+    delay: quantity("time") = Field(parse_quantity("0 s", "time"))  # type: ignore[valid-type]
+
+
+CalibrationParameter = Literal[
+    "discharge-coefficient", "gas-precharge", "gas-volume", "polytropic-exponent",
+    "tyre-stiffness", "tyre-exponent", "tyre-damping", "friction", "friction-pressure-factor",
+    "rebound-damping", "load-cell-gain", "top-out-compression"]
+
+
+class CalibrationSpec(SpecBlock):
+    """What `certkit calibrate` fits (default: C_d, pre-charge, n, tyre stiffness and
+    exponent, the top-out stop's compression, friction and load-cell gain when those are on)."""
+
+    parameters: list[CalibrationParameter] = Field([], description="parameters to fit")
+    runs: list[Identifier] = Field(
+        [], description="runs to fit to (default: the drops the identification trains on: "
+                        "every drop but those at the highest drop height, and the middle "
+                        "height's when there are four heights or more); the others are "
+                        "simulated to validate the calibrated model")
+
+
+class BlockModelSpec(SpecBlock):
+    """Orders and (optionally fixed) LS-SVM hyper-parameters of one identified model."""
+
+    na: int = Field(ge=0, le=20, description="past outputs (denominator order)")
+    nb: int = Field(ge=1, le=20, description="input terms (numerator terms)")
+    gamma: PositiveNumber | None = Field(None, description="regularisation γ; default: tuned")
+    sigma2: PositiveNumber | None = Field(
+        None, description="RBF width σ² of K = exp(−‖x − z‖²/σ²); default: tuned")
+
+
+class SmallSignalSpec(SpecBlock):
+    """The seed's small-signal method (§4): first amplitude, scaling K, linearity tolerance."""
+
+    amplitude: Force = Field(parse_quantity("500 N", "force"),
+                             description="RMS of the first small random force")
+    gain: PositiveNumber = Field(parse_quantity("2", "dimensionless"), description="K")
+    tolerance: Fraction = Field(parse_quantity("5 %", "dimensionless"))
+
+
+class IdentificationSpec(SpecBlock):
+    """Identification settings; defaults follow the seed paper (6 poles, 4 input terms)."""
+
+    hammerstein: BlockModelSpec = BlockModelSpec(na=6, nb=4)
+    wiener: BlockModelSpec = BlockModelSpec(na=6, nb=4)
+    narx: BlockModelSpec = BlockModelSpec(na=2, nb=2)
+    held_out: list[Identifier] = Field(
+        [], description="runs kept out of fitting and tuning (default: the highest drop)")
+    small_signal: SmallSignalSpec = SmallSignalSpec()
+    nonlinearity_target: Length = Field(
+        parse_quantity("0.1 mm", "length"),
+        description="step 9: the static nonlinearity's tuning stops once its cross-validated "
+                    "RMSE is at or below this")
+
+
+class GapSpec(SpecBlock):
+    """Sim-to-real gap diagnosis (`certkit gap`, the report's gap section)."""
+
+    held_out: list[Identifier] = Field(
+        [], description="runs kept out of calibration, scoring and refits, only evaluated "
+                        "(default: every drop at the highest drop height, and the middle "
+                        "height's when there are four heights or more)")
+    blind_check: Text | None = Field(
+        None, description="the JSON file written by benchmarks/blind_independent.py --battery development, relative to "
+                          "this spec file and inside its folder; the report summarises it and "
+                          "hashes it with the other inputs")
+    sealed_blind_check: Text | None = Field(
+        None, description="the record of the SEALED battery (benchmarks/blind_independent.py "
+                          "--battery sealed), relative to this spec file and inside its "
+                          "folder: the report gives its held-out figures beside the "
+                          "development record's in-sample ones (model.gap.blind_check)")
+
+
+class ModelSettings(SpecBlock):
+    """The physics model used to simulate and calibrate: which optional effects are on."""
+
+    effects: list[Effect] = Field([], description="optional effects switched on (default none)")
+    sensor: SensorSpec | None = None
+    calibration: CalibrationSpec | None = None
+    identification: IdentificationSpec = IdentificationSpec()
+    gap: GapSpec = GapSpec()
