@@ -50,9 +50,14 @@ __all__ = [
 
 # --------------------------------------------------------------------------- document
 class CampaignInfo(SpecBlock):
-    id: Identifier
-    title: Text
-    description: str | None = None
+    """The campaign's identity and purpose."""
+
+    id: Identifier = Field(description="the campaign's identifier, on the report's cover and "
+                                       "in its archive and catalog entry")
+    title: Text = Field(description="the campaign's title, heading the report's cover and "
+                                    "every page")
+    description: str | None = Field(None, description="what the campaign is, in a paragraph "
+                                                      "printed on the report's cover")
     purpose: Literal["certification", "planning"] = Field(
         "certification",
         description="planning: a campaign planned before there is a rig; every value is "
@@ -61,50 +66,78 @@ class CampaignInfo(SpecBlock):
 
 
 class Signatory(SpecBlock):
-    role: Literal["prepared", "checked", "verified", "approved", "witnessed"]
-    name: Text
-    organisation: str | None = None
-    date: Date | None = None
+    """One sign-off of the report, listed on its cover with a space to sign."""
+
+    role: Literal["prepared", "checked", "verified", "approved", "witnessed"] = Field(
+        description="what the signatory did; the cover has a line for prepared, checked, "
+                    "approved and witnessed whether named or not")
+    name: Text = Field(description="the signatory's name")
+    organisation: str | None = Field(None, description="the signatory's organisation")
+    date: Date | None = Field(None, description="date of the signature")
 
 
 class Revision(SpecBlock):
-    revision: Text
-    date: Date
-    description: Text
+    """One entry of the report's record of revisions."""
+
+    revision: Text = Field(description="the revision's letter or number")
+    date: Date = Field(description="date of the revision")
+    description: Text = Field(description="what the revision changed")
 
 
 class Document(SpecBlock):
-    report_number: Text
-    revision: Text
-    date: Date = Field(description="Issue date; also fixes every date written into outputs")
-    applicant: Text
-    facility: Text
-    test_dates: list[Date] = Field(min_length=1)
-    signatories: list[Signatory] = Field(min_length=1)
-    revisions: list[Revision] = []
-    compliance_checklist_item: str | None = None
+    """The report as a controlled document: number, revision, issue date, applicant, facility,
+    test dates and sign-off."""
+
+    report_number: Text = Field(description="the report's number, on its cover, its running "
+                                            "header and in its archive")
+    revision: Text = Field(description="the report's current revision, beside its number")
+    date: Date = Field(description="issue date; also fixes every date written into outputs")
+    applicant: Text = Field(description="who applies for certification (the archive's source "
+                                        "organisation)")
+    facility: Text = Field(description="where the drops were made")
+    test_dates: list[Date] = Field(
+        min_length=1, description="the dates of the drops: the cover lists them, and a run "
+                                  "without its own date has each channel's calibration "
+                                  "checked against every one")
+    signatories: list[Signatory] = Field(
+        min_length=1, description="who prepared, checked, verified, approved or witnessed the "
+                                  "report")
+    revisions: list[Revision] = Field([], description="the record of revisions, on the cover")
+    compliance_checklist_item: str | None = Field(
+        None, description="the applicant's compliance checklist item for this report, shown "
+                          "on its cover ('—' when not given)")
 
 
 class BasisEntry(SpecBlock):
+    """One requirement set the campaign shows compliance with."""
+
     requirement_set: Text = Field(description="id of a shipped requirement set, see `certkit sets`")
     edition: str | None = Field(None, description="edition the applicant is certifying against")
     ground_load_dynamic_test: bool = Field(
-        False, description="strength shown dynamically by drop test (14 CFR 23.726)")
+        False, description="strength shown dynamically by drop test (14 CFR 23.726): only "
+                           "then does the 23.726 drop-height criterion apply")
 
 
 # --------------------------------------------------------------------------- claims, references
 class CampaignReported(SpecBlock):
-    wing_loading: WingLoading | None = None
-    required_drop_height: PositiveLength | None = None
+    """Figures an earlier report states for the whole campaign, which the audit checks."""
+
+    wing_loading: WingLoading | None = Field(
+        None, description="W/S as the source states it (a force per area): compared with "
+                          "aircraft.maximum_weight/aircraft.wing_area")
+    required_drop_height: PositiveLength | None = Field(
+        None, description="the required drop height the source states (a length): compared "
+                          "with h_req of the first certification basis entry, a match in "
+                          "another unit named a unit slip")
 
 
 class ReferenceModelErrors(SpecBlock):
     """Published free-run RMSEs of one output, per model (each a length with its unit)."""
 
     governing_equation: Length | None = Field(None, description="the physics (EOM) model")
-    hammerstein: Length | None = None
-    wiener: Length | None = None
-    narx: Length | None = None
+    hammerstein: Length | None = Field(None, description="the Hammerstein model")
+    wiener: Length | None = Field(None, description="the Wiener model")
+    narx: Length | None = Field(None, description="the NARX model")
 
 
 class ReferenceResults(SpecBlock):
@@ -128,21 +161,33 @@ class CampaignSpec(SpecBlock):
     """A drop-test campaign: who, what aircraft, which gear, which runs, against which rules."""
 
     certkit: Literal[1] = Field(description="spec format version")
-    campaign: CampaignInfo
-    document: Document
-    certification_basis: list[BasisEntry] = Field(min_length=1)
-    aircraft: Aircraft
-    gear_units: list[GearUnit] = Field(min_length=1)
-    instrumentation: Instrumentation | None = None
+    campaign: CampaignInfo = Field(description="the campaign's identity and purpose")
+    document: Document = Field(description="the report as a controlled document")
+    certification_basis: list[BasisEntry] = Field(
+        min_length=1, description="the requirement sets compliance is shown with")
+    aircraft: Aircraft = Field(description="the airplane: weight, wing area, load factors")
+    gear_units: list[GearUnit] = Field(min_length=1, description="the landing-gear units "
+                                                                 "tested")
+    instrumentation: Instrumentation | None = Field(None, description="the logger and the "
+                                                                      "transducers")
     setup: TestSetup | None = Field(None, description="how the drops were set up and conducted")
-    runs: list[Run] = Field(min_length=1)
-    reported: CampaignReported | None = None
+    runs: list[Run] = Field(min_length=1, description="the drops, in the order the report "
+                                                      "lists them")
+    reported: CampaignReported | None = Field(
+        None, description="figures of an earlier report to audit (wing loading, required drop "
+                          "height)")
     reference_results: ReferenceResults | None = Field(
         None, description="published model errors for these drops (shown beside certkit's)")
-    assumptions: list[str] = []
-    audit: AuditSettings = AuditSettings()
-    model: ModelSettings = ModelSettings()
-    report: ReportSettings = ReportSettings()
+    assumptions: list[str] = Field([], description="assumptions the applicant declares, each "
+                                                   "listed in the report's data-quality "
+                                                   "section")
+    audit: AuditSettings = Field(AuditSettings(), description="thresholds of the data-quality "
+                                                              "audit")
+    model: ModelSettings = Field(ModelSettings(), description="the drop model and its "
+                                                              "appendices (not compliance "
+                                                              "evidence)")
+    report: ReportSettings = Field(ReportSettings(), description="how the report shows its "
+                                                                 "numbers")
     uncertainty: UncertaintySpec | None = Field(
         None, description="measurement uncertainties and the decision rule (none: every "
                           "uncertainty not stated, simple acceptance)")

@@ -19,26 +19,58 @@ from certkit.units import parse_quantity
 
 # --------------------------------------------------------------------------- audit
 class AuditSettings(SpecBlock):
-    asymmetry_threshold: Fraction = Field(parse_quantity("10 %", "dimensionless"))
-    reported_tolerance: Fraction = Field(parse_quantity("2 %", "dimensionless"))
-    energy_tolerance: Fraction = Field(parse_quantity("1 %", "dimensionless"))
+    """Thresholds of the data-quality audit, each named with its check in
+    docs/audit-checklist.md; the report prints the values used."""
+
+    asymmetry_threshold: Fraction = Field(
+        parse_quantity("10 %", "dimensionless"),
+        description="how far the left and right main units of one drop may differ in peak "
+                    "load, stroke or tyre deflection, as a share of their mean, before a "
+                    "warning")
+    reported_tolerance: Fraction = Field(
+        parse_quantity("2 %", "dimensionless"),
+        description="how far a reported value (wing loading, required drop height, peak load, "
+                    "stroke, deflection, energy) may differ from the one recomputed, and the "
+                    "main units' static weights together exceed the maximum weight")
+    energy_tolerance: Fraction = Field(
+        parse_quantity("1 %", "dimensionless"),
+        description="how far the absorbed energy may exceed the energy available "
+                    "W_drop·(h + d) − L_dev·W_drop·d before an error")
     energy_sum_tolerance: Fraction = Field(
         parse_quantity("10 %", "dimensionless"),
-        description="how far E_s + E_t, each to its own peak, may exceed the energy available")
+        description="how far E_s + E_t, each to its own peak, may exceed the energy available; "
+                    "also the main units together against the whole airplane's")
     reported_energy_spread: Fraction = Field(
         parse_quantity("15 %", "dimensionless"),
-        description="spread across runs of the drop weight implied by reported energies")
+        description="how far the drop weight implied by the reported energies, as a share of "
+                    "the weight dropped, may spread across a unit's runs before a warning")
     static_stroke_tolerance: Fraction = Field(
         parse_quantity("15 %", "dimensionless"),
         description="share of the static stroke seal friction and gas temperature may move it")
     tyre_curve_tolerance: Fraction = Field(
         parse_quantity("15 %", "dimensionless"),
         description="how far the peak load may fall below the tyre curve at maximum deflection")
-    bottoming_margin: Fraction = Field(parse_quantity("5 %", "dimensionless"))
-    drop_mass_spread: Fraction = Field(parse_quantity("10 %", "dimensionless"))
-    sample_rate_tolerance: Fraction = Field(parse_quantity("1 %", "dimensionless"))
-    load_consistency_tolerance: Fraction = Field(parse_quantity("10 %", "dimensionless"))
-    zero_travel_tolerance: Length = Field(parse_quantity("1 mm", "length"))
+    bottoming_margin: Fraction = Field(
+        parse_quantity("5 %", "dimensionless"),
+        description="a drop whose maximum stroke comes within this share of the design "
+                    "stroke is near bottoming (a warning)")
+    drop_mass_spread: Fraction = Field(
+        parse_quantity("10 %", "dimensionless"),
+        description="how far the drop weight the absorbed energy E_d implies may differ from "
+                    "the weight dropped, and spread across runs, before a warning")
+    sample_rate_tolerance: Fraction = Field(
+        parse_quantity("1 %", "dimensionless"),
+        description="how far a data file's sample rate (from its time steps) may differ from "
+                    "the declared one before it is an input error (waivable: sample_rate)")
+    load_consistency_tolerance: Fraction = Field(
+        parse_quantity("10 %", "dimensionless"),
+        description="how far n_j from the drop-mass accelerometer may differ from the "
+                    "platform loads' max ΣF_V/W_drop + L_dev before a warning")
+    zero_travel_tolerance: Length = Field(
+        parse_quantity("1 mm", "length"),
+        description="how far stroke and tyre deflection may read from zero just before "
+                    "touchdown before a warning, and the stroke go past the design stroke "
+                    "before an error (a length)")
 
 
 # --------------------------------------------------------------------------- display units
@@ -59,6 +91,13 @@ def _is_us(unit: object) -> bool:
     return isinstance(unit, str) and bool(set(re.split(r"[\s*/·^0-9+\-]+", unit)) & _US_UNITS)
 
 
+def _shown_in(kind: str, what: str) -> str:
+    """The description of a display-unit key: what it shows, and its default per system."""
+    si, us = UNIT_SYSTEMS["SI"][kind], UNIT_SYSTEMS["US"][kind]
+    default = f"{si} in both systems" if si == us else f"SI: {si}, US: {us}"
+    return f"unit of the {what} shown (default {default})"
+
+
 class DisplayUnits(SpecBlock):
     """The units every number a person reads is shown in.
 
@@ -70,15 +109,24 @@ class DisplayUnits(SpecBlock):
 
     system: Literal["SI", "US"] | None = Field(
         None, description="unit system of the units not given (default: the length unit's)")
-    length: unit_text("length") = "mm"  # type: ignore[valid-type]
-    force: unit_text("weight") = "N"  # type: ignore[valid-type]
-    mass: unit_text("mass") = "kg"  # type: ignore[valid-type]
-    energy: unit_text("energy") = "J"  # type: ignore[valid-type]
-    velocity: unit_text("velocity") = "m/s"  # type: ignore[valid-type]
-    pressure: unit_text("pressure") = "kPa"  # type: ignore[valid-type]
-    area: unit_text("area") = "m^2"  # type: ignore[valid-type]
-    wing_loading: unit_text("wing_loading") = "N/m^2"  # type: ignore[valid-type]
-    time: unit_text("time") = "ms"  # type: ignore[valid-type]
+    length: unit_text("length") = Field(  # type: ignore[valid-type]
+        "mm", description=_shown_in("length", "lengths"))
+    force: unit_text("weight") = Field(  # type: ignore[valid-type]
+        "N", description=_shown_in("force", "forces"))
+    mass: unit_text("mass") = Field(  # type: ignore[valid-type]
+        "kg", description=_shown_in("mass", "masses"))
+    energy: unit_text("energy") = Field(  # type: ignore[valid-type]
+        "J", description=_shown_in("energy", "energies"))
+    velocity: unit_text("velocity") = Field(  # type: ignore[valid-type]
+        "m/s", description=_shown_in("velocity", "velocities"))
+    pressure: unit_text("pressure") = Field(  # type: ignore[valid-type]
+        "kPa", description=_shown_in("pressure", "pressures"))
+    area: unit_text("area") = Field(  # type: ignore[valid-type]
+        "m^2", description=_shown_in("area", "areas"))
+    wing_loading: unit_text("wing_loading") = Field(  # type: ignore[valid-type]
+        "N/m^2", description=_shown_in("wing_loading", "wing loadings"))
+    time: unit_text("time") = Field(  # type: ignore[valid-type]
+        "ms", description=_shown_in("time", "times"))
 
     @model_validator(mode="before")
     @classmethod
@@ -93,7 +141,11 @@ class DisplayUnits(SpecBlock):
 
 
 class ReportSettings(SpecBlock):
-    units: DisplayUnits = DisplayUnits()
+    """How the report shows its numbers."""
+
+    units: DisplayUnits = Field(
+        DisplayUnits(), description="the units of every number a person reads (results.json "
+                                    "and the tables keep SI)")
 
 
 # --------------------------------------------------------------------------- drop model
@@ -106,11 +158,15 @@ Effect = Literal["seal-friction", "rebound-orifice", "metering-pin", "tyre-hyste
 
 
 class SensorSpec(SpecBlock):
-    """Low-pass and delay of the recorded channels (effect 'sensor-dynamics')."""
+    """Low-pass and delay of the recorded channels (effect 'sensor-dynamics'): `certkit
+    simulate` applies them to the simulated channels, as the logger would record them."""
 
-    cutoff: Frequency
-    order: int = Field(2, ge=1, le=8)
-    delay: quantity("time") = Field(parse_quantity("0 s", "time"))  # type: ignore[valid-type]
+    cutoff: Frequency = Field(description="cut-off of the Butterworth low-pass (a frequency)")
+    order: int = Field(2, ge=1, le=8, description="order of the Butterworth low-pass")
+    delay: quantity("time") = Field(  # type: ignore[valid-type]
+        parse_quantity("0 s", "time"),
+        description="pure delay after the low-pass, such as channel skew or transducer lag (a "
+                    "time)")
 
 
 CalibrationParameter = Literal[
@@ -145,20 +201,33 @@ class SmallSignalSpec(SpecBlock):
     """The seed's small-signal method (§4): first amplitude, scaling K, linearity tolerance."""
 
     amplitude: Force = Field(parse_quantity("500 N", "force"),
-                             description="RMS of the first small random force")
-    gain: PositiveNumber = Field(parse_quantity("2", "dimensionless"), description="K")
-    tolerance: Fraction = Field(parse_quantity("5 %", "dimensionless"))
+                             description="RMS of the first small random force (a force)")
+    gain: PositiveNumber = Field(
+        parse_quantity("2", "dimensionless"),
+        description="K: each linearity check applies the force and K times it, and the "
+                    "amplitude grows by K while the response stays linear")
+    tolerance: Fraction = Field(
+        parse_quantity("5 %", "dimensionless"),
+        description="how far the response to K times the force may differ from K times the "
+                    "response (relative, per output) for it to count as linear")
 
 
 class IdentificationSpec(SpecBlock):
     """Identification settings; defaults follow the seed paper (6 poles, 4 input terms)."""
 
-    hammerstein: BlockModelSpec = BlockModelSpec(na=6, nb=4)
-    wiener: BlockModelSpec = BlockModelSpec(na=6, nb=4)
-    narx: BlockModelSpec = BlockModelSpec(na=2, nb=2)
+    hammerstein: BlockModelSpec = Field(
+        BlockModelSpec(na=6, nb=4), description="orders and hyper-parameters of the Hammerstein "
+                                                "model")
+    wiener: BlockModelSpec = Field(
+        BlockModelSpec(na=6, nb=4), description="orders and hyper-parameters of the Wiener model")
+    narx: BlockModelSpec = Field(
+        BlockModelSpec(na=2, nb=2), description="orders and hyper-parameters of the NARX model")
     held_out: list[Identifier] = Field(
         [], description="runs kept out of fitting and tuning (default: the highest drop)")
-    small_signal: SmallSignalSpec = SmallSignalSpec()
+    small_signal: SmallSignalSpec = Field(
+        SmallSignalSpec(), description="the small-signal method, which gives the Wiener "
+                                       "model's linear block when no small-signal run is "
+                                       "recorded")
     nonlinearity_target: Length = Field(
         parse_quantity("0.1 mm", "length"),
         description="step 9: the static nonlinearity's tuning stops once its cross-validated "
@@ -187,7 +256,10 @@ class ModelSettings(SpecBlock):
     """The physics model used to simulate and calibrate: which optional effects are on."""
 
     effects: list[Effect] = Field([], description="optional effects switched on (default none)")
-    sensor: SensorSpec | None = None
-    calibration: CalibrationSpec | None = None
-    identification: IdentificationSpec = IdentificationSpec()
-    gap: GapSpec = GapSpec()
+    sensor: SensorSpec | None = Field(None, description="the logger's low-pass and delay, for "
+                                                        "the effect 'sensor-dynamics'")
+    calibration: CalibrationSpec | None = Field(None, description="what the calibration fits, "
+                                                                  "and to which runs")
+    identification: IdentificationSpec = Field(
+        IdentificationSpec(), description="the Hammerstein, Wiener and NARX identification")
+    gap: GapSpec = Field(GapSpec(), description="the sim-to-real gap diagnosis")

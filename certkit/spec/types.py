@@ -3,7 +3,8 @@ identifiers and the strict base of every spec block.
 
 A quantity is typed as a string with its unit ("12.5 in", "650 cm^3") and parsed by pint
 into SI (:mod:`certkit.units`); a bare number is accepted only where the kind is
-dimensionless.  :mod:`certkit.spec.schema` builds the spec's blocks from these.
+dimensionless.  The spec's blocks (:mod:`certkit.spec.schema` and the modules it gathers)
+are built from these.
 """
 
 from __future__ import annotations
