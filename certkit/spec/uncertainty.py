@@ -69,11 +69,13 @@ def _spread(kind: str, relative: str):
                                                      f"no calibration, got {shown(value)}")
         return parsed
 
+    share_text = "a share of the reading such as '0.5 %'"
+    what = {"required": share_text, "forbidden": f"{kind_phrase(kind)} with its unit"}.get(
+        relative, f"{kind_phrase(kind)} with its unit, or {share_text}")
     return Annotated[SpecQuantity, PlainValidator(validate),
                      PlainSerializer(lambda q: q.text, return_type=str),
                      WithJsonSchema({"anyOf": [{"type": "number"}, {"type": "string"}],
-                                     "description": f"{kind_phrase(kind)} with its unit, or a "
-                                                    f"share of the reading such as '0.5 %'"})]
+                                     "description": what})]
 
 
 def _part(kind: str, relative: str, name: str):
@@ -84,11 +86,16 @@ def _part(kind: str, relative: str, name: str):
     spread_type = _spread(kind, relative)
 
     class Part(SpecBlock):
+        """One uncertainty component: a certificate's expanded uncertainty U with its coverage
+        factor k, or the half-width a of a rectangular or triangular distribution."""
+
         expanded: spread_type | None = Field(None, description="expanded uncertainty U (normal)")
         k: PositiveNumber | None = Field(None, description="coverage factor of U (normal)")
         half_width: spread_type | None = Field(None, description="half-width a (rectangular or "
                                                            "triangular)")
-        distribution: Literal["normal", "rectangular", "triangular"] = "normal"
+        distribution: Literal["normal", "rectangular", "triangular"] = Field(
+            "normal", description="normal: give expanded and k (u = U/k); rectangular or "
+                                  "triangular: give half_width (u = a/√3 or a/√6)")
 
         @model_validator(mode="after")
         def _consistent(self):
@@ -143,12 +150,22 @@ def _channel_class(channel: str, kind: str):
     offset_part = _OFFSET_PARTS[kind]
 
     class ChannelUncertainty(Provenance):
-        channel: Literal[channel]  # type: ignore[valid-type]
+        """The calibration uncertainty of one recorded channel, its gain and its zero, with
+        where it comes from."""
+
+        # Annotated, not "= Field(...)": a value named channel here would hide the argument
+        # the annotation names
+        channel: Annotated[Literal[channel], Field(  # type: ignore[valid-type]
+            description="the recorded channel: vertical_load, strut_stroke, tyre_deflection or "
+                        "drop_mass_acceleration")]
         gear_units: list[Identifier] | None = Field(
             None, description="the gear units whose channel this is (default: every unit; "
                               "not for drop_mass_acceleration)")
-        gain: GainPart | None = None  # type: ignore[valid-type]
-        offset: offset_part | None = None  # type: ignore[valid-type]
+        gain: GainPart | None = Field(  # type: ignore[valid-type]
+            None, description="the error of the channel's gain, a share of the reading")
+        offset: offset_part | None = Field(  # type: ignore[valid-type]
+            None, description="the error of the channel's zero, in the channel's own kind "
+                              "(a force, length or acceleration)")
 
         @model_validator(mode="after")
         def _stated(self):
@@ -173,7 +190,8 @@ ChannelUncertainty = Annotated[Union[_CHANNEL_CLASSES], Field(discriminator="cha
 
 def _input_field(name: str):
     class InputUncertainty(_INPUT_PARTS[name], Provenance):
-        pass
+        """The uncertainty of one scalar input, the same for every run or unit, with where
+        it comes from."""
     InputUncertainty.__name__ = InputUncertainty.__qualname__ = (
         f"{name.title().replace('_', '')}Uncertainty")
     return InputUncertainty
@@ -208,8 +226,12 @@ class UncertaintySpec(SpecBlock):
     coverage_probability: Fraction = Field(parse_quantity("95 %", "dimensionless"),
                                            description="coverage probability of the expanded "
                                                        "uncertainties reported")
-    channels: list[ChannelUncertainty] = []
-    inputs: InputUncertainties = InputUncertainties()
+    channels: list[ChannelUncertainty] = Field(
+        [], description="the calibration uncertainties of the recorded channels, one entry per "
+                        "channel (and gear units)")
+    inputs: InputUncertainties = Field(
+        InputUncertainties(), description="the uncertainties of the drop height, drop mass, "
+                                          "static weight and wing area")
 
     @field_validator("required_probability", "coverage_probability")
     @classmethod
