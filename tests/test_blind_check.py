@@ -3,6 +3,7 @@ certkit): its battery, its truths withheld and sized, its scoring by hand, and t
 outcome on a process pool and on a dask cluster."""
 
 import json
+import math
 import statistics
 import sys
 from pathlib import Path
@@ -492,3 +493,50 @@ def test_a_truth_reads_its_own_shape_or_its_forms_development_value():
     assert default.value("static_ratio") == 1.4 and default.value("stribeck_speed") == 0.02
     own = truthgen.Truth("lugre", 10.0, (("static_ratio", 1.9),))
     assert own.value("static_ratio") == 1.9 and own.value("stribeck_speed") == 0.02
+
+
+def test_the_independent_battery_sizes_an_effect_where_the_diagnosis_aligns():
+    """An effect's "2 × noise" is what an analysis that aligns on the measured touchdown can
+    see: the load change over the first cycle with the touchdowns aligned where the
+    diagnosis's detector reads them, on records sampled as the logger samples them.  Here:
+    the detector's level on the battery's records is 6 × √(20² + 1²/12) N = 120.0125 N (the
+    noise and its 1 N quantisation; 2 % of 292.5 kgf is only 57.4 N), and a Bessel lag sized
+    for 2 × 20 N moves the first cycle by 40 N once the two records are aligned there by a
+    plain crossing search written here; aligned at 2 % of the weight, as the battery did
+    before, the same lag shows more than that."""
+    import blind_independent as independent
+    import truthgen
+
+    campaign = load_campaign(EXAMPLE)
+    level = independent.detector_level(campaign, "left-main", Settings())
+    assert level == pytest.approx(6 * math.sqrt(20.0 ** 2 + 1.0 / 12), abs=1e-9)
+    phases = (0.37, 0.81, 0.12)
+    size = independent._sizes(campaign, "left-main", "bessel-delay", (), [2.0], Settings(),
+                              truthgen.Nuisances(), phases)[2.0]
+    from certkit.gap.phases import segment
+
+    def crossing(time, signal, at):
+        i = int(np.argmax(signal > at))
+        return time[i - 1] + (at - signal[i - 1]) / (signal[i] - signal[i - 1]) / 1000.0
+
+    changes = {level: [], 0.02 * 292.5 * 9.80665: []}
+    runs = [r for r in campaign.spec.runs if "left-main" in r.gear_units]
+    for index, run in enumerate(campaign.spec.runs):
+        if run not in runs:
+            continue
+        gear = independent.gear_of(campaign, run, "left-main")
+        speed = ideal_impact_velocity(run.drop_height.si)
+        plain = truthgen.simulate(gear, speed, 1000.0, drop_index=index, phase=phases[index])
+        lagged = truthgen.simulate(gear, speed, 1000.0, drop_index=index, phase=phases[index],
+                                   truths=(truthgen.Truth("bessel-delay", size),))
+        time = plain.time
+        cycle = {p.name: p for p in segment(time, plain.load, plain.stroke,
+                                            (gear.upper_mass + gear.lower_mass) * 9.80665)}
+        window = slice(cycle["tyre-only contact"].start, cycle["rebound"].stop)
+        for at, squares in changes.items():
+            shift = crossing(time, lagged.load, at) - crossing(time, plain.load, at)
+            aligned = np.interp(time + shift, time, lagged.load)
+            squares.append(np.mean((aligned[window] - plain.load[window]) ** 2))
+    at_detector, at_two_percent = (math.sqrt(np.mean(v)) for v in changes.values())
+    assert at_detector == pytest.approx(40.0, rel=0.03)
+    assert at_two_percent > 1.2 * at_detector
