@@ -1,7 +1,8 @@
 """The gap diagnosis's blind check on truths certkit did not write (issue 14).
 
 Run:  .venv/bin/python benchmarks/blind_independent.py SPEC -g GEAR -o DIR [--workers N]
-      [--quick] [--rescore RECORD]   (about 10 minutes on 2 cores; --rescore scores a
+      [--battery development|sealed] [--only FORMS] [--quick] [--rescore RECORD]
+      (the development battery, 212 cases, about half an hour on 2 cores; --rescore scores a
       record's cases again without running them: the record keeps who ran them, run_by,
       apart from who scored them, scored_by)
 
@@ -14,10 +15,15 @@ diagnosis (:func:`certkit.gap.selection.diagnose`) sees only the written campaig
 outcome is scored against the sealed truth.
 
 Cases: every in-library form at every effect/noise ratio and seed; at least 20 cases with
-no effect (the nuisances only); out-of-library effects (abstaining is right); pairs.  An
-effect's size is its load change over the first compression and rebound of every run
-(RMS, in units of the load noise, with the touchdowns aligned as the diagnosis aligns
-them), found on the template's unscattered gear by
+no effect (the nuisances only); out-of-library effects (abstaining is right); pairs; for
+each plan of the battery (:mod:`blindcheck.plans`: the development battery is its own plan
+and the spent sealed sets, the sealed battery the set in use).  Every drop's contact falls
+between two logger samples, at a phase drawn from the case's seed.  An effect's size is its
+load change over the first compression and rebound of every run (RMS, in units of the load
+noise), with the touchdowns aligned where the diagnosis's touchdown detector reads them
+(:func:`detector_level`) on records sampled as the logger samples them (the case's own
+contact phases): what an analysis that must align on the measured touchdown can see.  It is
+found on the template's unscattered gear, with the case's shapes, nuisances and phases, by
 interpolating a grid of sizes; each case records its physical size too (the change of
 the peak load of the held-out drop).  The nominal parameters of every case are scattered
 by a few percent, as a real gear differs from its drawing.
@@ -582,8 +588,8 @@ def run_battery(template: str, gear_id: str, settings, cases: list[Case],
         for future in futures:
             outcome = future.result()
             outcomes.append(outcome)
-            print(f"{outcome['id']} {'+'.join(outcome['forms']) or 'none'} "
-                  f"{outcome['ratio']}: named {' + '.join(outcome['named']) or '(none)'}",
+            print(f"{outcome['id']} {outcome['part']} {'+'.join(outcome['forms']) or 'none'} "
+                  f"{outcome['ratio']} s{outcome['seed']}: named {' + '.join(outcome['named']) or '(none)'}",
                   flush=True)
     return outcomes
 
