@@ -1,7 +1,8 @@
 """The gap diagnosis's blind check on truths certkit did not write (issue 14).
 
 Run:  .venv/bin/python benchmarks/blind_independent.py SPEC -g GEAR -o DIR [--workers N]
-      [--quick] [--rescore RECORD]   (about 10 minutes on 2 cores; --rescore scores a
+      [--battery development|sealed] [--only FORMS] [--quick] [--rescore RECORD]
+      (the development battery, 212 cases, about half an hour on 2 cores; --rescore scores a
       record's cases again without running them: the record keeps who ran them, run_by,
       apart from who scored them, scored_by)
 
@@ -14,10 +15,15 @@ diagnosis (:func:`certkit.gap.selection.diagnose`) sees only the written campaig
 outcome is scored against the sealed truth.
 
 Cases: every in-library form at every effect/noise ratio and seed; at least 20 cases with
-no effect (the nuisances only); out-of-library effects (abstaining is right); pairs.  An
-effect's size is its load change over the first compression and rebound of every run
-(RMS, in units of the load noise, with the touchdowns aligned as the diagnosis aligns
-them), found on the template's unscattered gear by
+no effect (the nuisances only); out-of-library effects (abstaining is right); pairs; for
+each plan of the battery (:mod:`blindcheck.plans`: the development battery is its own plan
+and the spent sealed sets, the sealed battery the set in use).  Every drop's contact falls
+between two logger samples, at a phase drawn from the case's seed.  An effect's size is its
+load change over the first compression and rebound of every run (RMS, in units of the load
+noise), with the touchdowns aligned where the diagnosis's touchdown detector reads them
+(:func:`detector_level`) on records sampled as the logger samples them (the case's own
+contact phases): what an analysis that must align on the measured touchdown can see.  It is
+found on the template's unscattered gear, with the case's shapes, nuisances and phases, by
 interpolating a grid of sizes; each case records its physical size too (the change of
 the peak load of the held-out drop).  The nominal parameters of every case are scattered
 by a few percent, as a real gear differs from its drawing.
@@ -56,6 +62,7 @@ sys.path.insert(0, str(HERE))
 import truthgen  # noqa: E402
 
 from certkit.compliance.clauses import ideal_impact_velocity  # noqa: E402
+from certkit.compliance.measures import TOUCHDOWN_SHARE, TOUCHDOWN_SIGMAS  # noqa: E402
 from certkit.gap.holdout import split_for  # noqa: E402
 from certkit.gap.residuals import harmed  # noqa: E402
 from certkit.gap.selection import diagnose, pooled  # noqa: E402
@@ -68,6 +75,7 @@ from certkit.version import VERSION  # noqa: E402
 
 from blindcheck import battery as own  # noqa: E402
 from blindcheck import scoring  # noqa: E402
+from blindcheck.plans import NUISANCE_RANGES, PLANS, Plan, contact_phases, draws  # noqa: E402
 from blindcheck.record import provenance, write_blind_check  # noqa: E402
 
 P_ATM = 101325.0
@@ -76,38 +84,6 @@ TARGETS = {"top1": (0.90, "at least"), "false_attribution": (0.05, "at most"),
            "abstention_out_of_library": (0.80, "at least"),
            "median_own_gap_closed": (0.60, "at least"), "harm_any_channel": (0.05, "at most")}
 SIZING_GRID = 9
-
-
-@dataclass(frozen=True)
-class Plan:
-    """What a battery is made of.  ``development``: the battery the diagnosis was tuned on
-    (every form at its development shape, seeds 31-32, no-effect seeds 500-519).
-    ``sealed``: shapes, nuisance physics and the nominal scatter drawn per case from the
-    declared ranges (:data:`truthgen.FORMS`' ``shape_ranges``, :data:`NUISANCE_RANGES`), on
-    seeds never run while developing; see the README's rule for when a sealed range is
-    spent and a new one drawn."""
-
-    battery: str = "development"
-    ratios: tuple = (1.0, 2.0, 5.0)
-    seeds: tuple = (31, 32)
-    null_seeds: int = 500        # the no-effect cases' seeds start here
-    null_cases: int = 20
-    outside_ratios: tuple = (2.0, 5.0)
-    pair_ratio: float = 5.0
-    scatter: float = 0.03
-    drawn: bool = False          # shapes and nuisances drawn from their ranges
-    only: tuple = ()             # restrict to these forms' single-effect cases ("" = all)
-
-
-#: The sealed range in use: seeds never run before (the history of spent ranges is in the
-#: README, "Blind check"); a sealed result that drives a change spends it.
-SEALED = Plan(battery="sealed", seeds=(7101, 7102), null_seeds=7500, scatter=0.06,
-              drawn=True)
-#: Where a sealed case's nuisance physics is drawn (the development value in brackets):
-#: top-out pad compression under preload [m] (1.5 mm), real-gas coefficient β (0.03), the
-#: tyre curve's departure per δ/δ_ref (0.06).
-NUISANCE_RANGES = (("pad", 0.5e-3, 3.0e-3), ("gas", 0.0, 0.06), ("tyre_shape", 0.0, 0.12))
-PLANS = {"development": Plan(), "sealed": SEALED}
 
 
 def _library_forms() -> list[str]:
@@ -133,6 +109,7 @@ class Case:
     forms: tuple
     ratio: float | None
     seed: int
+    plan: Plan = Plan()      # the part of the battery the case belongs to (not in its id)
 
     @property
     def key(self) -> int:
@@ -140,42 +117,30 @@ class Case:
         return int.from_bytes(hashlib.sha256(text.encode()).digest()[:8], "little")
 
 
-def _case(forms: tuple, ratio, seed: int) -> Case:
+def _case(forms: tuple, ratio, seed: int, plan: Plan = Plan()) -> Case:
     text = f"independent|{'+'.join(forms)}|{ratio}|{seed}"
-    return Case("case-" + hashlib.sha256(text.encode()).hexdigest()[:10], forms, ratio, seed)
+    return Case("case-" + hashlib.sha256(text.encode()).hexdigest()[:10], forms, ratio, seed,
+                plan)
 
 
-def battery(plan: Plan = Plan(), quick: bool = False) -> list[Case]:
+def _plan_cases(plan: Plan, quick: bool) -> list[Case]:
     seeds = plan.seeds[:1] if quick else plan.seeds
     forms = [f for f in _library_forms() if not plan.only or f in plan.only]
-    cases = [_case((f,), r, s) for f in forms for r in plan.ratios for s in seeds]
+    cases = [_case((f,), r, s, plan) for f in forms for r in plan.ratios for s in seeds]
     if plan.only:
         return cases
-    cases += [_case((), None, plan.null_seeds + k)
+    cases += [_case((), None, plan.null_seeds + k, plan)
               for k in range(4 if quick else plan.null_cases)]
-    cases += [_case((f,), r, s) for f in _outside_forms() for r in plan.outside_ratios
+    cases += [_case((f,), r, s, plan) for f in _outside_forms() for r in plan.outside_ratios
               for s in seeds]
-    cases += [_case(pair, plan.pair_ratio, s) for pair in _pairs() for s in seeds]
+    cases += [_case(pair, plan.pair_ratio, s, plan) for pair in _pairs() for s in seeds]
     return cases
 
 
-def draws(case: Case, plan: Plan) -> tuple[tuple, truthgen.Nuisances]:
-    """The case's shapes (one (name, value) tuple per form) and nuisance physics: the
-    development values, or (a sealed plan) drawn uniformly from their declared ranges with
-    the case's own seed (an order's draw rounded to a whole order)."""
-    if not plan.drawn:
-        return tuple(() for _ in case.forms), truthgen.Nuisances()
-    rng = np.random.default_rng([case.key, 1])
-    shapes = []
-    for form_id in case.forms:
-        shape = []
-        for name, low, high in truthgen.FORMS[form_id].shape_ranges:
-            value = float(rng.uniform(low, high))
-            shape.append((name, float(round(value)) if name == "order" else value))
-        shapes.append(tuple(shape))
-    nuisances = truthgen.Nuisances(**{name: float(rng.uniform(low, high))
-                                      for name, low, high in NUISANCE_RANGES})
-    return tuple(shapes), nuisances
+def battery(plans=(Plan(),), quick: bool = False) -> list[Case]:
+    """The cases of a battery's plans (one :class:`Plan` or several), plan after plan."""
+    plans = (plans,) if isinstance(plans, Plan) else tuple(plans)
+    return [case for plan in plans for case in _plan_cases(plan, quick)]
 
 
 # --------------------------------------------------------------------------- the gear
@@ -217,43 +182,71 @@ def _rate(campaign) -> float:
 
 
 # --------------------------------------------------------------------------- sizing
-def _first_cycle_change(campaign, gear_id: str, truths: tuple, index_of: dict,
+def detector_level(campaign, gear_id: str, settings) -> float:
+    """The load above its pre-contact baseline at which the diagnosis's touchdown detector
+    (:func:`certkit.compliance.measures.touchdown_time`, which the calibration and the
+    diagnosis align on) reads the contact of a record of this battery's sensors: the larger
+    of :data:`TOUCHDOWN_SHARE` of the unit's static weight and :data:`TOUCHDOWN_SIGMAS`
+    standard deviations of the load's noise (its random noise and its quantisation's)."""
+    sigma = math.sqrt(settings.load_noise ** 2 + settings.load_step ** 2 / 12.0)
+    weight = campaign.gear_units[gear_id].static_weight.si
+    return max(TOUCHDOWN_SHARE * weight, TOUCHDOWN_SIGMAS * sigma)
+
+
+def _plain_runs(campaign, gear_id: str, phases: tuple, nuisances: truthgen.Nuisances) -> list:
+    """(run, its index, its contact phase, its record without truths) of every drop the
+    diagnosis uses."""
+    index_of = {run.id: i for i, run in enumerate(campaign.spec.runs)}
+    out = []
+    for run in _drops(campaign, gear_id):
+        index = index_of[run.id]
+        plain = truthgen.simulate(gear_of(campaign, run, gear_id),
+                                  ideal_impact_velocity(run.drop_height.si), _rate(campaign),
+                                  drop_index=index, nuisances=nuisances, phase=phases[index])
+        out.append((run, index, phases[index], plain))
+    return out
+
+
+def _first_cycle_change(campaign, gear_id: str, truths: tuple, plain_runs: list, level: float,
                         nuisances: truthgen.Nuisances = truthgen.Nuisances()) -> float:
     """RMS over the runs of the load change the truths make over each run's first
     compression and rebound (touchdown to the end of the rebound of the run without
-    them) [N], with the touchdowns aligned first: a delay of the whole record is what the
-    diagnosis's alignment on the touchdown absorbs, so only what remains counts."""
+    them) [N], with the touchdowns aligned first where the diagnosis's detector reads them
+    (``level``, :func:`detector_level`), both records sampled as the logger samples them
+    (the case's contact phases): a delay of the whole record, and what of a lag the
+    alignment at that level takes out, is what an analysis that aligns on the measured
+    touchdown cannot see, so only what remains counts."""
     squares = []
-    for run in _drops(campaign, gear_id):
+    for run, index, phase, plain in plain_runs:
         gear = gear_of(campaign, run, gear_id)
-        speed = ideal_impact_velocity(run.drop_height.si)
-        plain = truthgen.simulate(gear, speed, _rate(campaign), drop_index=index_of[run.id],
-                                  nuisances=nuisances)
-        changed = truthgen.simulate(gear, speed, _rate(campaign), truths=truths,
-                                    drop_index=index_of[run.id], nuisances=nuisances)
+        changed = truthgen.simulate(gear, ideal_impact_velocity(run.drop_height.si),
+                                    _rate(campaign), truths=truths, drop_index=index,
+                                    nuisances=nuisances, phase=phase)
         weight = (gear.upper_mass + gear.lower_mass) * 9.80665
-        load = own.aligned_on_touchdown(plain.time, changed.load, plain.load,
-                                                0.02 * weight)
+        load = own.aligned_on_touchdown(plain.time, changed.load, plain.load, level)
         window = own.first_cycle(plain.time, plain.load, plain.stroke, weight)
         squares.append(np.mean((load[window] - plain.load[window]) ** 2))
     return float(np.sqrt(np.mean(squares)))
 
 
-def _sizes(campaign, gear_id: str, form_id: str, shape: tuple, ratios, noise: float,
-           nuisances: truthgen.Nuisances = truthgen.Nuisances()) -> dict:
+def _sizes(campaign, gear_id: str, form_id: str, shape: tuple, ratios, settings,
+           nuisances: truthgen.Nuisances = truthgen.Nuisances(), phases: tuple = ()) -> dict:
     """ratio -> the size at which the form (of ``shape``) changes the first-cycle load by
-    ratio × noise, interpolated (log-log) on a grid over the form's size range (None when
-    the range does not reach it)."""
-    index_of = {run.id: i for i, run in enumerate(campaign.spec.runs)}
+    ratio × the load noise, interpolated (log-log) on a grid over the form's size range
+    (None when the range does not reach it); ``phases``: each run's contact phase (default:
+    every contact on a sample)."""
+    phases = phases or (0.0,) * len(campaign.spec.runs)
+    plain_runs = _plain_runs(campaign, gear_id, phases, nuisances)
+    level = detector_level(campaign, gear_id, settings)
     low, high = truthgen.FORMS[form_id].sizes
     grid = np.geomspace(low, high, SIZING_GRID)
     effect = np.array([_first_cycle_change(campaign, gear_id,
                                            (truthgen.Truth(form_id, float(s), shape),),
-                                           index_of, nuisances)
+                                           plain_runs, level, nuisances)
                        for s in grid])
     out = {}
     for ratio in ratios:
-        target = ratio * noise
+        target = ratio * settings.load_noise
         above = np.nonzero(effect >= target)[0]
         if above.size == 0 or above[0] == 0 or effect[above[0] - 1] <= 0:
             out[ratio] = None
@@ -264,25 +257,6 @@ def _sizes(campaign, gear_id: str, form_id: str, shape: tuple, ratios, noise: fl
     return out
 
 
-def _ratios(plan: Plan) -> list:
-    return sorted(set(plan.ratios) | set(plan.outside_ratios) | {plan.pair_ratio})
-
-
-def size_table(template: str, gear_id: str, plan: Plan, noise: float) -> dict:
-    """(form, ratio) -> the size at which the form, at its development shape, changes the
-    first-cycle load by ratio × noise (a drawn plan sizes every case on its own draws, in
-    :func:`run_case`, and needs no table)."""
-    if plan.drawn:
-        return {}
-    campaign = load_campaign(template)
-    table = {}
-    for form_id in list(truthgen.FORMS):
-        for ratio, size in _sizes(campaign, gear_id, form_id, (), _ratios(plan),
-                                  noise).items():
-            table[(form_id, ratio)] = size
-    return table
-
-
 # --------------------------------------------------------------------------- one case
 def _factors(case: Case, plan: Plan) -> dict:
     rng = np.random.default_rng(case.key)
@@ -291,20 +265,23 @@ def _factors(case: Case, plan: Plan) -> dict:
 
 
 def write_case(template: str, gear_id: str, case: Case, truths: tuple, folder: Path,
-               plan: Plan, sensors: SensorModel, label: str,
+               sensors: SensorModel, label: str,
                nuisances: truthgen.Nuisances = truthgen.Nuisances()) -> Path:
     """The case's campaign simulated by truthgen with ``truths`` and ``nuisances`` (every
-    gear unit of every run), written with ``sensors`` into ``folder/label``."""
+    gear unit of every run, each run's contact at its phase, :func:`contact_phases`),
+    written with ``sensors`` into ``folder/label``."""
     campaign = load_campaign(template)
-    factors = _factors(case, plan)
+    factors = _factors(case, case.plan)
     rate = _rate(campaign)
+    phases = contact_phases(case.key, len(campaign.spec.runs))
 
     def histories(index: int, run) -> dict:
         out = {}
         for gid in run.gear_units:
             gear = gear_of(campaign, run, gid, factors)
             record = truthgen.simulate(gear, ideal_impact_velocity(run.drop_height.si), rate,
-                                       truths=truths, drop_index=index, nuisances=nuisances)
+                                       truths=truths, drop_index=index, nuisances=nuisances,
+                                       phase=phases[index])
             out[gid] = Histories(record.time, record.load, record.stroke, record.tyre,
                                  -record.acceleration, record.displacement, gear.upper_mass)
         return out
@@ -334,8 +311,9 @@ def _physical_size(clean, bare, gear_id: str, held) -> dict:
     return out
 
 
-def run_case(template: str, gear_id: str, case: Case, sizes: dict, plan: Plan,
-             settings: own.Settings) -> dict:
+def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) -> dict:
+    """Size, write and diagnose one case (sized on its own shapes, nuisances and contact
+    phases), and score it against its truth."""
     import numba
     from threadpoolctl import threadpool_limits
 
@@ -346,18 +324,18 @@ def run_case(template: str, gear_id: str, case: Case, sizes: dict, plan: Plan,
              "truth": [forms[f].effect for f in case.forms if forms[f].effect is not None],
              "outside": outside, "ratio": case.ratio, "seed": case.seed,
              "form": "; ".join(f"{forms[f].label}: {forms[f].description}"
-                               for f in case.forms) or "none (nuisances only)"}
-    shapes, nuisances = draws(case, plan)
-    if plan.drawn:     # sized on the case's own shapes and nuisances
-        campaign = load_campaign(template)
-        sizes = {(f, case.ratio): _sizes(campaign, gear_id, f, shape, [case.ratio],
-                                         settings.load_noise, nuisances)[case.ratio]
-                 for f, shape in zip(case.forms, shapes)}
-    chosen = tuple(truthgen.Truth(f, sizes[(f, case.ratio)], shape)
-                   for f, shape in zip(case.forms, shapes))
+                               for f in case.forms) or "none (nuisances only)",
+             "part": case.plan.name}
+    shapes, nuisances = draws(case.key, case.forms, case.plan)
+    campaign = load_campaign(template)
+    phases = contact_phases(case.key, len(campaign.spec.runs))
+    sizes = {f: _sizes(campaign, gear_id, f, shape, [case.ratio], settings, nuisances,
+                       phases)[case.ratio] for f, shape in zip(case.forms, shapes)}
+    chosen = tuple(truthgen.Truth(f, sizes[f], shape) for f, shape in zip(case.forms, shapes))
     truth["shapes"] = [dict(shape) for shape in shapes]
     truth["nuisances"] = {"pad_m": nuisances.pad, "gas": nuisances.gas,
                           "tyre_shape": nuisances.tyre_shape}
+    truth["contact_phases"] = list(phases)
     if any(t.size is None for t in chosen):
         return {**truth, "named": [], "statement": "not generated: size out of range",
                 "error": None, "skipped": "size out of range", "shrink": 0.0, "before": None,
@@ -369,12 +347,12 @@ def run_case(template: str, gear_id: str, case: Case, sizes: dict, plan: Plan,
     with tempfile.TemporaryDirectory() as name, threadpool_limits(limits=1):
         folder = Path(name)
         try:
-            written = write_case(template, gear_id, case, chosen, folder, plan, noisy, "noisy",
+            written = write_case(template, gear_id, case, chosen, folder, noisy, "noisy",
                                  nuisances)
             diagnosis = diagnose(load_campaign(written), gear_id)
-            clean = load_campaign(write_case(template, gear_id, case, chosen, folder, plan,
+            clean = load_campaign(write_case(template, gear_id, case, chosen, folder,
                                              NO_SENSOR_EFFECTS, "clean", nuisances))
-            bare = load_campaign(write_case(template, gear_id, case, (), folder, plan,
+            bare = load_campaign(write_case(template, gear_id, case, (), folder,
                                             NO_SENSOR_EFFECTS, "bare", nuisances))
             held = diagnosis.held_out
             gap_before = _held_out_load(clean, gear_id, held, diagnosis.calibration.apply)
@@ -482,13 +460,27 @@ def score(outcomes: list[dict]) -> dict:
     return document
 
 
-def record(template: str, gear_id: str, plan: Plan, settings, cases: list[Case],
+def _part_settings(plan: Plan) -> dict:
+    return {"seeds": list(plan.seeds), "null_seeds": plan.null_seeds, "scatter": plan.scatter,
+            "shapes": ("drawn per case from the ranges below (every case's draws are in its "
+                       "outcome)" if plan.drawn else
+                       "each form's development values (its description)"),
+            "shape_ranges": {f: [list(r) for r in plan.shape_ranges(f)]
+                             for f, form in truthgen.FORMS.items() if form.shape_ranges}
+            if plan.drawn else None,
+            "nuisance_ranges": [list(r) for r in NUISANCE_RANGES] if plan.drawn else None}
+
+
+def record(template: str, gear_id: str, plans: tuple, settings, cases: list[Case],
            outcomes: list[dict], run_by: dict | None = None, rescored: bool = False) -> dict:
-    """The blind-check record of ``outcomes`` (the cases run, in ``cases``' order).
+    """The blind-check record of ``outcomes`` (the cases run, in ``cases``' order) of the
+    battery made of ``plans``.
 
     ``run_by`` is who ran the cases (:func:`blindcheck.record.provenance`, taken before
     they ran).  The record's ``scored_by`` is always this process, and its template's code
     fingerprint is the one that ran the cases: a rescore never re-stamps the run."""
+    plans = (plans,) if isinstance(plans, Plan) else tuple(plans)
+    plan = plans[0]
     command = _command(template, gear_id, plan)
     scored_by = provenance(command + " --rescore RECORD" if rescored else command)
     run_by = scored_by if run_by is None else run_by
@@ -509,23 +501,21 @@ def record(template: str, gear_id: str, plan: Plan, settings, cases: list[Case],
                      "code": run_by["code"], "gear": gear_id},
         "command": command, "run_by": run_by, "scored_by": scored_by,
         "battery": plan.battery,
-        "settings": {"ratios": list(plan.ratios), "seeds": list(plan.seeds),
-                     "null_seeds": plan.null_seeds, "only": list(plan.only),
-                     "shapes": ("drawn per case from the declared ranges "
-                                "(shape_ranges of benchmarks/truthgen/forms.py; every case's "
-                                "draws are in its outcome)" if plan.drawn else
-                                "each form's development values (its description)"),
-                     "shape_ranges": {f: [list(r) for r in form.shape_ranges]
-                                      for f, form in truthgen.FORMS.items()}
-                     if plan.drawn else None,
-                     "nuisance_ranges": [list(r) for r in NUISANCE_RANGES]
-                     if plan.drawn else None,
+        "settings": {"parts": {p.name: _part_settings(p) for p in plans},
+                     "ratios": list(plan.ratios), "only": list(plan.only),
                      "null_cases": plan.null_cases, "outside_ratios": list(plan.outside_ratios),
                      "pairs": [list(p) for p in _pairs()], "pair_ratio": plan.pair_ratio,
-                     "scatter": plan.scatter, "load_noise": settings.load_noise,
+                     "load_noise": settings.load_noise,
+                     "contact": "between two logger samples, at a phase drawn per drop from "
+                                "the case's seed (uniform over the sample interval; every "
+                                "case's phases are in its outcome)",
                      "size_measure": "RMS load change over the first compression and rebound "
-                                     "of every run (touchdowns aligned), in units of the load "
-                                     "noise",
+                                     "of every run, with the touchdowns aligned where the "
+                                     "diagnosis's touchdown detector reads them (the larger "
+                                     "of 2 % of the static weight and 6 standard deviations "
+                                     "of the load noise) on records sampled as the logger "
+                                     "samples them, in units of the load noise",
+                     "alignment_level_N": detector_level(campaign, gear_id, settings),
                      "scored_from": scoring.SCORED_FROM, "cases": len(cases),
                      "targets": "those of the metrics, on cases with effect/noise of at least "
                                 f"{scoring.SCORED_FROM:g} (harm: of those that named an "
@@ -561,9 +551,10 @@ def main() -> int:
     unknown = [f for f in only if f not in _library_forms()]
     if unknown:
         parser.error(f"--only: unknown forms {unknown}; known: {_library_forms()}")
-    plan, settings = replace(PLANS[args.battery], only=only), own.Settings()
+    plans = tuple(replace(p, only=only) for p in PLANS[args.battery])
+    settings = own.Settings()
     started = clock.perf_counter()
-    cases = battery(plan, args.quick)
+    cases = battery(plans, args.quick)
     run_by = None
     if args.rescore is not None:
         earlier = read_blind_check(args.rescore)
@@ -573,9 +564,9 @@ def main() -> int:
         # the cases were run by whoever ran them, not by this process
         run_by = earlier.cases_run_by.model_dump()
     else:
-        run_by = provenance(_command(template, args.gear, plan))   # before the cases run
-        outcomes = run_battery(template, args.gear, plan, settings, cases, args.workers)
-    document = record(template, args.gear, plan, settings, cases, outcomes, run_by,
+        run_by = provenance(_command(template, args.gear, plans[0]))   # before the cases run
+        outcomes = run_battery(template, args.gear, settings, cases, args.workers)
+    document = record(template, args.gear, plans, settings, cases, outcomes, run_by,
                       rescored=args.rescore is not None)
     args.out.mkdir(parents=True, exist_ok=True)
     write_blind_check(document, args.out)
@@ -586,23 +577,19 @@ def main() -> int:
     return 0
 
 
-def run_battery(template: str, gear_id: str, plan: Plan, settings, cases: list[Case],
+def run_battery(template: str, gear_id: str, settings, cases: list[Case],
                 workers: int | None) -> list[dict]:
-    started = clock.perf_counter()
-    sizes = size_table(template, gear_id, plan, settings.load_noise)
-    print(f"sized {len(truthgen.FORMS)} forms in {clock.perf_counter() - started:.0f} s",
-          flush=True)
     outcomes = []
     pool = ProcessPoolExecutor(max_workers=workers,
                                mp_context=multiprocessing.get_context("spawn"))
     with pool:
-        futures = [pool.submit(run_case, template, gear_id, c, sizes, plan, settings)
+        futures = [pool.submit(run_case, template, gear_id, c, settings)
                    for c in cases]
         for future in futures:
             outcome = future.result()
             outcomes.append(outcome)
-            print(f"{outcome['id']} {'+'.join(outcome['forms']) or 'none'} "
-                  f"{outcome['ratio']}: named {' + '.join(outcome['named']) or '(none)'}",
+            print(f"{outcome['id']} {outcome['part']} {'+'.join(outcome['forms']) or 'none'} "
+                  f"{outcome['ratio']} s{outcome['seed']}: named {' + '.join(outcome['named']) or '(none)'}",
                   flush=True)
     return outcomes
 

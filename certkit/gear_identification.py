@@ -167,7 +167,6 @@ class Identification:
     skipped: list = field(default_factory=list)
 
 
-
 def _drops(campaign: Campaign, gear_id: str, unused: list | None = None) -> list[Drop]:
     """The drops of ``gear_id`` the models are fitted on; why a recorded run is not one of
     them is appended to ``unused``."""

@@ -3,6 +3,7 @@ certkit): its battery, its truths withheld and sized, its scoring by hand, and t
 outcome on a process pool and on a dask cluster."""
 
 import json
+import math
 import statistics
 import sys
 from pathlib import Path
@@ -299,9 +300,9 @@ RECORD = "campaigns/seed-amphibian/blind-check/blind-check.json"
 @pytest.mark.slow
 def test_the_examples_blind_check_record_is_what_this_code_gives():
     """The committed record (the independent battery of benchmarks/blind_independent.py,
-    about 100 cases, 10 minutes) is spot-checked: two of its cases are run again here, and
-    its metrics are those its score() gives for its cases (a check that the file was not
-    edited by hand)."""
+    its development plan and the spent sealed set S1, about 200 cases, 15 minutes) is
+    spot-checked: two of its cases are run again here, and its metrics are those its score()
+    gives for its cases (a check that the file was not edited by hand)."""
     import blind_independent as independent
 
     with open(RECORD, encoding="utf-8") as handle:
@@ -314,20 +315,19 @@ def test_the_examples_blind_check_record_is_what_this_code_gives():
     assert record["template"]["sha256"] == template_fingerprint(load_campaign(EXAMPLE))
     assert len(record["template"]["code"]) == len(code_fingerprint()) == 64
     assert "benchmarks/truthgen" in record["truths"]
-    plan = independent.Plan()
-    cases = {c.id: c for c in independent.battery(plan)}
+    cases = {c.id: c for c in independent.battery(independent.PLANS["development"])}
     assert record["settings"]["cases"] == len(cases)
     assert [o["id"] for o in record["cases"]] == list(cases)
     picked = [c for c in cases.values()
               if (c.forms, c.ratio, c.seed) in ((("dahl",), 2.0, 31),
-                                                (("blow-off", "gain-skew"), 5.0, 32))]
+                                                (("bessel-delay",), 2.0, 7101))]
     assert len(picked) == 2
     template = str(Path(EXAMPLE).resolve())
-    sizes = independent.size_table(template, "left-main", plan, Settings().load_noise)
     for case in picked:
         kept = next(o for o in record["cases"] if o["id"] == case.id)
-        again = independent.run_case(template, "left-main", case, sizes, plan, Settings())
+        again = independent.run_case(template, "left-main", case, Settings())
         assert again["named"] == kept["named"] and again["truth"] == kept["truth"]
+        assert again["contact_phases"] == kept["contact_phases"]
         for key in ("before", "after", "shrink", "closed"):
             assert again[key] == pytest.approx(kept[key], rel=1e-6), key
         assert again["sizes"] == pytest.approx(kept["sizes"], rel=1e-6)
@@ -349,13 +349,12 @@ def test_the_examples_sealed_record_is_what_this_code_gives():
     with open(SEALED_RECORD, encoding="utf-8") as handle:
         record = json.load(handle)
     assert record["battery"] == "sealed"
-    plan = independent.PLANS["sealed"]
-    cases = {c.id: c for c in independent.battery(plan)}
+    cases = {c.id: c for c in independent.battery(independent.PLANS["sealed"])}
     assert [o["id"] for o in record["cases"]] == list(cases)
-    case = next(c for c in cases.values() if (c.forms, c.ratio, c.seed) == (("lugre",), 5.0, 7102))
+    case = next(c for c in cases.values() if (c.forms, c.ratio, c.seed) == (("lugre",), 5.0, 9102))
     kept = next(o for o in record["cases"] if o["id"] == case.id)
     template = str(Path(EXAMPLE).resolve())
-    again = independent.run_case(template, "left-main", case, {}, plan, Settings())
+    again = independent.run_case(template, "left-main", case, Settings())
     assert again["named"] == kept["named"] and again["shapes"] == kept["shapes"]
     for key in ("before", "after", "shrink"):
         assert again[key] == pytest.approx(kept[key], rel=1e-6), key
@@ -434,34 +433,57 @@ def test_the_report_names_the_files_that_differ_from_the_running_certkit():
 def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
     import blind_independent as independent
     import truthgen
+    from blindcheck.plans import NUISANCE_RANGES, S1, S2, draws
 
     development, sealed = independent.PLANS["development"], independent.PLANS["sealed"]
     dev_cases, sealed_cases = independent.battery(development), independent.battery(sealed)
-    # at least as many cases; no seed, no case id in common
-    assert len(sealed_cases) >= len(dev_cases) >= 98
+    # S1, spent, is part of the development battery with its own seeds; S2 is sealed
+    assert S1 in development and sealed == (S2,)
+    assert {c.seed for c in dev_cases if c.plan is S1} == {7101, 7102} | set(range(7500, 7520))
+    # at least as many cases as a development plan; no seed, no case id in common
+    assert len(sealed_cases) >= len(independent.battery(development[0])) >= 106
     assert not {c.seed for c in dev_cases} & {c.seed for c in sealed_cases}
     assert not {c.id for c in dev_cases} & {c.id for c in sealed_cases}
-    # the development battery uses every form's development shape and nuisances
+    # the development plan uses every form's development shape and nuisances
     for case in dev_cases[:5]:
-        shapes, nuisances = independent.draws(case, development)
+        shapes, nuisances = draws(case.key, case.forms, case.plan)
         assert all(shape == () for shape in shapes) and nuisances == truthgen.Nuisances()
-    # a sealed case draws every shape parameter inside its declared range, and the same again
+    # a drawn case draws every shape parameter inside its plan's range, and the same again
     drawn = {}
-    for case in sealed_cases:
-        shapes, nuisances = independent.draws(case, sealed)
-        assert (shapes, nuisances) == independent.draws(case, sealed)
+    for case in sealed_cases + [c for c in dev_cases if c.plan is S1]:
+        shapes, nuisances = draws(case.key, case.forms, case.plan)
+        assert (shapes, nuisances) == draws(case.key, case.forms, case.plan)
         for form_id, shape in zip(case.forms, shapes):
-            ranges = {n: (lo, hi) for n, lo, hi in truthgen.FORMS[form_id].shape_ranges}
+            ranges = {n: (lo, hi) for n, lo, hi in case.plan.shape_ranges(form_id)}
             assert set(dict(shape)) == set(ranges)
             for name, value in shape:
                 assert ranges[name][0] <= value <= ranges[name][1], (form_id, name, value)
                 if name == "order":
                     assert value == int(value)       # a filter's order is a whole number
-                drawn.setdefault((form_id, name), set()).add(value)
-        for name, low, high in independent.NUISANCE_RANGES:
+                drawn.setdefault((case.plan.name, form_id, name), set()).add(value)
+        for name, low, high in NUISANCE_RANGES:
             assert low <= getattr(nuisances, name) <= high
     # ... and not one value: the shapes vary from case to case
     assert all(len(values) > 1 for values in drawn.values()), drawn
+    # S2's own ranges where the change concerned them: the skew may lead, the filters differ
+    assert min(drawn[("S2", "gain-skew", "skew")]) < 0 < max(drawn[("S2", "gain-skew", "skew")])
+    assert S2.shape_ranges("bessel-delay") == (("order", 3, 8), ("delay_share", 0.25, 1.5))
+    assert S1.shape_ranges("bessel-delay") == truthgen.FORMS["bessel-delay"].shape_ranges
+
+
+def test_every_case_has_its_own_contact_phases_between_two_samples():
+    """A logger's clock is not the drop's: each drop's contact falls anywhere between two
+    samples, drawn from the case's seed, the same for the same case."""
+    import blind_independent as independent
+    from blindcheck.plans import contact_phases
+
+    cases = independent.battery(independent.PLANS["sealed"])
+    phases = [contact_phases(c.key, 3) for c in cases]
+    assert phases[0] == contact_phases(cases[0].key, 3)
+    values = np.array(phases).ravel()
+    assert np.all((values >= 0) & (values < 1))
+    # spread over the sample interval, not all on a sample
+    assert np.histogram(values, bins=4, range=(0, 1))[0].min() > 0.15 * values.size
 
 
 def test_a_truth_reads_its_own_shape_or_its_forms_development_value():
@@ -471,3 +493,50 @@ def test_a_truth_reads_its_own_shape_or_its_forms_development_value():
     assert default.value("static_ratio") == 1.4 and default.value("stribeck_speed") == 0.02
     own = truthgen.Truth("lugre", 10.0, (("static_ratio", 1.9),))
     assert own.value("static_ratio") == 1.9 and own.value("stribeck_speed") == 0.02
+
+
+def test_the_independent_battery_sizes_an_effect_where_the_diagnosis_aligns():
+    """An effect's "2 × noise" is what an analysis that aligns on the measured touchdown can
+    see: the load change over the first cycle with the touchdowns aligned where the
+    diagnosis's detector reads them, on records sampled as the logger samples them.  Here:
+    the detector's level on the battery's records is 6 × √(20² + 1²/12) N = 120.0125 N (the
+    noise and its 1 N quantisation; 2 % of 292.5 kgf is only 57.4 N), and a Bessel lag sized
+    for 2 × 20 N moves the first cycle by 40 N once the two records are aligned there by a
+    plain crossing search written here; aligned at 2 % of the weight, as the battery did
+    before, the same lag shows more than that."""
+    import blind_independent as independent
+    import truthgen
+
+    campaign = load_campaign(EXAMPLE)
+    level = independent.detector_level(campaign, "left-main", Settings())
+    assert level == pytest.approx(6 * math.sqrt(20.0 ** 2 + 1.0 / 12), abs=1e-9)
+    phases = (0.37, 0.81, 0.12)
+    size = independent._sizes(campaign, "left-main", "bessel-delay", (), [2.0], Settings(),
+                              truthgen.Nuisances(), phases)[2.0]
+    from certkit.gap.phases import segment
+
+    def crossing(time, signal, at):
+        i = int(np.argmax(signal > at))
+        return time[i - 1] + (at - signal[i - 1]) / (signal[i] - signal[i - 1]) / 1000.0
+
+    changes = {level: [], 0.02 * 292.5 * 9.80665: []}
+    runs = [r for r in campaign.spec.runs if "left-main" in r.gear_units]
+    for index, run in enumerate(campaign.spec.runs):
+        if run not in runs:
+            continue
+        gear = independent.gear_of(campaign, run, "left-main")
+        speed = ideal_impact_velocity(run.drop_height.si)
+        plain = truthgen.simulate(gear, speed, 1000.0, drop_index=index, phase=phases[index])
+        lagged = truthgen.simulate(gear, speed, 1000.0, drop_index=index, phase=phases[index],
+                                   truths=(truthgen.Truth("bessel-delay", size),))
+        time = plain.time
+        cycle = {p.name: p for p in segment(time, plain.load, plain.stroke,
+                                            (gear.upper_mass + gear.lower_mass) * 9.80665)}
+        window = slice(cycle["tyre-only contact"].start, cycle["rebound"].stop)
+        for at, squares in changes.items():
+            shift = crossing(time, lagged.load, at) - crossing(time, plain.load, at)
+            aligned = np.interp(time + shift, time, lagged.load)
+            squares.append(np.mean((aligned[window] - plain.load[window]) ** 2))
+    at_detector, at_two_percent = (math.sqrt(np.mean(v)) for v in changes.values())
+    assert at_detector == pytest.approx(40.0, rel=0.03)
+    assert at_two_percent > 1.2 * at_detector

@@ -196,3 +196,64 @@ def test_certkits_nominal_model_agrees_with_it_over_the_whole_drop():
     # the stroke channels differ by where each zeroes it (the hanging strut's stop)
     assert rms(theirs.stroke - theirs.stroke[0], ours.stroke - ours.stroke[0]) < 1e-4
     assert rms(theirs.tyre, ours.tyre) < 2e-5
+
+
+@pytest.mark.parametrize("phase", [0.0, 0.3, 0.85])
+def test_contact_falls_between_two_samples_at_its_phase(phase):
+    """The logger's samples lie at −lead − phase/rate + k/rate: the last one before contact
+    is phase/rate before it, in free fall (x = v·t + g·t²/2 from contact, by hand), and the
+    next one, (1 − phase)/rate after contact, already loads the platform."""
+    rate = 1000.0
+    record = tg.simulate(GEAR, V25, rate, duration=0.2, lead=0.1, phase=phase)
+    step = 1.0 / rate
+    np.testing.assert_allclose(np.diff(record.time), step, rtol=1e-9)
+    last = int(np.flatnonzero(record.time <= 1e-12)[-1])
+    t = -phase * step
+    assert record.time[last] == pytest.approx(t, abs=1e-12)
+    assert record.load[last] == 0.0
+    assert record.displacement[last] == pytest.approx(V25 * t + 0.5 * G * t * t, abs=1e-12)
+    assert record.load[last + 1] > 0.0
+    # the tyre has deflected about v·(1 − phase)/rate (it has not yet slowed much)
+    assert record.tyre[last + 1] == pytest.approx(V25 * (1 - phase) * step, rel=0.02)
+    with pytest.raises(ValueError, match="phase"):
+        tg.simulate(GEAR, V25, rate, duration=0.2, phase=1.0)
+
+
+def test_a_channel_skew_samples_the_load_later_not_between_samples():
+    """A load channel lagging the others by τ = 0.4 ms reads the platform force at t − τ:
+    the record with contact at phase 0.1 and skew 0.4 ms holds (1 + ε) times the load of
+    the same drop sampled with contact at phase 0.5 (its samples 0.4 ms later after
+    contact), not an interpolation between the 1 kHz samples (which cuts the first
+    sample's load across the contact's kink and the peak)."""
+    rate, epsilon, skew = 1000.0, 0.02, 4e-4
+    truth = (tg.Truth("gain-skew", epsilon, (("skew", skew), ("sign", 1.0))),)
+    skewed = tg.simulate(GEAR, V25, rate, duration=0.3, truths=truth, phase=0.1)
+    later = tg.simulate(GEAR, V25, rate, duration=0.3, phase=0.5)
+    plain = tg.simulate(GEAR, V25, rate, duration=0.3, phase=0.1)
+    # every channel but the load is the plain record's; the load is the later sampling's
+    np.testing.assert_array_equal(skewed.stroke, plain.stroke)
+    np.testing.assert_allclose(skewed.load, (1 + epsilon) * later.load, rtol=0,
+                               atol=1e-4 * later.load.max())
+    interpolated = (1 + epsilon) * np.interp(np.arange(plain.load.size) - 0.4,
+                                             np.arange(plain.load.size), plain.load)
+    assert np.max(np.abs(interpolated - (1 + epsilon) * later.load)) > 20.0     # N: the noise
+
+
+def test_a_first_order_lag_acts_as_the_analog_filter_before_sampling():
+    """A 1st-order Butterworth low-pass of cutoff 1/(2π·T) with no pure delay is the lag
+    T·ẏ + y = x.  On the free fall before contact, x = a + b·s + c·s² from the record's
+    start (steady there), its exact response is y = x − T·x' + 2·c·T² + (T·b − 2·c·T²)·e^(−s/T)
+    (by hand: the particular solution x − T·x' + T²·x'' and the homogeneous term that starts
+    y at x).  The digital filter designed at the logger's own 1 kHz (T = 2 ms, two samples)
+    misses this by tenths of a millimetre; the recorder acting on the continuous signal
+    does not."""
+    rate, lag, lead = 1000.0, 0.002, 0.1
+    truth = (tg.Truth("butterworth-delay", lag, (("order", 1.0), ("delay_share", 0.0))),)
+    record = tg.simulate(GEAR, V25, rate, duration=0.05, lead=lead, truths=truth)
+    before = record.time < -1e-9
+    s = record.time[before] + lead               # time since the record's start
+    v0 = V25 - G * lead                          # the free fall at the record's start
+    a, b, c = -(V25 * lead - 0.5 * G * lead ** 2), v0, 0.5 * G
+    x, dx = a + b * s + c * s ** 2, b + 2 * c * s
+    expected = x - lag * dx + 2 * c * lag ** 2 + (lag * b - 2 * c * lag ** 2) * np.exp(-s / lag)
+    np.testing.assert_allclose(record.displacement[before], expected, rtol=0, atol=1e-6)

@@ -21,7 +21,11 @@ correction), and the tyre curve is not a pure power law (·(1 + 0.06·(δ/δ_ref
 
 Recorded channels: platform load (the tyre force), stroke (zeroed where the strut hangs
 in free fall), tyre deflection (0 off the platform), acceleration of the drop mass
-(positive downward) and its displacement from contact (positive downward).
+(positive downward) and its displacement from contact (positive downward), sampled at
+the logger's instants, which need not fall on the contact (``phase``).  What a recording
+chain does (a filter and a delay, a channel's skew, crosstalk) acts on the continuous
+signals (the integrator's every step) before the logger samples them, as it does in a
+real chain: a delay of a fraction of a sample is not an interpolation between samples.
 """
 
 from __future__ import annotations
@@ -271,59 +275,88 @@ def _parameters(gear: Gear, truths, nuisances: Nuisances, drop_index: int) -> np
 
 
 def _delayed(signal_in: np.ndarray, rate: float, delay: float) -> np.ndarray:
-    """A record delayed by ``delay`` [s] (linear interpolation, steady at its first value)."""
+    """A signal on samples 1/``rate`` apart delayed by ``delay`` [s] (linear interpolation,
+    steady at its first and last values)."""
     index = np.arange(signal_in.size, dtype=float) - delay * rate
     return np.interp(index, np.arange(signal_in.size, dtype=float), signal_in)
 
 
 def _lag(signal_in: np.ndarray, rate: float, truth) -> np.ndarray:
-    """A recorded channel through the form's filter and delay (steady at its first value)."""
+    """A channel through the form's filter and delay (steady at its first value), on the
+    integrator's fine grid (``rate`` its sample rate, far above the filter's band: the
+    digital filter there is the analog one the recording chain has, to well within its
+    own tolerance)."""
     size = truth.size
     order = int(round(truth.value("order")))
     cutoff = 1.0 / (2.0 * math.pi * size)
     nyquist = 0.5 * rate
-    if cutoff >= 0.95 * nyquist:            # beyond the logger's band: the delay only
+    if cutoff >= 0.95 * nyquist:            # beyond any band the grid resolves: the delay only
         filtered = signal_in.copy()
     else:
         if truth.form == "bessel-delay":
-            b, a = signal.bessel(order, cutoff / nyquist, norm="delay")
+            sos = signal.bessel(order, cutoff / nyquist, norm="delay", output="sos")
         else:
-            b, a = signal.butter(order, cutoff / nyquist)
-        zi = signal.lfilter_zi(b, a) * signal_in[0]
-        filtered, _ = signal.lfilter(b, a, signal_in, zi=zi)
+            sos = signal.butter(order, cutoff / nyquist, output="sos")
+        zi = signal.sosfilt_zi(sos) * signal_in[0]
+        filtered, _ = signal.sosfilt(sos, signal_in, zi=zi)
     return _delayed(filtered, rate, size * truth.value("delay_share"))
+
+
+#: Forms that act on what the logger records, not on the mechanics.
+RECORDER_FORMS = ("bessel-delay", "butterworth-delay", "crosstalk", "gain-skew")
+
+
+def _recorded(fine: np.ndarray, fine_rate: float, every: int, truths) -> tuple:
+    """The channels (load, stroke, tyre, acceleration, displacement) the logger samples,
+    every ``every``-th instant of the integrator's fine grid (rate ``fine_rate``), after
+    the recorder forms of ``truths`` acted on the continuous signals: a filter and a delay
+    act before the logger samples (an analog anti-alias filter, a transducer's own
+    dynamics); a channel skew means the load is sampled τ after the others, not that its
+    samples are interpolated; crosstalk adds the load of an earlier instant."""
+    channels = [fine[:, 0], fine[:, 1], fine[:, 2], fine[:, 3], fine[:, 4]]
+    for truth in truths:
+        if truth.form in ("bessel-delay", "butterworth-delay"):
+            channels = [_lag(x, fine_rate, truth) for x in channels]
+        elif truth.form == "crosstalk":
+            channels[0] = channels[0] + truth.size * _delayed(channels[0], fine_rate,
+                                                              truth.value("delay"))
+        elif truth.form == "gain-skew":
+            sign = 1.0 if truth.value("sign") >= 0 else -1.0
+            channels[0] = (1.0 + sign * truth.size) * _delayed(channels[0], fine_rate,
+                                                               truth.value("skew"))
+    return tuple(x[::every] for x in channels)
 
 
 def simulate(gear: Gear, contact_velocity: float, rate: float, duration: float = 2.0,
              lead: float = 0.1, truths=(), nuisances: Nuisances = Nuisances(),
-             drop_index: int = 0) -> Record:
-    """One drop: samples at t = −lead + k/rate, k < round((lead + duration)·rate); the tyre
-    touches the platform at t = 0 with ``contact_velocity`` [m/s]; ``truths`` the withheld
-    effects (:class:`Truth`), ``drop_index`` the drop's place in the test sequence."""
+             drop_index: int = 0, phase: float = 0.0) -> Record:
+    """One drop: samples at t = −lead − phase/rate + k/rate, k < round((lead + duration)·rate);
+    the tyre touches the platform at t = 0 with ``contact_velocity`` [m/s], ``phase`` (0 ≤
+    phase < 1) of a sample interval after the last sample before it (0: contact falls on a
+    sample; a logger's clock is not synchronised with the drop, so contact falls anywhere
+    between two samples); ``truths`` the withheld effects (:class:`Truth`), ``drop_index``
+    the drop's place in the test sequence."""
+    if not 0.0 <= phase < 1.0:
+        raise ValueError(f"the contact phase must lie in [0, 1), got {phase!r}")
     truths = tuple(truths)
     p = _parameters(gear, truths, nuisances, drop_index)
     samples = int(round((lead + duration) * rate))
     substeps = max(1, int(math.ceil(1.0 / (rate * MAX_STEP))))
     step = 1.0 / (rate * substeps)
+    lead = lead + phase / rate                       # the first sample is this long before contact
     y0 = np.zeros(8)
     speed = contact_velocity - G * lead              # free fall until contact
     start = -(contact_velocity * lead - 0.5 * G * lead ** 2)
     for slot, velocity in ((X1, V1), (X2, V2), (XL, VL)):
         y0[slot], y0[velocity] = start, speed
-    out = _integrate(p, y0, samples, substeps, step)
+    recorders = tuple(t for t in truths if t.form in RECORDER_FORMS)
+    # with a recorder form, every integrator step is kept (the continuous signals it acts
+    # on); the samples at the logger's instants are the same numbers either way
+    out = _integrate(p, y0, samples * substeps if recorders else samples,
+                     1 if recorders else substeps, step)
+    out[:, 1] -= p[HANG]
+    out[:, 2] = np.maximum(out[:, 2], 0.0)
     time = -lead + np.arange(samples) / rate
-    load, stroke = out[:, 0], out[:, 1] - p[HANG]
-    tyre = np.maximum(out[:, 2], 0.0)
-    acceleration, displacement = out[:, 3], out[:, 4]
-    for truth in truths:
-        if truth.form in ("bessel-delay", "butterworth-delay"):
-            load, stroke, tyre, acceleration, displacement = (
-                _lag(x, rate, truth) for x in (load, stroke, tyre, acceleration, displacement))
-        elif truth.form == "crosstalk":
-            shift = int(round(truth.value("delay") * rate))
-            earlier = np.concatenate([np.full(shift, load[0]), load[:-shift]])
-            load = load + truth.size * earlier
-        elif truth.form == "gain-skew":
-            sign = 1.0 if truth.value("sign") >= 0 else -1.0
-            load = (1.0 + sign * truth.size) * _delayed(load, rate, truth.value("skew"))
+    load, stroke, tyre, acceleration, displacement = _recorded(
+        out, rate * substeps, substeps if recorders else 1, recorders)
     return Record(time, load, stroke, tyre, acceleration, displacement)

@@ -8,8 +8,11 @@ are scored and profiled (:mod:`certkit.gap.attribution`); the best form of each 
 parameters; the refit that cuts the training cost most, by :data:`GAIN` at least, leaves
 no training channel worse beyond its noise (:func:`certkit.gap.residuals.harmed`) and
 removes at least :data:`DETECTABLE` noise variances from the training records is named
-(a memoryless error of a recorded channel, a gain, only if its correction fits that
-channel's residual at the same instant: :data:`TIMING_SHARE`), unless another effect's refit comes within :data:`TIE_COST` of it: then the two
+(an error of one recorded channel, a load-cell gain, is refitted with that channel's skew
+and named only if its correction, skew included, fits the channel's residual at the same
+instant: :data:`TIMING_SHARE`; what a gain with a skew cannot explain, a share of the load
+tens of milliseconds earlier, is refused as another timing error), unless another effect's
+refit comes within :data:`TIE_COST` of it: then the two
 cannot be told apart by their fits, and the model-free missing force
 (:mod:`certkit.gap.missing_force`, on the training runs) decides when it shows the mark of
 one of them and not of the other; otherwise neither is named (a tie). The held-out runs are
@@ -54,12 +57,15 @@ DETECTABLE = 2.0
 #: How many relevant effects are refitted at each step (the best form of each, those with
 #: the best profiles): two, so that the tie rule can compare the best pair.
 LEADING = 2
-#: A memoryless error of a recorded channel (a load cell's gain) changes each sample at its
-#: own instant.  When its refit's correction, shifted in time (up to
+#: An error of one recorded channel (a load cell's gain) changes each sample of it at its own
+#: instant, up to the channel's skew behind the others (a fraction of a millisecond), which
+#: the gain's refit fits with it (:mod:`certkit.physics.effects.load_cell_gain`).  When
+#: the refit's correction, skew included, shifted further in time (up to
 #: :data:`certkit.gap.residuals.TIMING_LAG`), would remove this share or more of the mean
-#: square that stays on that channel, the record's error is not memoryless (a gain with a
-#: delay, crosstalk through a frame) and the form is not named.  A gain's own refit leaves
-#: at most a few per cent to a shift (the floor of the nominal model and the noise).
+#: square that stays on that channel, what is missing changes the record's timing beyond a
+#: skew (crosstalk through a frame, a share of the load tens of milliseconds earlier) and
+#: the form is not named.  A gain's own refit, with its skew, leaves at most a few per cent
+#: to a shift (the floor of the nominal model and the noise).
 TIMING_SHARE = 0.10
 #: The channel whose held-out gap the statement's closed and unexplained shares are of.
 FLOOR_CHANNEL = "load"

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 from certkit.physics import dynamics as dyn
 from certkit.physics.drop_model import Term
-from certkit.physics.effects.base import Candidate, Effect, Truth
+from certkit.physics.effects.base import Candidate, Effect, Knob, Truth, set_effect
 from certkit.units import STANDARD_GRAVITY
 
 
@@ -50,6 +50,19 @@ class TyreHysteresis(Term):
         p[dyn.HYSTERESIS_MEMORY] = 1.0 if self.memory else 0.0
 
 
+#: Where the loop's onset δ_H may lie when a loop with memory is refitted [m]: the deflection
+#: over which a tyre's loop switches (a Bouc–Wen element's yield deflection w0) is a
+#: property of the tyre that no spec states, from a fraction of a millimetre to several.
+ONSET_RANGE = (0.5e-3, 10e-3)
+#: The onset fitted with the strength of a loop with memory, and the onsets its profile
+#: tries (the first, the candidate's own 2 mm, is the refit's default start) [m].
+ONSET = Knob("tyre-loop-onset", "tyre loop onset δ_H", "m",
+             lambda m: m.effect("tyre hysteresis").onset,
+             lambda m, v: set_effect(m, "tyre hysteresis", onset=v),
+             lambda nominal: ONSET_RANGE, needs="tyre hysteresis")
+ONSETS = (0.002, 0.001, 0.004)
+
+
 EFFECT = Effect(
     label="tyre hysteresis", name="tyre-hysteresis", needs=(("tyre", "hysteresis"),),
     build=lambda gear: TyreHysteresis(gear.unit.tyre.hysteresis.si),
@@ -65,12 +78,13 @@ EFFECT = Effect(
                                      "switching over 2 mm of deflection and held at rest",
                   lambda m, phi: m.with_effect(TyreHysteresis(
                       0.0, constant=0.02 * m.total_mass * STANDARD_GRAVITY * phi, memory=True)),
-                  form="constant amplitude, with memory", quantities=(("2 mm", 0.002, "m"),)),
+                  form="constant amplitude, with memory", quantities=(("2 mm", 0.002, "m"),),
+                  knobs=((ONSET, ONSETS),)),
         Candidate("tyre hysteresis", "a loop of 5 % of the static tyre curve, switching over "
                                      "2 mm of deflection and held at rest",
                   lambda m, phi: m.with_effect(TyreHysteresis(0.05 * phi, memory=True)),
                   form="a share of the static curve, with memory",
-                  quantities=(("2 mm", 0.002, "m"),))),
+                  quantities=(("2 mm", 0.002, "m"),), knobs=((ONSET, ONSETS),))),
     truth=Truth("tyre hysteresis", "a tyre hysteresis loop switching within 5 mm/s (the "
                                    "candidate: 10 mm/s)", (0.02, 20.0),
                 mechanics=lambda m, s: m.with_effect(

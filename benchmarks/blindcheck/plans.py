@@ -1,0 +1,107 @@
+"""What the independent battery (``benchmarks/blind_independent.py``) is made of: its
+plans, the sealed sets' seeds and ranges, and each case's draws.
+
+A battery is one or more plans (:class:`Plan`).  The development battery is the one the
+diagnosis's rules were tuned on; the sealed battery is drawn apart and run once per release
+of the diagnosis.  When a sealed result drives a change of the diagnosis, the sealed set is
+spent: its plan joins :data:`PLANS` ``["development"]`` with its seeds and ranges, and a new
+sealed plan is drawn (new seeds never run, new ranges where the change concerned them).
+The history is in docs/gap-diagnosis.md, "The rule for the sealed battery".
+
+Every case's contact falls between two logger samples, at a phase drawn per drop from the
+case's own seed (:func:`contact_phases`): a logger's clock is not synchronised with the
+drop, and a battery whose contact always fell on a sample flattered any alignment that
+reads the contact between samples.
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+import truthgen  # noqa: E402
+
+
+@dataclass(frozen=True)
+class Plan:
+    """One part of a battery.  ``drawn``: shapes, nuisance physics and the nominal scatter
+    drawn per case from the declared ranges (:data:`truthgen.FORMS`' ``shape_ranges`` with
+    this plan's ``ranges`` in their place, :data:`NUISANCE_RANGES`); otherwise every form
+    at its development shape."""
+
+    battery: str = "development"
+    name: str = "D"              # the part's name in the record and the history
+    ratios: tuple = (1.0, 2.0, 5.0)
+    seeds: tuple = (31, 32)
+    null_seeds: int = 500        # the no-effect cases' seeds start here
+    null_cases: int = 20
+    outside_ratios: tuple = (2.0, 5.0)
+    pair_ratio: float = 5.0
+    scatter: float = 0.03
+    drawn: bool = False          # shapes and nuisances drawn from their ranges
+    #: (form, shape name, low, high): ranges of this plan in place of the form's own
+    ranges: tuple = ()
+    only: tuple = ()             # restrict to these forms' single-effect cases ("" = all)
+
+    def shape_ranges(self, form_id: str) -> tuple:
+        """The form's (name, low, high) ranges as this plan draws them."""
+        own = {(f, name): (low, high) for f, name, low, high in self.ranges}
+        return tuple((name, *own.get((form_id, name), (low, high)))
+                     for name, low, high in truthgen.FORMS[form_id].shape_ranges)
+
+
+#: Where a drawn case's nuisance physics is drawn (the development value in brackets):
+#: top-out pad compression under preload [m] (1.5 mm), real-gas coefficient β (0.03), the
+#: tyre curve's departure per δ/δ_ref (0.06).
+NUISANCE_RANGES = (("pad", 0.5e-3, 3.0e-3), ("gas", 0.0, 0.06), ("tyre_shape", 0.0, 0.12))
+
+#: The development plan: every form at its development shape, seeds 31-32 and 500-519.
+DEVELOPMENT = Plan()
+#: S1, sealed from 2026-11-26 (first run by dd573ea) until its sensor-lag and gain-with-skew
+#: results drove issue 27's change of the battery's sizing and of the diagnosis: it joined
+#: the development battery on 2026-11-27 with its seeds and the ranges of
+#: benchmarks/truthgen/forms.py.
+S1 = Plan(battery="development", name="S1", seeds=(7101, 7102), null_seeds=7500,
+          scatter=0.06, drawn=True)
+#: S2, the sealed set in use: seeds never run before; new ranges where the change concerned
+#: them (the recording chain's filters and delays, the load channel's skew, which may now
+#: lead the other channels as well as lag them); every other range is S1's.
+S2 = Plan(battery="sealed", name="S2", seeds=(9101, 9102), null_seeds=9500, scatter=0.06,
+          drawn=True,
+          ranges=(("bessel-delay", "order", 3, 8), ("bessel-delay", "delay_share", 0.25, 1.5),
+                  ("butterworth-delay", "order", 2, 6),
+                  ("butterworth-delay", "delay_share", 0.1, 1.5),
+                  ("gain-skew", "skew", -5e-4, 1e-3)))
+PLANS = {"development": (DEVELOPMENT, S1), "sealed": (S2,)}
+
+
+def draws(key: int, forms: tuple, plan: Plan) -> tuple[tuple, truthgen.Nuisances]:
+    """A case's shapes (one (name, value) tuple per form) and nuisance physics: the
+    development values, or (a drawn plan) drawn uniformly from the plan's ranges with the
+    case's own seed ``key`` (an order's draw rounded to a whole order)."""
+    if not plan.drawn:
+        return tuple(() for _ in forms), truthgen.Nuisances()
+    rng = np.random.default_rng([key, 1])
+    shapes = []
+    for form_id in forms:
+        shape = []
+        for name, low, high in plan.shape_ranges(form_id):
+            value = float(rng.uniform(low, high))
+            shape.append((name, float(round(value)) if name == "order" else value))
+        shapes.append(tuple(shape))
+    nuisances = truthgen.Nuisances(**{name: float(rng.uniform(low, high))
+                                      for name, low, high in NUISANCE_RANGES})
+    return tuple(shapes), nuisances
+
+
+def contact_phases(key: int, runs: int) -> tuple[float, ...]:
+    """Where each drop's contact falls between two logger samples, as a share of the sample
+    interval after the last sample before it: uniform on [0, 1), one per drop (run index),
+    from the case's own seed ``key`` (a stream of its own, so a case's other draws are
+    those it had before the phases were drawn)."""
+    rng = np.random.default_rng([key, 2])
+    return tuple(float(u) for u in rng.uniform(0.0, 1.0, runs))
