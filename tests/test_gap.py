@@ -419,3 +419,19 @@ def test_a_bad_sealed_record_is_an_input_error_naming_its_own_key(with_hysteresi
     problem = error.value.problems[0]
     assert problem.key == "model.gap.sealed_blind_check" and problem.line is not None
     assert "expected 'certkit blind check'" in problem.message
+
+
+def test_the_method_text_says_which_shapes_the_refits_fit():
+    # before: it called the gain memoryless and said nothing of the skew (fitted since
+    # 2026-11-26) or of the tyre loop's onset (fitted since 2026-11-27)
+    from certkit import load_campaign
+    from certkit.evidence.methods import gap_method
+
+    from .conftest import SEED
+
+    units = load_campaign(SEED).spec.report.units   # mm and ms, as the seed displays them
+    text = " ".join(str(v) for v in gap_method(units).values())
+    assert "without memory" not in text
+    assert "the load-cell gain with its channel's skew (within ±1.000 ms" in text
+    assert "with its onset (the deflection over which it switches, 0.5000 mm to 10.00 mm)" \
+        in text

@@ -70,6 +70,8 @@ def gap_method(units) -> dict:
     from certkit.gap.residuals import BANDS, MAX_LAG, TIMING_LAG
     from certkit.gap.selection import (CANDIDATES, DETECTABLE, FLOOR_CHANNEL, GAIN, LEADING,
                                        RELEVANT, TIE_COST, TIMING_SHARE)
+    from certkit.physics.effects.load_cell_gain import MAX_SKEW
+    from certkit.physics.effects.tyre_hysteresis import ONSET_RANGE
 
     bands = ", ".join(f"{name} ({low:g}-{high:g} Hz)" if math.isfinite(high)
                       else f"{name}" for name, low, high in BANDS)
@@ -115,14 +117,19 @@ def gap_method(units) -> dict:
                   f"differences) and removes at least {DETECTABLE:g} noise variances from the "
                   f"training records (Σ over the channels of (RMSE before² − RMSE after²)/σ²; "
                   f"less is not told apart from the floor the bare model's own "
-                  f"imperfection leaves) is named, with its form. A form that changes a "
-                  f"recorded channel sample by sample without memory (the load-cell gain) "
-                  f"must also fit that channel's residual at the same instant: when its "
-                  f"correction, shifted by up to ±{with_unit(TIMING_LAG, 'time', units)}, "
-                  f"would remove "
+                  f"imperfection leaves) is named, with its form. Two forms are refitted "
+                  f"with a shape of their own beside their strength, as no spec states it: the "
+                  f"load-cell gain with its channel's skew (within "
+                  f"±{with_unit(MAX_SKEW, 'time', units)} of the other channels), a tyre loop "
+                  f"with memory with its onset (the deflection over which it switches, "
+                  f"{with_unit(ONSET_RANGE[0], 'length', units)} to "
+                  f"{with_unit(ONSET_RANGE[1], 'length', units)}). A form that changes one "
+                  f"recorded channel (the load-cell gain) must also fit that channel's "
+                  f"residual at the same instant, its skew included: when its correction, "
+                  f"shifted by up to ±{with_unit(TIMING_LAG, 'time', units)}, would remove "
                   f"{percent(TIMING_SHARE, 0)} or more of the channel's remaining mean square, "
-                  f"the record's error is not memoryless (a delayed crosstalk, for example) "
-                  f"and the form is not named. When the other effect's "
+                  f"what is missing changes the record's timing beyond a skew (a delayed "
+                  f"crosstalk, for example) and the form is not named. When the other effect's "
                   f"refit comes "
                   f"within a ratio of {TIE_COST:g} of its training cost, the fits cannot tell "
                   f"the two apart: the model-free missing force (below) decides when it shows "
