@@ -375,7 +375,7 @@ def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) ->
     own_before = math.sqrt(max(gap_before ** 2 - floor ** 2, 0.0))
     own_after = math.sqrt(max(gap_after ** 2 - floor ** 2, 0.0))
     return {**truth, "sizes": {t.form: t.size for t in chosen}, "named": list(diagnosis.answer),
-            "named_forms": list(diagnosis.forms), "statement": diagnosis.statement,
+            "undecided": list(diagnosis.undecided), "named_forms": list(diagnosis.forms), "statement": diagnosis.statement,
             "error": None, "skipped": None, "held_out": list(held),
             "before": pb["load"], "after": pa["load"],
             "shrink": 1.0 - pa["load"] / pb["load"] if pb["load"] > 0 else 0.0,

@@ -254,7 +254,17 @@ def test_each_candidate_decision_names_the_rule_that_made_it(monkeypatch):
     assert decision_words(outcomes[1]) == f"cuts the training cost by 5.0 %, less than " \
         f"{100 * GAIN:.0f} %: not named"
     assert outcomes[2].figures == {"cost": 0.6, "named": "A", "named_cost": 0.5}
-    assert decision_words(outcomes[3]) == \
+    # f fails the harm rule only (it cuts 45 %, removes 5 noise variances, is no timing
+    # error): the sentence says so, and beside a named effect that leaves it undecided
+    assert outcomes[3].figures == {"channels": ["stroke"], "cut": pytest.approx(0.45),
+                                   "alone": True}
+    assert decision_words(outcomes[3]) == (
+        "makes the training stroke error worse beyond its noise, though it cuts the "
+        "training cost by 45 % and passes every other rule: not named")
+    # a refit that harms AND removes too little is not "alone"
+    removed[("f",)] = DETECTABLE / 2
+    assert judged(fits[3:])[("f",)].figures["alone"] is False
+    assert decision_words(judged(fits[3:])[("f",)]) == \
         "makes the training stroke error worse beyond its noise: not named"
     # a refit that gains enough but removes less than DETECTABLE noise variances
     small = Fit(effects=("g",), training_cost=0.5)
@@ -295,11 +305,11 @@ def test_every_rule_has_its_sentence_and_no_sentence_without_a_rule():
                "channels": ["stroke"], "removed": 1.7, "detectable": 2.5, "channel": "load",
                "shift_s": 0.012, "share": 0.29, "timing_share": 0.13, "cost": 0.6,
                "named": True, "named_cost": 0.5, "other": "E", "tie_cost": 1.07,
-               "marked": "E", "unmarked": "A", "tie": ["A", "Z"]}
+               "marked": "E", "unmarked": "A", "tie": ["A", "Z"], "alone": True}
     quoted = {"refitted": [], "other form refitted": [], "not leading": ["3 effects"],
               "points the other way": ["37 %"], "not relevant": ["0.45 σ", "3 effects", "37 %"],
               "cannot be added": ["no tyre"], "none refitted": ["0.45 σ", "37 %"],
-              "named": ["23 %"], "gain": ["23.1 %", "37 %"], "harm": ["stroke"],
+              "named": ["23 %"], "gain": ["23.1 %", "37 %"], "harm": ["stroke", "23 %"],
               "detectable": ["1.7", "2.5"], "timing": ["12 ms later", "29 %", "13 %"],
               "outranked": ["0.6", "0.5", "E"], "tie": ["7 %", "E"],
               "tie broken": ["7 %", "mark of E", "not of A"], "after a tie": ["A and Z"]}
@@ -378,3 +388,53 @@ def test_a_tyre_loop_with_memory_is_refitted_with_its_onset(tmp_path_factory):
     # with the old fixed 2 mm the form had no onset to fit at all
     assert onset == pytest.approx(0.005, rel=0.2)
     assert diagnosis.refit.strengths[0] == pytest.approx(1.5, rel=0.2)
+
+
+def test_a_skew_near_a_sample_is_fitted_where_the_load_lags(tmp_path_factory):
+    """A load chain reading 3 % high whose record lags the other channels by 0.9 ms, nearly a
+    whole sample at 1 kHz.  The drop mass's velocity is read on its displacement at the
+    touchdown found on the load, 0.9 ms after contact, when it was faster by g·0.9 ms; the
+    gain's refit must start its model's contact at the velocity of 0.9 ms earlier, or the
+    0.009 m/s it starts too fast leaves a load error the skew cannot undo and pulls the
+    fitted skew short of the truth's (0.68 ms on this record before this was done)."""
+    import numpy as np
+
+    from certkit.gap.attribution import refit
+    from certkit.gap.holdout import split_for
+    from certkit.physics.calibration import RunResiduals, calibrate_gear
+    from certkit.physics.effects import CANDIDATES
+
+    def skewed(t, f):
+        return 1.03 * np.interp(t - 0.0009, t, f, left=f[0])
+
+    spec = _load_rewritten(_truth(tmp_path_factory, "gain-skew-near-a-sample", [],
+                                  duration=2.0), skewed)
+    campaign = load_campaign(spec)
+    training = list(split_for(campaign, "left-main")[0])
+    calibration = calibrate_gear(campaign, "left-main", effects=[], run_ids=training)
+    residuals = RunResiduals(campaign, "left-main", training, effects=[])
+    gain = next(c for c in CANDIDATES if c.key == "load-cell gain (reading high)")
+    fitted = refit(residuals, calibration, [gain])
+    skew = fitted.values[len(calibration.knobs)]
+    # within a tenth of a sample of the truth's skew, the gain within 0.1 % of it
+    assert skew == pytest.approx(0.0009, abs=0.0001)
+    assert 0.05 * fitted.strengths[0] == pytest.approx(0.03, abs=0.001)
+
+
+def test_an_effect_beside_the_named_one_that_fails_only_the_harm_rule_is_a_stated_tie():
+    """Beside a named seal friction, a tyre loop whose refit cuts the training cost by a
+    further 29 % but makes the training load worse beyond its noise is not named, and the
+    answer says the records cannot tell whether it is present too."""
+    from types import SimpleNamespace as Form
+
+    from certkit.gap.attribution import Decision
+    from certkit.gap.statements import undecided_words
+
+    friction = Form(name="seal friction", form="Coulomb")
+    loop = Form(name="tyre hysteresis", form="constant amplitude, with memory")
+    harm = Decision("x", "harm", {"channels": ["load"], "cut": 0.29, "alone": True})
+    assert undecided_words([friction], [(loop, harm)]) == (
+        " Beside seal friction, tyre hysteresis (constant amplitude, with memory form) would "
+        "cut the training cost by a further 29 % but makes the training load error worse "
+        "beyond its noise: whether it is present too cannot be told from these records (a "
+        "tie of the answer with and without it).")

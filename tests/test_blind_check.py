@@ -386,6 +386,10 @@ def test_a_rescore_keeps_who_ran_the_cases(tmp_path, monkeypatch):
 
     committed = example.parent / "blind-check" / "blind-check.json"
     earlier = json.loads(committed.read_text(encoding="utf-8"))
+    # the development battery's cases: its own plan and S1 in that record, then the spent
+    # sealed set S2, whose record is kept in benchmarks/records
+    spent = BENCHMARKS / "records" / "seed-S2-256ac89" / "blind-check.json"
+    earlier["cases"] += json.loads(spent.read_text(encoding="utf-8"))["cases"]
     ran = {"certkit": "0.0.9", "code": "a" * 64, "commit": "b" * 40, "date": "2026-01-02",
            "files": {"gap/selection.py": "c" * 64}, "command": "the run's command"}
     earlier["run_by"] = ran
@@ -433,13 +437,15 @@ def test_the_report_names_the_files_that_differ_from_the_running_certkit():
 def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
     import blind_independent as independent
     import truthgen
-    from blindcheck.plans import NUISANCE_RANGES, S1, S2, draws
+    from blindcheck.plans import NUISANCE_RANGES, S1, S2, S3, draws
 
     development, sealed = independent.PLANS["development"], independent.PLANS["sealed"]
     dev_cases, sealed_cases = independent.battery(development), independent.battery(sealed)
-    # S1, spent, is part of the development battery with its own seeds; S2 is sealed
-    assert S1 in development and sealed == (S2,)
+    # S1 and S2, spent, are part of the development battery with their own seeds; S3 is
+    # sealed
+    assert S1 in development and S2 in development and sealed == (S3,)
     assert {c.seed for c in dev_cases if c.plan is S1} == {7101, 7102} | set(range(7500, 7520))
+    assert {c.seed for c in dev_cases if c.plan is S2} == {9101, 9102} | set(range(9500, 9520))
     # at least as many cases as a development plan; no seed, no case id in common
     assert len(sealed_cases) >= len(independent.battery(development[0])) >= 106
     assert not {c.seed for c in dev_cases} & {c.seed for c in sealed_cases}
@@ -450,7 +456,7 @@ def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
         assert all(shape == () for shape in shapes) and nuisances == truthgen.Nuisances()
     # a drawn case draws every shape parameter inside its plan's range, and the same again
     drawn = {}
-    for case in sealed_cases + [c for c in dev_cases if c.plan is S1]:
+    for case in sealed_cases + [c for c in dev_cases if c.plan in (S1, S2)]:
         shapes, nuisances = draws(case.key, case.forms, case.plan)
         assert (shapes, nuisances) == draws(case.key, case.forms, case.plan)
         for form_id, shape in zip(case.forms, shapes):
@@ -465,9 +471,13 @@ def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
             assert low <= getattr(nuisances, name) <= high
     # ... and not one value: the shapes vary from case to case
     assert all(len(values) > 1 for values in drawn.values()), drawn
-    # S2's own ranges where the change concerned them: the skew may lead, the filters differ
+    # S2's own ranges where its change concerned them: the skew may lead, the filters differ
     assert min(drawn[("S2", "gain-skew", "skew")]) < 0 < max(drawn[("S2", "gain-skew", "skew")])
     assert S2.shape_ranges("bessel-delay") == (("order", 3, 8), ("delay_share", 0.25, 1.5))
+    # S3's: the skew leads or lags by up to 1 ms; the filters' ranges are S2's
+    assert dict((n, (lo, hi)) for n, lo, hi in S3.shape_ranges("gain-skew"))["skew"] == \
+        (-1e-3, 1e-3)
+    assert S3.shape_ranges("bessel-delay") == S2.shape_ranges("bessel-delay")
     assert S1.shape_ranges("bessel-delay") == truthgen.FORMS["bessel-delay"].shape_ranges
 
 

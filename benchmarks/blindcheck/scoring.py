@@ -56,7 +56,8 @@ def score(outcomes: list[dict], effects: tuple) -> dict:
     - exact: the same cases whose answer is the truth and nothing else;
     - false attribution: no-effect cases that do not end in a clean abstention (an effect
       named, a tie declared, or a failure);
-    - set precision / recall: two-effect cases, pooled over the cases;
+    - set precision / recall: two-effect cases, pooled over the cases; recall or tie: a
+      truth effect named, or left undecided beside the named one (a stated tie);
     - median held-out shrink: 1 − RMSE_after/RMSE_before of the held-out load channel,
       against the noisy measurement, over the single-effect cases at ratio ≥
       :data:`SCORED_FROM` (an abstention shrinks 0); the two-effect cases separately;
@@ -90,6 +91,10 @@ def score(outcomes: list[dict], effects: tuple) -> dict:
     exact = sum(o["named"] == o["truth"] for o in scored)
     false = sum(named_label(o) != "none" for o in null)
     right = sum(len(set(o["named"]) & set(o["truth"])) for o in pairs)
+    # a truth effect left undecided beside the named one (a stated tie of the answer with
+    # and without it, certkit.gap.selection): not found, but not silently lost either
+    tied = sum(len((set(o.get("undecided", [])) - set(o["named"])) & set(o["truth"]))
+               for o in pairs)
     said = sum(len(o["named"]) for o in pairs)
     wanted = sum(len(o["truth"]) for o in pairs)
     harm_count = sum(bool(o.get("harmed")) for o in named)
@@ -103,6 +108,8 @@ def score(outcomes: list[dict], effects: tuple) -> dict:
         "false_attribution": metric("false_attribution", rate(false, null), false, len(null)),
         "set_precision": metric("set_precision", right / said if said else None, right, said),
         "set_recall": metric("set_recall", right / wanted if wanted else None, right, wanted),
+        "set_recall_or_tie": metric("set_recall_or_tie", (right + tied) / wanted
+                                    if wanted else None, right + tied, wanted),
         "median_shrink": metric("median_shrink", median(shrinks), None, len(shrinks)),
         "median_gap_closed": metric("median_gap_closed", median(closed), None, len(closed)),
         "median_shrink_pairs": metric("median_shrink_pairs",

@@ -282,7 +282,8 @@ def gap_document(gap: GapDiagnosis) -> dict:
         "before": _map_document(gap.before),
         "steps": steps,
         "answer": list(diagnosis.answer), "forms": list(diagnosis.forms),
-        "tie": list(diagnosis.tie), "statement": diagnosis.statement,
+        "tie": list(diagnosis.tie), "undecided": list(diagnosis.undecided),
+        "statement": diagnosis.statement,
         "held_out_noise": diagnosis.noise,
         "held_out_gap_shares": None if diagnosis.shares is None else {
             channel: None if share is None else {"closed": share[0], "unexplained": share[1]}

@@ -93,6 +93,9 @@ class Diagnosis:
     #: per step, the shapes of the force the model of that step misses on the training runs
     #: (:mod:`certkit.gap.missing_force`), model-free evidence for "which"
     evidence: tuple = ()
+    #: effects beside the named ones whose refit fails the harm rule only: the records
+    #: cannot say whether they are present too (a tie of the answer with and without them)
+    undecided: tuple = ()
 
     def configure(self, model: DropModel) -> DropModel:
         """``model`` (nominal, of this gear, any run) as the diagnosis leaves it: the
@@ -195,6 +198,7 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
     current: Refit | None = None
     cost = calibration.fit.cost
     steps, statement, step_costs, refit_notes, tie, evidence = [], "", [], [], (), []
+    undecided: tuple = ()
     names = {c.key: c for c in candidates}
     for _ in range(2):
         step_costs.append(cost)
@@ -258,6 +262,12 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
                 statement = _tie_statement(chosen, useful[0], useful[1], names, attribution)
         refit_notes.append(refit_decisions(fits, refused, best if not tie else None, tie,
                                            names, broken, cost))
+        if best is None and chosen:
+            # beside the named effects, a refit that fails the harm rule only is undecided
+            undecided = tuple((names[f.effects[-1]], refused[f.effects]) for f in fits
+                              if refused[f.effects] is not None
+                              and refused[f.effects].rule == "harm"
+                              and refused[f.effects].figures["alone"])
         if tie:
             break
         if best is None:
@@ -267,6 +277,8 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
     answer = tuple(c.name for c in chosen)
     if not statement:
         statement = statements.answer_words(chosen)
+        if undecided:
+            statement += statements.undecided_words(chosen, undecided)
     before, measured = _held_out(campaign, gear_id, held, calibration.apply)
     rmse = {("nominal",) + key: value for key, value in before.items()}
     noise = {channel: noise_level(records) for channel, records in measured.items()}
@@ -285,7 +297,8 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
     return Diagnosis(gear_id, tuple(training), tuple(held), answer, statement, steps, rmse,
                      calibration, current, tuple(chosen), tuple(step_costs),
                      tuple(refit_notes), tuple(c.form for c in chosen), noise, shares,
-                     caveats, tie, tuple(evidence))
+                     caveats, tie, tuple(evidence),
+                     tuple(candidate.name for candidate, _ in undecided))
 
 
 def _break_tie(best: Refit, other: Refit, names: dict, evidence) -> tuple:
@@ -352,7 +365,11 @@ def judge(refitted: Refit, cost: float, harm: list, removed: float,
     if refitted.training_cost > (1 - GAIN) * cost:
         return Decision(name, "gain", {"cut": float(cut), "gain": GAIN})
     if harm:
-        return Decision(name, "harm", {"channels": list(harm)})
+        # "alone": harm is the only rule it fails; beside a named effect that makes it
+        # undecided (:func:`diagnose`): the records cannot say whether it is present too
+        alone = removed >= DETECTABLE and mistimed is None
+        return Decision(name, "harm", {"channels": list(harm), "cut": float(cut),
+                                       "alone": bool(alone)})
     if removed < DETECTABLE:
         return Decision(name, "detectable", {"removed": float(removed), "detectable": DETECTABLE})
     if mistimed is not None:

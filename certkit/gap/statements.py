@@ -25,7 +25,8 @@ RULES = {
     # refits at one step
     "named": "the admissible refit with the lowest training cost (cut)",
     "gain": "cuts the training cost by too little (cut, gain)",
-    "harm": "makes a training channel worse beyond its noise (channels)",
+    "harm": "makes a training channel worse beyond its noise (channels, cut, alone: the "
+            "only rule it fails)",
     "detectable": "removes too few noise variances (removed, detectable)",
     "timing": "a memoryless correction that fits better shifted in time "
               "(channel, shift_s, share, timing_share)",
@@ -73,8 +74,12 @@ def decision_words(decision) -> str:
         return (f"cuts the training cost by {percent(f['cut'], 1)}, less than "
                 f"{percent(f['gain'], 0)}: not named")
     if rule == "harm":
-        return ("makes the training " + ", ".join(f["channels"])
-                + " error worse beyond its noise: not named")
+        words = ("makes the training " + ", ".join(f["channels"])
+                 + " error worse beyond its noise")
+        if f["alone"]:
+            words += (f", though it cuts the training cost by {percent(f['cut'], 0)} and "
+                      f"passes every other rule")
+        return words + ": not named"
     if rule == "detectable":
         return (f"removes {f['removed']:.2g} noise variances from the training records, fewer "
                 f"than {f['detectable']:g}: not told apart from the nominal model's own floor, "
@@ -113,6 +118,18 @@ def tie_words(chosen, a: str, b: str, costs: tuple, cosine: float, tie_cost: flo
         return tie
     return (f"The gap is explained by {' and '.join(map(form_words, chosen))}; as a second "
             f"effect, {tie}")
+
+
+def undecided_words(chosen, undecided) -> str:
+    """The sentence after the answer for effects beside ``chosen`` whose refit failed the
+    harm rule only: ((Candidate, Decision), ...)."""
+    named = " and ".join(c.name for c in chosen)
+    parts = [f"{form_words(candidate)} would cut the training cost by a further "
+             f"{percent(decision.figures['cut'], 0)} but makes the training "
+             + " and ".join(decision.figures["channels"]) + " error worse beyond its noise"
+             for candidate, decision in undecided]
+    return (" Beside " + named + ", " + "; ".join(parts) + ": whether it is present too "
+            "cannot be told from these records (a tie of the answer with and without it).")
 
 
 def answer_words(chosen) -> str:

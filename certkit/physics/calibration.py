@@ -38,6 +38,7 @@ from certkit.physics.fitting import FitParameter, FitResult, fit
 from certkit.physics.gear_model import drop_model_for
 from certkit.physics.simulation import batch_step, simulate_batch
 from certkit.spec.campaign import Campaign
+from certkit.units import STANDARD_GRAVITY
 from certkit.threads import one_blas_thread
 
 CHANNELS = ("load", "stroke", "tyre")
@@ -174,6 +175,10 @@ class Calibration:
 
 
 # --------------------------------------------------------------------------- the fit
+#: How a run's contact velocity was found when the drop-mass displacement is recorded.
+FROM_DISPLACEMENT = "from the recorded drop-mass displacement before touchdown"
+
+
 @dataclass
 class _Run:
     run_id: str
@@ -185,6 +190,18 @@ class _Run:
     scales: dict               # channel -> measured range
     level: float               # touchdown threshold used on the measured load
     duration: float
+
+    def contact_velocity(self, model: DropModel) -> float:
+        """The drop mass's velocity at ``model``'s contact.  A velocity measured from the
+        displacement is read at the touchdown found on the measured load; when ``model``
+        records the load τ behind the other channels (:meth:`DropModel.record_delay`, a
+        load chain's skew), its contact came τ before that touchdown, and the drop mass,
+        falling freely until contact, was slower by g·τ then.  Without it a skew of 1 ms
+        would start the model about 0.01 m/s fast, a load error the skew cannot undo."""
+        delay = model.record_delay("load")
+        if not delay or self.velocity_source != FROM_DISPLACEMENT:
+            return self.velocity
+        return self.velocity - STANDARD_GRAVITY * delay
 
 
 def _runs_for(campaign: Campaign, gear_id: str, effects, run_ids) -> list[_Run]:
@@ -207,7 +224,7 @@ def _runs_for(campaign: Campaign, gear_id: str, effects, run_ids) -> list[_Run]:
         velocity, source = None, "ideal √(2·g·h) from the drop height"
         if series.displacement is not None:
             velocity = contact_velocity(series.time, series.displacement, t_contact)
-            source = "from the recorded drop-mass displacement before touchdown"
+            source = FROM_DISPLACEMENT
         if velocity is None:
             velocity, source = ideal_impact_velocity(run.drop_height.si), \
                 "ideal √(2·g·h) from the drop height"
@@ -227,8 +244,8 @@ def _runs_for(campaign: Campaign, gear_id: str, effects, run_ids) -> list[_Run]:
 def _simulated(runs: list[_Run], models: list[DropModel], step: float, rate: float) -> list[dict]:
     """Simulate each (run, model) pair; channels aligned on the measured touchdown."""
     duration = max(r.duration for r in runs)
-    drops = simulate_batch(models, [r.velocity for r in runs], duration=duration,
-                           sample_rate=rate, step=step)
+    drops = simulate_batch(models, [r.contact_velocity(m) for r, m in zip(runs, models)],
+                           duration=duration, sample_rate=rate, step=step)
     out = []
     for index, run in enumerate(runs):
         load = drops.load[index]

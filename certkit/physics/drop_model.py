@@ -76,6 +76,11 @@ class Term:
         the instruments record (a sensor lag, a load-cell gain error)."""
         return signal
 
+    def record_delay(self, channel: str) -> float:
+        """How long [s] the recorded ``channel`` lags the other channels as this term
+        records it (a pure delay: a load chain's skew); 0 for a term of the mechanics."""
+        return 0.0
+
 
 # --------------------------------------------------------------------------- strut terms
 @dataclass(frozen=True)
@@ -283,6 +288,11 @@ class DropModel:
     def effect(self, name: str):
         """The optional effect called ``name``, or None when it is off."""
         return next((e for e in self.effects if e.name == name), None)
+
+    def record_delay(self, channel: str) -> float:
+        """How long [s] the recorded ``channel`` lags the others, summed over the effects
+        (:meth:`Term.record_delay`)."""
+        return float(sum(e.record_delay(channel) for e in self.effects))
 
     def with_effect(self, effect) -> "DropModel":
         """This model with ``effect`` on, replacing an effect of the same name."""

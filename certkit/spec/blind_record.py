@@ -39,6 +39,10 @@ METRICS = {
                       "withheld ones"),
     "set_recall": ("set recall",
                    "on the two-effect cases, share of the withheld effects that were named"),
+    "set_recall_or_tie": ("set recall or stated tie",
+                          "on the two-effect cases, share of the withheld effects that were "
+                          "named or stated undecided beside the named one (the answer says "
+                          "the records cannot tell whether it is present too)"),
     "median_shrink": ("median held-out shrink",
                       "median over the single-effect cases (effect/noise ≥ 2) of the held-out "
                       "load RMSE shrink 1 − RMSE(with the named effects)/RMSE(nominal), "

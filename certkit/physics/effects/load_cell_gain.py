@@ -58,6 +58,9 @@ class LoadCellGain(Term):
             return np.interp(moved, index, signal)
         return np.stack([np.interp(moved, index, row) for row in signal])
 
+    def record_delay(self, channel: str) -> float:
+        return self.skew if channel == "load" else 0.0
+
 
 #: The skews at which the gain's profile is taken (the refit starts from the best) [s].
 SKEWS = (0.0, -0.6 * MAX_SKEW, -0.3 * MAX_SKEW, 0.3 * MAX_SKEW, 0.6 * MAX_SKEW)
