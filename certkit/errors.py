@@ -61,6 +61,11 @@ class CertkitInputError(Exception):
     def single(cls, file: str | Path, line: int | None, key: str, message: str):
         return cls([Problem(str(file), line, key, message)])
 
+    def __reduce__(self):
+        # made again from its problems (raised in a worker process, reported by the parent;
+        # the default would pass the joined message, read as a list of one-letter problems)
+        return type(self), (self.problems,)
+
 
 class DataInputError(CertkitInputError, ValueError):
     """Bad data or settings given to a library function from code (a notebook's arrays, an

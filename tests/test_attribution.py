@@ -438,3 +438,27 @@ def test_an_effect_beside_the_named_one_that_fails_only_the_harm_rule_is_a_state
         "cut the training cost by a further 29 % but makes the training load error worse "
         "beyond its noise: whether it is present too cannot be told from these records (a "
         "tie of the answer with and without it).")
+
+
+def test_a_named_gain_with_a_skew_says_which_crosstalk_reads_the_same():
+    """A gain of 3 % with a skew of 0.12 ms is to first order 3 % of the load arriving
+    0.12 ms × 1.03 / 0.03 = 4.12 ms earlier; the sentence says so, and says nothing when
+    the skew leads a gain reading high (no crosstalk from the past makes that)."""
+    import numpy as np
+
+    from certkit.gap.statements import crosstalk_words
+
+    words = crosstalk_words(0.03, 0.12e-3)
+    assert "3.0 % of the load arriving 4.12 ms earlier" in words
+    assert crosstalk_words(0.03, -0.12e-3) == "" and crosstalk_words(0.03, 0.0) == ""
+    # the equivalence itself, on a half-sine load pulse of 100 ms: the two records differ
+    # by a small share of what either changes
+    t = np.linspace(0.0, 0.2, 20001)
+
+    def pulse(x):
+        return np.where((x > 0) & (x < 0.1), np.sin(np.pi * np.clip(x, 0, 0.1) / 0.1), 0.0)
+
+    gain_skew = 1.03 * pulse(t - 0.12e-3)
+    crosstalk = pulse(t) + 0.03 * pulse(t - 4.12e-3)
+    change = np.sqrt(np.mean((gain_skew - pulse(t)) ** 2))
+    assert np.sqrt(np.mean((gain_skew - crosstalk) ** 2)) < 0.1 * change

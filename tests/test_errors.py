@@ -417,3 +417,29 @@ def test_an_unknown_held_out_run_is_an_input_error(physics_campaign, tmp_path):
     result = run_report(physics_campaign, tmp_path / "out")
     assert_input_error(result, tmp_path / "out", "model.identification.held_out[0]",
                        "unknown run 'D3OO'", f"campaign.yaml:{line_of(physics_campaign, 'D3OO')}")
+
+
+def test_an_input_error_crosses_a_process_boundary_whole():
+    """An input error raised in a worker process reaches the parent with its problems (file,
+    line, key, message), not as one problem per letter of its message.  Checked in a fresh
+    interpreter that imports only certkit.errors (a module the CLI imports may change how
+    exceptions pickle)."""
+    import subprocess
+    import sys
+
+    check = """
+import pickle
+from certkit.errors import CertkitInputError, DataInputError, Problem
+error = CertkitInputError([Problem("campaign.yaml", 12, "runs[0].drop_height",
+                                   "expected a length, found 'tall'"),
+                           Problem("data/D1.csv", None, "", "empty file")])
+again = pickle.loads(pickle.dumps(error))
+assert type(again) is CertkitInputError and again.problems == error.problems
+assert str(again) == ("campaign.yaml:12 runs[0].drop_height: expected a length, found "
+                      "'tall'\\ndata/D1.csv: empty file"), repr(str(again))
+data = pickle.loads(pickle.dumps(DataInputError("gamma", "expected > 0, found -1")))
+assert type(data) is DataInputError and data.problems == [
+    Problem("argument", None, "gamma", "expected > 0, found -1")]
+"""
+    done = subprocess.run([sys.executable, "-c", check], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr

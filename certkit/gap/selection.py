@@ -15,7 +15,10 @@ tens of milliseconds earlier, is refused as another timing error), unless anothe
 refit comes within :data:`TIE_COST` of it: then the two
 cannot be told apart by their fits, and the model-free missing force
 (:mod:`certkit.gap.missing_force`, on the training runs) decides when it shows the mark of
-one of them and not of the other; otherwise neither is named (a tie). The held-out runs are
+one of them and not of the other; otherwise neither is named (a tie).  When a step beside
+named effects names nothing, an effect whose refit fails only the harm rule is stated
+undecided (:attr:`Diagnosis.undecided`): the records cannot say whether it is present too.
+The held-out runs are
 only evaluated: their errors before and after, the share of their gap beyond the noise that
 the named effects close and the share that stays unexplained
 (:func:`certkit.gap.residuals.gap_shares`), and a caveat for every held-out channel the
@@ -277,6 +280,10 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
     answer = tuple(c.name for c in chosen)
     if not statement:
         statement = statements.answer_words(chosen)
+        if any(c.name == "load-cell gain" for c in chosen):
+            gain = current.apply(calibration.knobs, residuals.models[0],
+                                 chosen).effect("load-cell gain")
+            statement += statements.crosstalk_words(gain.gain, gain.skew)
         if undecided:
             statement += statements.undecided_words(chosen, undecided)
     before, measured = _held_out(campaign, gear_id, held, calibration.apply)
