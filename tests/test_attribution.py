@@ -440,25 +440,33 @@ def test_an_effect_beside_the_named_one_that_fails_only_the_harm_rule_is_a_state
         "tie of the answer with and without it).")
 
 
-def test_a_named_gain_with_a_skew_says_which_crosstalk_reads_the_same():
+def test_a_named_gain_with_a_skew_says_which_crosstalk_reads_the_same(monkeypatch):
     """A gain of 3 % with a skew of 0.12 ms is to first order 3 % of the load arriving
-    0.12 ms × 1.03 / 0.03 = 4.12 ms earlier; the sentence says so, and says nothing when
-    the skew leads a gain reading high (no crosstalk from the past makes that)."""
+    0.12 ms × 1.03 / 0.03 = 4.12 ms earlier.  On a half-sine load of 6 kN over 100 ms the
+    two records differ by about ε·d²/2·F'' ≈ 0.03 · (4.12 ms)² / 2 · 6 kN · (π / 0.1 s)²
+    ≈ 1.5 N at most, below a noise of 20 N: the statement names that crosstalk.  A gain of
+    1.9 % with a skew of 0.95 ms would need crosstalk 51 ms earlier, which changes the load's
+    shape by far more than the noise: no sentence; nor for a skew of the other sign."""
+    from types import SimpleNamespace
+
     import numpy as np
 
+    from certkit.gap import selection
     from certkit.gap.statements import crosstalk_words
+    from certkit.physics.calibration import AlignedRecord
 
-    words = crosstalk_words(0.03, 0.12e-3)
-    assert "3.0 % of the load arriving 4.12 ms earlier" in words
-    assert crosstalk_words(0.03, -0.12e-3) == "" and crosstalk_words(0.03, 0.0) == ""
-    # the equivalence itself, on a half-sine load pulse of 100 ms: the two records differ
-    # by a small share of what either changes
-    t = np.linspace(0.0, 0.2, 20001)
+    time = np.arange(-0.05, 0.5, 0.001)
+    force = np.where((time > 0) & (time < 0.1), 6000.0 * np.sin(np.pi * np.clip(time, 0, 0.1)
+                                                                 / 0.1), 0.0)
+    record = AlignedRecord(time, time >= 0, {"load": force}, {"load": force})
+    monkeypatch.setattr(selection, "aligned_records", lambda *a, **k: {"D1": record})
 
-    def pulse(x):
-        return np.where((x > 0) & (x < 0.1), np.sin(np.pi * np.clip(x, 0, 0.1) / 0.1), 0.0)
+    def alike(gain, skew):
+        return selection._crosstalk_alike(None, "g", ["D1"], SimpleNamespace(gain=gain,
+                                                                              skew=skew),
+                                          lambda m: m, 20.0)
 
-    gain_skew = 1.03 * pulse(t - 0.12e-3)
-    crosstalk = pulse(t) + 0.03 * pulse(t - 4.12e-3)
-    change = np.sqrt(np.mean((gain_skew - pulse(t)) ** 2))
-    assert np.sqrt(np.mean((gain_skew - crosstalk) ** 2)) < 0.1 * change
+    assert alike(0.03, 0.12e-3) == pytest.approx(4.12e-3, rel=1e-9)
+    assert alike(0.019, 0.95e-3) is None
+    assert alike(0.03, -0.12e-3) is None and alike(0.03, 0.0) is None
+    assert "3.0 % of the load arriving 4.12 ms earlier" in crosstalk_words(0.03, 4.12e-3)

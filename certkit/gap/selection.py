@@ -40,6 +40,7 @@ from certkit.gap.residuals import gap_shares, harmed, noise_level, shifted_fit
 from certkit.physics.calibration import RunResiduals, aligned_records, calibrate_gear
 from certkit.physics.drop_model import DropModel
 from certkit.physics.effects import CANDIDATES, Candidate
+from certkit.physics.effects.base import set_effect
 from certkit.threads import one_blas_thread
 
 __all__ = ["CANDIDATES", "DETECTABLE", "GAIN", "LEADING", "RELEVANT", "TIE_COST", "TIMING_SHARE",
@@ -283,7 +284,11 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
         if any(c.name == "load-cell gain" for c in chosen):
             gain = current.apply(calibration.knobs, residuals.models[0],
                                  chosen).effect("load-cell gain")
-            statement += statements.crosstalk_words(gain.gain, gain.skew)
+            delay = _crosstalk_alike(campaign, gear_id, training, gain,
+                                     lambda m: current.apply(calibration.knobs, m, chosen),
+                                     training_noise.get("load", 0.0))
+            if delay is not None:
+                statement += statements.crosstalk_words(gain.gain, delay)
         if undecided:
             statement += statements.undecided_words(chosen, undecided)
     before, measured = _held_out(campaign, gear_id, held, calibration.apply)
@@ -306,6 +311,29 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
                      tuple(refit_notes), tuple(c.form for c in chosen), noise, shares,
                      caveats, tie, tuple(evidence),
                      tuple(candidate.name for candidate, _ in undecided))
+
+
+def _crosstalk_alike(campaign, gear_id: str, training, gain, configure,
+                     noise: float) -> float | None:
+    """The delay d [s] of the crosstalk F(t) + ε·F(t − d) that records the training runs'
+    load as the named gain ε with its skew τ does, (1 + ε)·F(t − τ), to within the load's
+    noise (to first order d = τ·(1 + ε)/ε, for ε·τ > 0; F: the load the named effects'
+    model simulates before the recorder's gain); None when there is no such crosstalk or
+    the two records differ by the noise or more (the timing rule then sees it)."""
+    if not gain.gain * gain.skew > 0:
+        return None
+    delay = gain.skew * (1.0 + gain.gain) / gain.gain
+    squares, count = 0.0, 0
+    for record in aligned_records(campaign, gear_id,
+                                  lambda m: set_effect(configure(m), "load-cell gain",
+                                                       gain=0.0, skew=0.0),
+                                  list(training), effects=[]).values():
+        time, force = record.time, record.simulated["load"]
+        skewed = (1.0 + gain.gain) * np.interp(time - gain.skew, time, force, left=0.0)
+        crosstalk = force + gain.gain * np.interp(time - delay, time, force, left=0.0)
+        squares += float(np.sum((skewed - crosstalk)[record.after] ** 2))
+        count += int(np.count_nonzero(record.after))
+    return delay if count and np.sqrt(squares / count) < noise else None
 
 
 def _break_tie(best: Refit, other: Refit, names: dict, evidence) -> tuple:

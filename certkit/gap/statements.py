@@ -132,18 +132,14 @@ def undecided_words(chosen, undecided) -> str:
             "cannot be told from these records (a tie of the answer with and without it).")
 
 
-def crosstalk_words(gain: float, skew: float) -> str:
-    """The sentence after the answer when a load-cell gain ε with a skew τ was named: with
-    ε·τ > 0 the record (1 + ε)·F(t − τ) is to first order F(t) + ε·F(t − d), d = τ·(1 + ε)/ε,
-    a share ε of the load arriving d earlier (crosstalk through the platform's frame); the
-    two differ by about ε·d²/2·F'', below the noise when d is short.  Empty otherwise."""
-    if not gain * skew > 0:
-        return ""
-    delay = skew * (1.0 + gain) / gain
-    return (f" To first order the load record is also what {percent(gain, 1)} of the load "
-            f"arriving {delay * 1e3:.3g} ms earlier would make (crosstalk through the "
-            f"platform's frame); the two differ only where the load bends sharply, so check "
-            f"the load chain's calibration and the frame before taking either as the cause.")
+def crosstalk_words(gain: float, delay: float) -> str:
+    """The sentence after the answer when a named load-cell gain ε with its skew records the
+    load as a share ε of it arriving ``delay`` [s] earlier would (crosstalk through the
+    platform's frame), to within the load's noise (:mod:`certkit.gap.selection` decides)."""
+    return (f" The load record is also, to within its noise, what {percent(gain, 1)} of the "
+            f"load arriving {delay * 1e3:.3g} ms earlier would make (crosstalk through the "
+            f"platform's frame): check the load chain's calibration and the frame before "
+            f"taking either as the cause.")
 
 
 def answer_words(chosen) -> str:
