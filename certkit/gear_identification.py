@@ -211,10 +211,9 @@ def _score(name: str, protocol: str, output: str, run: str, measured, simulated)
                  fit_percent(y, y_hat), max_abs_error(y, y_hat), np.asarray(simulated))
 
 
-#: The spec's σ² of the Hammerstein map and of the Wiener static map (BlockModelSpec) has
-#: always been in the load's unit squared (kN²; the NARX's in standardised units), so those
-#: kernels run on the load as it is (input_scale 1), not on the estimators' default
-#: standardised input: the report's numbers and the spec's meaning stay as they were.
+#: The spec's σ² of the Hammerstein map and of the Wiener static map is in the load's unit
+#: squared (kN²; the NARX's in standardised units): those kernels run on the load as it is
+#: (input_scale 1), not on the estimators' default standardised input.
 RAW_UNITS = 1.0
 
 
@@ -335,32 +334,34 @@ def _whiteness(result, name, output, test, predicted):
     result.whiteness.append((name, output, residual_analysis(
         y - predicted, test.load, max_lag=WHITENESS_LAGS, confidence=WHITENESS_CONFIDENCE)))
 
-
 SYMBOLS = {"gamma": "γ", "sigma2": "σ²"}   # how the notes name a tuned hyper-parameter
 
 
 @contextlib.contextmanager
 def _edges_as_notes(result: GearIdentification, output: str, model: str, block: str):
     """The search edges of the tuning inside the block as notes of ``result`` (appendix B),
-    not as a :class:`~certkit.ident.search_space.SearchEdgeWarning` (the protocol keeps its
-    ranges: a report run can act only on a value fixed in the spec); others are shown."""
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", SearchEdgeWarning)
-        yield
-    for warning in caught:
-        if not isinstance(warning.message, SearchEdgeWarning):
-            warnings.warn_explicit(warning.message, warning.category, warning.filename,
-                                   warning.lineno)
-            continue
-        edges = warning.message.edges
-        where = "; ".join(f"{SYMBOLS.get(e.parameter, e.parameter)} = {number(e.value)}"
-                          f"{' kN²' * (e.parameter == 'sigma2' and block != 'narx')}, its "
-                          f"{e.side} end" for e in edges)
-        keys = ", ".join(f"model.identification.{block}.{e.parameter}" for e in edges)
-        result.notes.append(f"{OUTPUT_LABELS[output]}, {model}: the tuned point lies on the edge"
-                            f" of the protocol's search ({where}); a better fit may lie beyond "
-                            f"it. The protocol keeps its ranges; a value set in the spec "
-                            f"({keys}) is used instead of tuning")
+    not as :class:`~certkit.ident.search_space.SearchEdgeWarning`s (the protocol keeps its
+    ranges: a run acts only on values fixed in the spec); others shown, also on an error."""
+    caught: list = []
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", SearchEdgeWarning)
+            yield
+    finally:
+        for warning in caught:
+            if not isinstance(warning.message, SearchEdgeWarning):
+                warnings.warn_explicit(warning.message, warning.category, warning.filename,
+                                       warning.lineno)
+                continue
+            where = "; ".join(f"{SYMBOLS.get(e.parameter, e.parameter)} = {number(e.value)}"
+                              f"{' kN²' * (e.parameter == 'sigma2' and block != 'narx')}, its "
+                              f"{e.side} end" for e in warning.message.edges)
+            keys = ", ".join(f"model.identification.{block}.{e.parameter}" for e in
+                             warning.message.edges)
+            result.notes.append(f"{OUTPUT_LABELS[output]}, {model}: the tuned point lies on "
+                                f"the edge of the protocol's search ({where}); a better fit "
+                                f"may lie beyond it. The protocol keeps its ranges; a value set"
+                                f" in the spec ({keys}) is used instead of tuning")
 
 
 @one_blas_thread

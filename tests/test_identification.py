@@ -185,3 +185,24 @@ def test_the_static_nonlinearity_figure_draws_only_what_is_a_function_of_the_loa
         left_out = f"Not drawn: {key[0]} for the strut stroke"
         assert (left_out in figure["caption"]) is (not determined), figure["caption"]
         assert "the block scaled to unit static gain" in figure["caption"]
+
+
+def test_a_tuning_that_fails_still_shows_its_other_warnings_and_notes_its_edges():
+    """The search edges of a tuning are notes of the report; any other warning is shown,
+    also when the tuning then raises (before, the error dropped them)."""
+    import warnings
+    from types import SimpleNamespace
+
+    from certkit.gear_identification import OUTPUTS, _edges_as_notes
+    from certkit.ident.search_space import SearchEdge, SearchEdgeWarning
+
+    result = SimpleNamespace(notes=[])
+    edge = SearchEdge("gamma", "lower", 10.0, 10.0, "widen it downwards")
+    with pytest.warns(UserWarning, match="ill-conditioned"), \
+            pytest.raises(RuntimeError, match="no fold"):
+        with _edges_as_notes(result, OUTPUTS[0], "Hammerstein", "hammerstein"):
+            warnings.warn("ill-conditioned kernel", UserWarning)
+            warnings.warn(SearchEdgeWarning("on the edge", (edge,)))
+            raise RuntimeError("no fold could be scored")
+    assert len(result.notes) == 1 and "γ = 10.00, its lower end" in result.notes[0]
+    assert "model.identification.hammerstein.gamma" in result.notes[0]
