@@ -63,7 +63,8 @@ class CertkitInputError(Exception):
 
     def __reduce__(self):
         # made again from its problems (raised in a worker process, reported by the parent;
-        # the default would pass the joined message, read as a list of one-letter problems)
+        # the default passes the joined message to __init__, which reads it as one-letter
+        # problems, so str() came out a letter a line)
         return type(self), (self.problems,)
 
 

@@ -436,17 +436,24 @@ def test_an_effect_beside_the_named_one_that_fails_only_the_harm_rule_is_a_state
     assert undecided_words([friction], [(loop, harm)]) == (
         " Beside seal friction, tyre hysteresis (constant amplitude, with memory form) would "
         "cut the training cost by a further 29 % but makes the training load error worse "
-        "beyond its noise: whether it is present too cannot be told from these records (a "
-        "tie of the answer with and without it).")
+        "beyond its noise: it is not named, and these records cannot tell whether it is "
+        "present too.")
+    two = Decision("x", "harm", {"channels": ["load", "tyre"], "cut": 0.19, "alone": True})
+    assert "makes the training load and tyre errors worse beyond their noise" in \
+        undecided_words([friction], [(loop, two)])
 
 
 def test_a_named_gain_with_a_skew_says_which_crosstalk_reads_the_same(monkeypatch):
     """A gain of 3 % with a skew of 0.12 ms is to first order 3 % of the load arriving
     0.12 ms × 1.03 / 0.03 = 4.12 ms earlier.  On a half-sine load of 6 kN over 100 ms the
-    two records differ by about ε·d²/2·F'' ≈ 0.03 · (4.12 ms)² / 2 · 6 kN · (π / 0.1 s)²
-    ≈ 1.5 N at most, below a noise of 20 N: the statement names that crosstalk.  A gain of
-    1.9 % with a skew of 0.95 ms would need crosstalk 51 ms earlier, which changes the load's
-    shape by far more than the noise: no sentence; nor for a skew of the other sign."""
+    two records differ by about ε·d²/2·F'', at most 0.03 · (4.12 ms)² / 2 · 6 kN ·
+    (π / 0.1 s)² ≈ 15 N at the peak and a few N RMS over the pulse, below a noise of 20 N:
+    the statement names that crosstalk.  A gain of 0.8 % with a skew of 0.6 ms would need
+    crosstalk 75.6 ms earlier, which moves part of the pulse 75 ms (tens of N RMS over the
+    pulse): no sentence, however long the quiet record after the pulse (over this 2 s
+    record the RMS of the whole record falls just below 20 N, which let it through
+    before); nor for a gain of 1.9 % with 0.95 ms (51 ms), nor for a skew of the other
+    sign."""
     from types import SimpleNamespace
 
     import numpy as np
@@ -455,7 +462,7 @@ def test_a_named_gain_with_a_skew_says_which_crosstalk_reads_the_same(monkeypatc
     from certkit.gap.statements import crosstalk_words
     from certkit.physics.calibration import AlignedRecord
 
-    time = np.arange(-0.05, 0.5, 0.001)
+    time = np.arange(-0.05, 2.0, 0.001)
     force = np.where((time > 0) & (time < 0.1), 6000.0 * np.sin(np.pi * np.clip(time, 0, 0.1)
                                                                  / 0.1), 0.0)
     record = AlignedRecord(time, time >= 0, {"load": force}, {"load": force})
@@ -467,6 +474,9 @@ def test_a_named_gain_with_a_skew_says_which_crosstalk_reads_the_same(monkeypatc
                                           lambda m: m, 20.0)
 
     assert alike(0.03, 0.12e-3) == pytest.approx(4.12e-3, rel=1e-9)
+    assert alike(0.008, 0.6e-3) is None
     assert alike(0.019, 0.95e-3) is None
     assert alike(0.03, -0.12e-3) is None and alike(0.03, 0.0) is None
     assert "3.0 % of the load arriving 4.12 ms earlier" in crosstalk_words(0.03, 4.12e-3)
+    assert "the load less 1.9 % of itself from 23.5 ms earlier" in \
+        crosstalk_words(-0.019, 23.5e-3)

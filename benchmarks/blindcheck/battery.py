@@ -303,7 +303,8 @@ def run_case(template: str, gear_id: str, case: Case, settings: Settings = Setti
     pooled_before, pooled_after = pooled(before), pooled(after)
     noise = diagnosis.noise or {}
     return {**truth, "sizes": {n: float(s) for n, s in sizes.items()},
-            "named": list(diagnosis.answer), "statement": diagnosis.statement, "error": None,
+            "named": list(diagnosis.answer), "undecided": list(diagnosis.undecided),
+            "statement": diagnosis.statement, "error": None,
             "skipped": None, "held_out": list(diagnosis.held_out),
             "before": load_before, "after": load_after,
             "shrink": 1.0 - load_after / load_before if load_before > 0 else 0.0,

@@ -69,8 +69,8 @@ S1 = Plan(battery="development", name="S1", seeds=(7101, 7102), null_seeds=7500,
           scatter=0.06, drawn=True)
 #: S2, sealed from 2026-11-27 (run once by 256ac89) until its results (gain with skew named
 #: in 4 of 8, the largest skews abstaining; the tyre loop beside friction lost in both
-#: pairs) drove the contact velocity read under a load skew and the stated tie beside a
-#: named effect: it joined the development battery on 2026-11-27 with its seeds and
+#: pairs) drove the contact velocity read under a load skew and the undecided effect
+#: beside a named one: it joined the development battery on 2026-11-27 with its seeds and
 #: ranges.
 S2 = Plan(battery="development", name="S2", seeds=(9101, 9102), null_seeds=9500,
           scatter=0.06, drawn=True,

@@ -57,7 +57,7 @@ def score(outcomes: list[dict], effects: tuple) -> dict:
     - false attribution: no-effect cases that do not end in a clean abstention (an effect
       named, a tie declared, or a failure);
     - set precision / recall: two-effect cases, pooled over the cases; recall or tie: a
-      truth effect named, or left undecided beside the named one (a stated tie);
+      truth effect named, or stated undecided beside the named one;
     - median held-out shrink: 1 − RMSE_after/RMSE_before of the held-out load channel,
       against the noisy measurement, over the single-effect cases at ratio ≥
       :data:`SCORED_FROM` (an abstention shrinks 0); the two-effect cases separately;
@@ -91,8 +91,8 @@ def score(outcomes: list[dict], effects: tuple) -> dict:
     exact = sum(o["named"] == o["truth"] for o in scored)
     false = sum(named_label(o) != "none" for o in null)
     right = sum(len(set(o["named"]) & set(o["truth"])) for o in pairs)
-    # a truth effect left undecided beside the named one (a stated tie of the answer with
-    # and without it, certkit.gap.selection): not found, but not silently lost either
+    # a truth effect stated undecided beside the named one (certkit.gap.selection: the
+    # records cannot tell whether it is present too): not found, but not silently lost
     tied = sum(len((set(o.get("undecided", [])) - set(o["named"])) & set(o["truth"]))
                for o in pairs)
     said = sum(len(o["named"]) for o in pairs)

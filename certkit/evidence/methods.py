@@ -69,7 +69,7 @@ def gap_method(units) -> dict:
     from certkit.gap.phases import BREAKOUT_TRAVEL, BREAKOUT_WINDOW, REBOUND_DROP
     from certkit.gap.residuals import BANDS, MAX_LAG, TIMING_LAG
     from certkit.gap.selection import (CANDIDATES, DETECTABLE, FLOOR_CHANNEL, GAIN, LEADING,
-                                       RELEVANT, TIE_COST, TIMING_SHARE)
+                                       PULSE_SHARE, RELEVANT, TIE_COST, TIMING_SHARE)
     from certkit.physics.effects.load_cell_gain import MAX_SKEW
     from certkit.physics.effects.tyre_hysteresis import ONSET_RANGE
 
@@ -124,7 +124,8 @@ def gap_method(units) -> dict:
                   f"with memory with its onset (the deflection over which it switches, "
                   f"{with_unit(ONSET_RANGE[0], 'length', units)} to "
                   f"{with_unit(ONSET_RANGE[1], 'length', units)}). A model whose load "
-                  f"record lags the other channels by a skew τ starts from the drop mass's "
+                  f"record lags the other channels by a skew τ, on a run whose contact "
+                  f"velocity is read on the drop-mass displacement, starts from the "
                   f"velocity τ before the touchdown read on the load (its contact came τ "
                   f"earlier; in free fall it was slower by g·τ). A form that changes one "
                   f"recorded channel (the load-cell gain) must also fit that channel's "
@@ -144,8 +145,10 @@ def gap_method(units) -> dict:
                   f"load-cell gain ε with a skew τ of the same sign is, to first order, the "
                   f"record a share ε of the load arriving τ·(1 + ε)/ε earlier would make "
                   f"(crosstalk through the frame); when the two records, computed from the "
-                  f"named model's load, differ by less than the load's noise on the training "
-                  f"runs, the statement says so. The held-out "
+                  f"named model's load, differ by less than the load's noise over the load "
+                  f"pulse of the training runs (where the load is at least "
+                  f"{percent(PULSE_SHARE, 0)} of its peak), the statement says so. The "
+                  f"held-out "
                   f"errors are computed after the "
                   f"choice and play no part in it: the statement gives the share of the "
                   f"held-out {FLOOR_CHANNEL} error beyond its noise that the named effects "

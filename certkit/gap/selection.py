@@ -71,6 +71,9 @@ LEADING = 2
 #: the form is not named.  A gain's own refit, with its skew, leaves at most a few per cent
 #: to a shift (the floor of the nominal model and the noise).
 TIMING_SHARE = 0.10
+#: The load pulse, over which a named gain with a skew is compared with the crosstalk that
+#: reads the same: the samples where the load is at least this share of its peak.
+PULSE_SHARE = 0.05
 #: The channel whose held-out gap the statement's closed and unexplained shares are of.
 FLOOR_CHANNEL = "load"
 
@@ -266,7 +269,7 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
                 statement = _tie_statement(chosen, useful[0], useful[1], names, attribution)
         refit_notes.append(refit_decisions(fits, refused, best if not tie else None, tie,
                                            names, broken, cost))
-        if best is None and chosen:
+        if best is None and chosen and not tie:
             # beside the named effects, a refit that fails the harm rule only is undecided
             undecided = tuple((names[f.effects[-1]], refused[f.effects]) for f in fits
                               if refused[f.effects] is not None
@@ -281,16 +284,16 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
     answer = tuple(c.name for c in chosen)
     if not statement:
         statement = statements.answer_words(chosen)
-        if any(c.name == "load-cell gain" for c in chosen):
-            gain = current.apply(calibration.knobs, residuals.models[0],
-                                 chosen).effect("load-cell gain")
-            delay = _crosstalk_alike(campaign, gear_id, training, gain,
-                                     lambda m: current.apply(calibration.knobs, m, chosen),
-                                     training_noise.get("load", 0.0))
-            if delay is not None:
-                statement += statements.crosstalk_words(gain.gain, delay)
-        if undecided:
-            statement += statements.undecided_words(chosen, undecided)
+    if any(c.name == "load-cell gain" for c in chosen):
+        gain = current.apply(calibration.knobs, residuals.models[0],
+                             chosen).effect("load-cell gain")
+        delay = _crosstalk_alike(campaign, gear_id, training, gain,
+                                 lambda m: current.apply(calibration.knobs, m, chosen),
+                                 training_noise.get("load", 0.0))
+        if delay is not None:
+            statement += statements.crosstalk_words(gain.gain, delay)
+    if undecided:
+        statement += statements.undecided_words(chosen, undecided)
     before, measured = _held_out(campaign, gear_id, held, calibration.apply)
     rmse = {("nominal",) + key: value for key, value in before.items()}
     noise = {channel: noise_level(records) for channel, records in measured.items()}
@@ -318,8 +321,10 @@ def _crosstalk_alike(campaign, gear_id: str, training, gain, configure,
     """The delay d [s] of the crosstalk F(t) + ε·F(t − d) that records the training runs'
     load as the named gain ε with its skew τ does, (1 + ε)·F(t − τ), to within the load's
     noise (to first order d = τ·(1 + ε)/ε, for ε·τ > 0; F: the load the named effects'
-    model simulates before the recorder's gain); None when there is no such crosstalk or
-    the two records differ by the noise or more (the timing rule then sees it)."""
+    model simulates without the recorder's gain and skew); None when there is no such
+    crosstalk or the two records differ by the noise or more.  The difference is taken
+    over the load pulse only (the samples where F is at least :data:`PULSE_SHARE` of its
+    peak), so that a long quiet tail cannot dilute it."""
     if not gain.gain * gain.skew > 0:
         return None
     delay = gain.skew * (1.0 + gain.gain) / gain.gain
@@ -331,8 +336,9 @@ def _crosstalk_alike(campaign, gear_id: str, training, gain, configure,
         time, force = record.time, record.simulated["load"]
         skewed = (1.0 + gain.gain) * np.interp(time - gain.skew, time, force, left=0.0)
         crosstalk = force + gain.gain * np.interp(time - delay, time, force, left=0.0)
-        squares += float(np.sum((skewed - crosstalk)[record.after] ** 2))
-        count += int(np.count_nonzero(record.after))
+        pulse = record.after & (np.abs(force) >= PULSE_SHARE * np.max(np.abs(force)))
+        squares += float(np.sum((skewed - crosstalk)[pulse] ** 2))
+        count += int(np.count_nonzero(pulse))
     return delay if count and np.sqrt(squares / count) < noise else None
 
 

@@ -124,22 +124,28 @@ def undecided_words(chosen, undecided) -> str:
     """The sentence after the answer for effects beside ``chosen`` whose refit failed the
     harm rule only: ((Candidate, Decision), ...)."""
     named = " and ".join(c.name for c in chosen)
-    parts = [f"{form_words(candidate)} would cut the training cost by a further "
-             f"{percent(decision.figures['cut'], 0)} but makes the training "
-             + " and ".join(decision.figures["channels"]) + " error worse beyond its noise"
-             for candidate, decision in undecided]
-    return (" Beside " + named + ", " + "; ".join(parts) + ": whether it is present too "
-            "cannot be told from these records (a tie of the answer with and without it).")
+    parts = []
+    for candidate, decision in undecided:
+        channels = decision.figures["channels"]
+        errors = (f"{channels[0]} error worse beyond its noise" if len(channels) == 1 else
+                  f"{' and '.join(channels)} errors worse beyond their noise")
+        parts.append(f"{form_words(candidate)} would cut the training cost by a further "
+                     f"{percent(decision.figures['cut'], 0)} but makes the training {errors}")
+    return (" Beside " + named + ", " + "; ".join(parts) + ": it is not named, and these "
+            "records cannot tell whether it is present too.")
 
 
 def crosstalk_words(gain: float, delay: float) -> str:
     """The sentence after the answer when a named load-cell gain ε with its skew records the
     load as a share ε of it arriving ``delay`` [s] earlier would (crosstalk through the
-    platform's frame), to within the load's noise (:mod:`certkit.gap.selection` decides)."""
-    return (f" The load record is also, to within its noise, what {percent(gain, 1)} of the "
-            f"load arriving {delay * 1e3:.3g} ms earlier would make (crosstalk through the "
-            f"platform's frame): check the load chain's calibration and the frame before "
-            f"taking either as the cause.")
+    platform's frame; ε < 0: a share taken away), to within the load's noise over the load
+    pulse (:mod:`certkit.gap.selection` decides)."""
+    share = percent(abs(gain), 1)
+    crosstalk = (f"{share} of the load arriving {delay * 1e3:.3g} ms earlier" if gain > 0 else
+                 f"the load less {share} of itself from {delay * 1e3:.3g} ms earlier")
+    return (f" The load record is also, to within its noise over the load pulse, what "
+            f"{crosstalk} would make (crosstalk through the platform's frame): check the "
+            f"load chain's calibration and the frame before taking either as the cause.")
 
 
 def answer_words(chosen) -> str:

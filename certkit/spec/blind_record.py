@@ -39,7 +39,7 @@ METRICS = {
                       "withheld ones"),
     "set_recall": ("set recall",
                    "on the two-effect cases, share of the withheld effects that were named"),
-    "set_recall_or_tie": ("set recall or stated tie",
+    "set_recall_or_tie": ("set recall or stated undecided",
                           "on the two-effect cases, share of the withheld effects that were "
                           "named or stated undecided beside the named one (the answer says "
                           "the records cannot tell whether it is present too)"),
