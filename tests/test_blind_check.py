@@ -423,6 +423,14 @@ def test_the_report_names_the_files_that_differ_from_the_running_certkit():
     assert sentence.startswith("They were scored by certkit 0.0.9 at commit 1234567890ab, "
                                "with other diagnosis code than this certkit's (the files that "
                                "differ: gap/phases.py, gap/selection.py)")
+    # what the reader can do: run a development battery again; a sealed set is run once,
+    # so its record is not to be run again: the next sealed set measures this code
+    assert sentence.endswith("so the figures describe that code: run the command again to "
+                             "measure this one.")
+    from certkit.evidence.gap_view import DRAW_ANEW
+    assert _made_by("Its cases were run", then, code_fingerprint(), DRAW_ANEW).endswith(
+        "so the figures describe that code: a sealed set is run once, so a new sealed set, "
+        "drawn for this code, will measure this one.")
     # a run from a source tree with uncommitted changes says so (the commit alone would not)
     dirty = Provenance(certkit="0.1.0", code=code_fingerprint(), files=files,
                        commit="1234567890abcdef-dirty")

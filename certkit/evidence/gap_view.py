@@ -170,9 +170,17 @@ def _battery_words(battery: str | None) -> str:
             "battery: read its figures as in-sample.")
 
 
-def _made_by(step: str, who, code: str) -> str:
+#: What a reader can do about a record made by other diagnosis code: run it again, or (a
+#: sealed set, run once per release) wait for the next sealed set.
+RUN_AGAIN = "run the command again to measure this one"
+DRAW_ANEW = ("a sealed set is run once, so a new sealed set, drawn for this code, will "
+             "measure this one")
+
+
+def _made_by(step: str, who, code: str, advice: str = RUN_AGAIN) -> str:
     """One sentence on who did a step of the blind check and whether it is this certkit's
-    diagnosis code (fingerprint of the simulation and diagnosis modules)."""
+    diagnosis code (fingerprint of the simulation and diagnosis modules); ``advice``: what
+    to do when it is not."""
     commit = ""
     if who.commit:
         dirty = who.commit.endswith("-dirty")
@@ -186,8 +194,7 @@ def _made_by(step: str, who, code: str) -> str:
     which = ("which files differ is not recorded" if differing is None
              else "the files that differ: " + ", ".join(differing))
     return (sentence + ", with other diagnosis code than this certkit's (" + which
-            + "), so the figures describe that code: run the command again to measure this "
-              "one.")
+            + f"), so the figures describe that code: {advice}.")
 
 
 def _blind_view(campaign, units) -> dict:
@@ -336,7 +343,7 @@ def _sealed_beside(campaign, development, sealed, now: str, code: str) -> dict:
               f"{sealed.template.spec}"
               + ("" if sealed.template.sha256 == now else
                  " (from another version of this spec)") + ". "
-              + _made_by("Its cases were run", sealed.cases_run_by, code)
+              + _made_by("Its cases were run", sealed.cases_run_by, code, DRAW_ANEW)
               + _battery_words(sealed.battery)
               + " The development figures are in-sample; the sealed ones are the measure "
                 "of the diagnosis on cases it was not tuned on, and the verdicts are theirs.")
