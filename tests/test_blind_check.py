@@ -558,3 +558,25 @@ def test_the_independent_battery_sizes_an_effect_where_the_diagnosis_aligns():
     at_detector, at_two_percent = (math.sqrt(np.mean(v)) for v in changes.values())
     assert at_detector == pytest.approx(40.0, rel=0.03)
     assert at_two_percent > 1.2 * at_detector
+
+
+@pytest.mark.slow
+def test_a_tyre_loop_beside_friction_that_harms_the_load_is_stated_undecided():
+    """S2's pair of LuGre friction and a Bouc–Wen tyre loop at 5 × (seed 9101, now in the
+    development battery), written by the independent simulator: the diagnosis names the
+    friction; the loop's refit cuts the training cost further but makes the training load
+    worse beyond its noise, so it is not named and the answer says the records cannot tell
+    whether it is present too (through a real diagnosis, not only the rule's sentence)."""
+    import blind_independent as independent
+    from blindcheck.plans import S2
+
+    case = next(c for c in independent.battery(independent.PLANS["development"])
+                if c.plan is S2 and c.forms == ("lugre", "tyre-bouc-wen") and c.seed == 9101)
+    outcome = independent.run_case(str(Path(EXAMPLE).resolve()), "left-main", case,
+                                   Settings())
+    assert outcome["truth"] == ["seal friction", "tyre hysteresis"]
+    assert outcome["named"] == ["seal friction"]
+    assert outcome["undecided"] == ["tyre hysteresis"]
+    assert ("Beside seal friction, tyre hysteresis" in outcome["statement"]
+            and "it is not named, and these records cannot tell whether it is present too"
+            in outcome["statement"])
