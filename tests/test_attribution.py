@@ -441,6 +441,13 @@ def test_an_effect_beside_the_named_one_that_fails_only_the_harm_rule_is_a_state
     two = Decision("x", "harm", {"channels": ["load", "tyre"], "cut": 0.19, "alone": True})
     assert "makes the training load and tyre errors worse beyond their noise" in \
         undecided_words([friction], [(loop, two)])
+    # two undecided effects: "they are", not "it is"
+    orifice = Form(name="rebound orifice", form="square law")
+    both = undecided_words([friction], [(loop, harm), (orifice, two)])
+    assert both.endswith(": they are not named, and these records cannot tell whether they "
+                         "are present too.")
+    assert "rebound orifice (square law form) would cut the training cost by a further 19 %" \
+        in both
 
 
 def test_a_named_gain_with_a_skew_says_which_crosstalk_reads_the_same(monkeypatch):

@@ -100,8 +100,8 @@ class Diagnosis:
     #: per step, the shapes of the force the model of that step misses on the training runs
     #: (:mod:`certkit.gap.missing_force`), model-free evidence for "which"
     evidence: tuple = ()
-    #: effects beside the named ones whose refit fails the harm rule only: the records
-    #: cannot say whether they are present too (a tie of the answer with and without them)
+    #: effects beside the named ones whose refit fails the harm rule only: not named, and
+    #: the records cannot say whether they are present too
     undecided: tuple = ()
 
     def configure(self, model: DropModel) -> DropModel:

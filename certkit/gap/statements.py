@@ -131,8 +131,9 @@ def undecided_words(chosen, undecided) -> str:
                   f"{' and '.join(channels)} errors worse beyond their noise")
         parts.append(f"{form_words(candidate)} would cut the training cost by a further "
                      f"{percent(decision.figures['cut'], 0)} but makes the training {errors}")
-    return (" Beside " + named + ", " + "; ".join(parts) + ": it is not named, and these "
-            "records cannot tell whether it is present too.")
+    subject, verb = ("it", "is") if len(parts) == 1 else ("they", "are")
+    return (f" Beside {named}, " + "; ".join(parts) + f": {subject} {verb} not named, and these "
+            f"records cannot tell whether {subject} {verb} present too.")
 
 
 def crosstalk_words(gain: float, delay: float) -> str:
