@@ -178,6 +178,10 @@ def gap_diagnosis(campaign: Campaign, gear_id: str) -> GapDiagnosis:
     before = residual_map(campaign, gear_id, (training, held))
     calibration = before.calibration
     diagnosis = diagnose(campaign, gear_id, (training, held), calibration=calibration)
+    if diagnosis.calibration is not calibration:
+        # calibrated again out of a local minimum: the gap is the one of that calibration
+        calibration = diagnosis.calibration
+        before = _map(campaign, gear_id, training, held, calibration, calibration.apply)
     after = None
     if diagnosis.refit is not None:
         after = _map(campaign, gear_id, training, held, calibration, diagnosis.configure)

@@ -43,7 +43,8 @@ from certkit.physics.effects import CANDIDATES, Candidate
 from certkit.physics.effects.base import set_effect
 from certkit.threads import one_blas_thread
 
-__all__ = ["CANDIDATES", "DETECTABLE", "GAIN", "LEADING", "RELEVANT", "TIE_COST", "TIMING_SHARE",
+__all__ = ["CANDIDATES", "DETECTABLE", "GAIN", "LEADING", "RECALIBRATE", "RELEVANT", "RESTARTS",
+           "TIE_COST", "TIMING_SHARE",
            "Diagnosis", "diagnose", "judge", "refit_decisions"]
 
 #: A candidate is considered only if it would remove at least this RMS (in noise units).
@@ -74,6 +75,13 @@ TIMING_SHARE = 0.10
 #: The load pulse, over which a named gain with a skew is compared with the crosstalk that
 #: reads the same: the samples where the load is at least this share of its peak.
 PULSE_SHARE = 0.05
+#: The nominal model every refit is judged against is the best the nominal parameters
+#: reach: when the nominal parameters of a first-step refit, with no effect, fit the
+#: training runs better than the calibration by this share of its cost, the calibration
+#: stopped in a local minimum (its own tolerance is 1e-6), and it is done again from them
+#: (:func:`_calibrated_again`), at most :data:`RESTARTS` times.
+RECALIBRATE = 0.02
+RESTARTS = 2
 #: The channel whose held-out gap the statement's closed and unexplained shares are of.
 FLOOR_CHANNEL = "load"
 
@@ -103,6 +111,9 @@ class Diagnosis:
     #: effects beside the named ones whose refit fails the harm rule only: not named, and
     #: the records cannot say whether they are present too
     undecided: tuple = ()
+    #: the nominal model calibrated again from a first-step refit's nominal parameters (a
+    #: Decision each, rule "calibrated again"): its first calibration was a local minimum
+    recalibrated: tuple = ()
 
     def configure(self, model: DropModel) -> DropModel:
         """``model`` (nominal, of this gear, any run) as the diagnosis leaves it: the
@@ -206,8 +217,12 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
     cost = calibration.fit.cost
     steps, statement, step_costs, refit_notes, tie, evidence = [], "", [], [], (), []
     undecided: tuple = ()
+    #: the nominal model calibrated again from a first-step refit's nominal parameters (a
+    #: Decision each, rule "calibrated again"): its first calibration was a local minimum
+    recalibrated: tuple = ()
     names = {c.key: c for c in candidates}
-    for _ in range(2):
+    recalibrated: list[Decision] = []
+    while len(step_costs) < 2:
         step_costs.append(cost)
         x = list(current.values) + list(current.strengths) if current else None
         models = (configured(residuals, calibration.knobs, chosen, x) if current
@@ -234,6 +249,17 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
         leading = _leading(profile, relevant, names)
         fits = [refit(residuals, calibration, chosen + [names[n]], start=profile[n][0])
                 for n in leading]
+        if current is None and len(recalibrated) < RESTARTS:
+            again = _calibrated_again(campaign, gear_id, training, residuals, calibration,
+                                      fits)
+            if again is not None:
+                # the calibration stopped in a local minimum: the step again, against the
+                # nominal model calibrated from where a refit's nominal parameters lay
+                calibration, decision = again
+                recalibrated.append(decision)
+                cost = calibration.fit.cost
+                step_costs.pop()
+                continue
         attribution = replace(attribution, relevant=tuple(sorted(relevant)),
                               decisions=_decisions(attribution, relevant, leading, names),
                               no_refit=None if fits else Decision(
@@ -284,6 +310,7 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
     answer = tuple(c.name for c in chosen)
     if not statement:
         statement = statements.answer_words(chosen)
+    statement = "".join(map(statements.recalibrated_words, recalibrated)) + statement
     if any(c.name == "load-cell gain" for c in chosen):
         gain = current.apply(calibration.knobs, residuals.models[0],
                              chosen).effect("load-cell gain")
@@ -313,7 +340,36 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
                      calibration, current, tuple(chosen), tuple(step_costs),
                      tuple(refit_notes), tuple(c.form for c in chosen), noise, shares,
                      caveats, tie, tuple(evidence),
-                     tuple(candidate.name for candidate, _ in undecided))
+                     tuple(candidate.name for candidate, _ in undecided),
+                     tuple(recalibrated))
+
+
+def _calibrated_again(campaign, gear_id: str, training, residuals: RunResiduals,
+                      calibration, fits: list) -> tuple | None:
+    """(the nominal model calibrated again, the Decision that records it) when the nominal
+    parameters of one of the first step's refits, with no effect, fit the training runs
+    better than the calibration by :data:`RECALIBRATE` or more (the calibration stopped in
+    a local minimum, and an effect's refit would be credited with what the nominal
+    parameters can do); None otherwise.  The new calibration starts from the nominal
+    parameters of the refit that fit best without its effect and is kept only when it too
+    beats the first by :data:`RECALIBRATE`."""
+    if not fits:
+        return None
+    count = len(calibration.knobs)
+    vectors = residuals.evaluate([configured(residuals, calibration.knobs, [],
+                                             list(f.values[:count])) for f in fits])
+    costs = [float(np.sqrt(np.mean(v ** 2))) for v in vectors]
+    best = int(np.argmin(costs))
+    limit = (1.0 - RECALIBRATE) * calibration.fit.cost
+    if not costs[best] < limit:
+        return None
+    again = calibrate_gear(campaign, gear_id, effects=[], run_ids=list(training),
+                           start=list(fits[best].values[:count]))
+    if not again.fit.cost < limit:
+        return None
+    return again, Decision(_joined(fits[best]), "calibrated again", {
+        "cost_before": float(calibration.fit.cost), "start_cost": costs[best],
+        "cost_after": float(again.fit.cost), "recalibrate": RECALIBRATE})
 
 
 def _crosstalk_alike(campaign, gear_id: str, training, gain, configure,

@@ -36,6 +36,10 @@ RULES = {
     "tie broken": "a near-tie the missing force decided (named, other, marked, unmarked, "
                   "share, tie_cost)",
     "after a tie": "admissible, but the step ended in a tie (tie)",
+    # the nominal model before the first step
+    "calibrated again": "the nominal parameters of this refit, with no effect, fit better "
+                        "than the calibration: a local minimum, calibrated again from them "
+                        "(cost_before, start_cost, cost_after, recalibrate)",
 }
 
 
@@ -106,6 +110,8 @@ def decision_words(decision) -> str:
     if rule == "after a tie":
         return (f"admissible, but the step ended in a tie of {f['tie'][0]} and {f['tie'][1]}: "
                 f"not named")
+    if rule == "calibrated again":
+        return recalibrated_words(decision).strip()
     raise ValueError(f"no words for the rule {rule!r}")   # a rule added without its sentence
 
 
@@ -134,6 +140,17 @@ def undecided_words(chosen, undecided) -> str:
     subject, verb = ("it", "is") if len(parts) == 1 else ("they", "are")
     return (f" Beside {named}, " + "; ".join(parts) + f": {subject} {verb} not named, and these "
             f"records cannot tell whether {subject} {verb} present too.")
+
+
+def recalibrated_words(decision) -> str:
+    """The sentence before the answer when the nominal model was calibrated again from the
+    nominal parameters of the refit ``decision.name`` (rule "calibrated again")."""
+    f = decision.figures
+    return (f"The nominal model's calibration on the training runs stopped in a local "
+            f"minimum (training cost {f['cost_before']:.4g}): the nominal parameters of the "
+            f"refit with {decision.name}, with no effect, fit them at {f['start_cost']:.4g}, "
+            f"so it was calibrated again from there ({f['cost_after']:.4g}), and every "
+            f"effect is judged against that. ")
 
 
 def crosstalk_words(gain: float, delay: float) -> str:

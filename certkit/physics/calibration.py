@@ -268,11 +268,15 @@ def _residual_vector(runs: list[_Run], simulated: list[dict]) -> np.ndarray:
 
 @one_blas_thread
 def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = None,
-                   effects: list[str] | None = None, run_ids: list[str] | None = None
-                   ) -> GearCalibration:
+                   effects: list[str] | None = None, run_ids: list[str] | None = None,
+                   start: list[float] | None = None) -> GearCalibration:
     """Fit ``knobs`` of ``gear_id``'s drop model to the runs ``run_ids`` (default: every
     run recording it); every other recorded drop of the gear is simulated with the nominal
     and the fitted parameters and compared with its record (``role`` "held out").
+
+    ``start``: the knobs' values the fit starts from (SI, in the knobs' order; default the
+    nominal ones, which the "nominal" errors are always of).  The bounds are the nominal
+    values' either way.
 
     Raises
     ------
@@ -303,10 +307,12 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
     if base.orifice is None:
         chosen = [k for k in chosen if k.name != "discharge-coefficient"]
     nominal = [knob.read(base) for knob in chosen]
+    first = nominal if start is None else [float(v) for v in start]
     parameters = []
-    for knob, value in zip(chosen, nominal):
+    for knob, value, initial in zip(chosen, nominal, first):
         low, high = knob.bounds(value)
-        parameters.append(FitParameter(knob.name, knob.unit, value, low, high))
+        parameters.append(FitParameter(knob.name, knob.unit, min(max(initial, low), high),
+                                       low, high))
 
     def configure(model: DropModel, values) -> DropModel:
         for knob, value in zip(chosen, values):
