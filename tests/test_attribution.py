@@ -305,14 +305,17 @@ def test_every_rule_has_its_sentence_and_no_sentence_without_a_rule():
                "channels": ["stroke"], "removed": 1.7, "detectable": 2.5, "channel": "load",
                "shift_s": 0.012, "share": 0.29, "timing_share": 0.13, "cost": 0.6,
                "named": True, "named_cost": 0.5, "other": "E", "tie_cost": 1.07,
-               "marked": "E", "unmarked": "A", "tie": ["A", "Z"], "alone": True}
+               "marked": "E", "unmarked": "A", "tie": ["A", "Z"], "alone": True,
+               "cost_before": 0.0232, "start_cost": 0.00167, "cost_after": 0.00166,
+               "recalibrate": 0.02}
     quoted = {"refitted": [], "other form refitted": [], "not leading": ["3 effects"],
               "points the other way": ["37 %"], "not relevant": ["0.45 σ", "3 effects", "37 %"],
               "cannot be added": ["no tyre"], "none refitted": ["0.45 σ", "37 %"],
               "named": ["23 %"], "gain": ["23.1 %", "37 %"], "harm": ["stroke", "23 %"],
               "detectable": ["1.7", "2.5"], "timing": ["12 ms later", "29 %", "13 %"],
               "outranked": ["0.6", "0.5", "E"], "tie": ["7 %", "E"],
-              "tie broken": ["7 %", "mark of E", "not of A"], "after a tie": ["A and Z"]}
+              "tie broken": ["7 %", "mark of E", "not of A"], "after a tie": ["A and Z"],
+              "calibrated again": ["0.0232", "refit with x", "0.00167", "(0.00166)"]}
     assert set(quoted) == set(RULES)
     for rule in RULES:
         # "named" is the named effect for "outranked", whether this refit won for a broken tie
@@ -487,3 +490,57 @@ def test_a_named_gain_with_a_skew_says_which_crosstalk_reads_the_same(monkeypatc
     assert "3.0 % of the load arriving 4.12 ms earlier" in crosstalk_words(0.03, 4.12e-3)
     assert "the load less 1.9 % of itself from 23.5 ms earlier" in \
         crosstalk_words(-0.019, 23.5e-3)
+
+
+def test_a_calibration_in_a_local_minimum_is_done_again_from_a_refits_parameters(monkeypatch):
+    """The rule of :func:`certkit.gap.selection._calibrated_again`, on costs set by hand
+    against a calibration of cost 1: the bare parameters of a refit (its effect left out)
+    must fit by 2 % or more better (below 0.98, strictly) for the calibration to be done
+    again, from the refit that fits best without its effect; and the new calibration is
+    kept only when it too is below 0.98."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from certkit.gap import selection
+    from certkit.gap.statements import decision_words
+
+    assert selection.RECALIBRATE == 0.02
+    without_effect = {}          # a refit's first bare parameter -> its cost with no effect
+    monkeypatch.setattr(selection, "configured",
+                        lambda residuals, knobs, candidates, values: (list(candidates),
+                                                                      values))
+    residuals = SimpleNamespace(evaluate=lambda sets: [
+        np.full(5, without_effect[values[0]]) for candidates, values in sets
+        if candidates == []])
+    calibration = SimpleNamespace(knobs=("k1", "k2"), fit=SimpleNamespace(cost=1.0))
+    fits = [SimpleNamespace(effects=("friction",), values=(1.0, 10.0, 0.3)),
+            SimpleNamespace(effects=("loop",), values=(2.0, 20.0, 0.4))]
+    started, after = [], {"cost": 0.45}
+
+    def calibrate_gear(campaign, gear_id, effects, run_ids, start):
+        started.append((effects, run_ids, start))
+        return SimpleNamespace(fit=SimpleNamespace(cost=after["cost"]))
+
+    monkeypatch.setattr(selection, "calibrate_gear", calibrate_gear)
+
+    def again():
+        return selection._calibrated_again(None, "g", ("D1", "D2"), residuals, calibration,
+                                           fits)
+
+    without_effect.update({1.0: 0.99, 2.0: 0.98})   # 1 % and 2 % better: not below 0.98
+    assert again() is None and started == []
+    without_effect.update({1.0: 0.9, 2.0: 0.5})     # the loop's bare parameters fit best
+    new, decision = again()
+    assert started == [([], ["D1", "D2"], [2.0, 20.0])]   # no effect, its bare parameters
+    assert new.fit.cost == 0.45
+    assert (decision.name, decision.rule) == ("loop", "calibrated again")
+    assert decision.figures == {"cost_before": 1.0, "start_cost": 0.5, "cost_after": 0.45,
+                                "recalibrate": 0.02}
+    assert decision_words(decision).startswith(
+        "The nominal model's calibration on the training runs stopped in a local minimum "
+        "(training cost 1): the nominal parameters of the refit with loop, with no effect, "
+        "fit them at 0.5, so it was calibrated again from there (0.45)")
+    after["cost"] = 0.985                           # calibrated again, but not better enough
+    assert again() is None
+    assert selection._calibrated_again(None, "g", ("D1",), residuals, calibration, []) is None

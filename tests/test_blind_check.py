@@ -445,15 +445,17 @@ def test_the_report_names_the_files_that_differ_from_the_running_certkit():
 def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
     import blind_independent as independent
     import truthgen
-    from blindcheck.plans import NUISANCE_RANGES, S1, S2, S3, draws
+    from blindcheck.plans import NUISANCE_RANGES, S1, S2, S3, S4, draws
 
     development, sealed = independent.PLANS["development"], independent.PLANS["sealed"]
     dev_cases, sealed_cases = independent.battery(development), independent.battery(sealed)
-    # S1 and S2, spent, are part of the development battery with their own seeds; S3 is
+    # S1, S2 and S3, spent, are part of the development battery with their own seeds; S4 is
     # sealed
-    assert S1 in development and S2 in development and sealed == (S3,)
+    assert {S1, S2, S3} <= set(development) and sealed == (S4,)
     assert {c.seed for c in dev_cases if c.plan is S1} == {7101, 7102} | set(range(7500, 7520))
     assert {c.seed for c in dev_cases if c.plan is S2} == {9101, 9102} | set(range(9500, 9520))
+    assert {c.seed for c in dev_cases if c.plan is S3} == {9301, 9302} | set(range(9700, 9720))
+    assert {c.seed for c in sealed_cases} == {12401, 12402} | set(range(12800, 12820))
     # at least as many cases as a development plan; no seed, no case id in common
     assert len(sealed_cases) >= len(independent.battery(development[0])) >= 106
     assert not {c.seed for c in dev_cases} & {c.seed for c in sealed_cases}
@@ -464,7 +466,7 @@ def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
         assert all(shape == () for shape in shapes) and nuisances == truthgen.Nuisances()
     # a drawn case draws every shape parameter inside its plan's range, and the same again
     drawn = {}
-    for case in sealed_cases + [c for c in dev_cases if c.plan in (S1, S2)]:
+    for case in sealed_cases + [c for c in dev_cases if c.plan in (S1, S2, S3)]:
         shapes, nuisances = draws(case.key, case.forms, case.plan)
         assert (shapes, nuisances) == draws(case.key, case.forms, case.plan)
         for form_id, shape in zip(case.forms, shapes):
@@ -486,6 +488,7 @@ def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
     assert dict((n, (lo, hi)) for n, lo, hi in S3.shape_ranges("gain-skew"))["skew"] == \
         (-1e-3, 1e-3)
     assert S3.shape_ranges("bessel-delay") == S2.shape_ranges("bessel-delay")
+    assert all(S4.shape_ranges(f) == S3.shape_ranges(f) for f in truthgen.FORMS)
     assert S1.shape_ranges("bessel-delay") == truthgen.FORMS["bessel-delay"].shape_ranges
 
 
@@ -580,3 +583,53 @@ def test_a_tyre_loop_beside_friction_that_harms_the_load_is_stated_undecided():
     assert ("Beside seal friction, tyre hysteresis" in outcome["statement"]
             and "it is not named, and these records cannot tell whether it is present too"
             in outcome["statement"])
+
+
+@pytest.mark.slow
+def test_a_nominal_calibration_in_a_local_minimum_is_done_again_before_effects_are_judged():
+    """S3's no-effect case of seed 9706 (now in the development battery), written by the
+    independent simulator: its top-out pad compresses 1.6 mm under the preload (the case's
+    drawn nuisance), and the nominal calibration from the spec's values stops with the
+    pad's compression near its lower bound.  Started instead from the truth's pad
+    compression (a start the diagnosis does not know), the same calibration fits the
+    training runs more than 2 % better: the first was a local minimum.  The diagnosis,
+    which named tyre hysteresis here before (it closed 86 % of the held-out gap, on no
+    effect), now calibrates again, names nothing and says why."""
+    import tempfile
+
+    import blind_independent as independent
+    from blindcheck.plans import S3, draws
+
+    from certkit.gap.holdout import split_for
+    from certkit.gap.selection import diagnose
+    from certkit.physics.calibration import calibrate_gear
+    from certkit.physics.synthetic import SensorModel
+
+    case = next(c for c in independent.battery(independent.PLANS["development"])
+                if c.plan is S3 and c.forms == () and c.seed == 9706)
+    _, nuisances = draws(case.key, (), S3)
+    assert nuisances.pad == pytest.approx(1.596e-3, rel=1e-3)
+    settings = Settings()
+    noisy = SensorModel(settings.load_noise, settings.load_step, settings.load_offset,
+                        settings.travel_noise, settings.travel_step, settings.travel_offset,
+                        load_zero_error=settings.load_zero_error,
+                        travel_zero_error=settings.travel_zero_error)
+    with tempfile.TemporaryDirectory() as folder:
+        written = independent.write_case(str(Path(EXAMPLE).resolve()), "left-main", case, (),
+                                         Path(folder), noisy, "noisy", nuisances)
+        campaign = load_campaign(written)
+        training = list(split_for(campaign, "left-main")[0])
+        first = calibrate_gear(campaign, "left-main", effects=[], run_ids=training)
+        names = [knob.name for knob in first.knobs]
+        start = list(first.fit.estimate)
+        start[names.index("top-out-compression")] = nuisances.pad
+        from_truth = calibrate_gear(campaign, "left-main", effects=[], run_ids=training,
+                                    start=start)
+        assert from_truth.fit.cost < 0.98 * first.fit.cost
+        diagnosis = diagnose(campaign, "left-main", calibration=first)
+    assert diagnosis.answer == ()
+    assert [d.rule for d in diagnosis.recalibrated] == ["calibrated again"]
+    assert diagnosis.calibration.fit.cost <= 1.05 * from_truth.fit.cost
+    assert diagnosis.statement.startswith(
+        "The nominal model's calibration on the training runs stopped in a local minimum")
+    assert diagnosis.statement.endswith("No effect in the library explains the gap.")

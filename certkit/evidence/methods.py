@@ -69,7 +69,8 @@ def gap_method(units) -> dict:
     from certkit.gap.phases import BREAKOUT_TRAVEL, BREAKOUT_WINDOW, REBOUND_DROP
     from certkit.gap.residuals import BANDS, MAX_LAG, TIMING_LAG
     from certkit.gap.selection import (CANDIDATES, DETECTABLE, FLOOR_CHANNEL, GAIN, LEADING,
-                                       PULSE_SHARE, RELEVANT, TIE_COST, TIMING_SHARE)
+                                       PULSE_SHARE, RECALIBRATE, RELEVANT, RESTARTS, TIE_COST,
+                                       TIMING_SHARE)
     from certkit.physics.effects.load_cell_gain import MAX_SKEW
     from certkit.physics.effects.tyre_hysteresis import ONSET_RANGE
 
@@ -110,7 +111,14 @@ def gap_method(units) -> dict:
                   f"training cost by {percent(GAIN, 0)}. The best-profiled form of each of the "
                   f"{LEADING} relevant effects with the best profiles is refitted together with "
                   f"the bare model's parameters on the training runs, from its profile's best "
-                  f"strength. The refit that cuts the training cost (RMS of the residuals "
+                  f"strength. Effects are judged against the best nominal model the "
+                  f"parameters reach: when the bare model's parameters of a first-step refit, "
+                  f"with no effect, fit the training runs better than the calibration by "
+                  f"{percent(RECALIBRATE, 0)} or more, the calibration stopped in a local "
+                  f"minimum; it is done again from them (at most {RESTARTS} times) and the "
+                  f"step is repeated against it, so that no effect is credited with what "
+                  f"the bare model's parameters can do; the statement says so. "
+                  f"The refit that cuts the training cost (RMS of the residuals "
                   f"divided by each channel's range) most, by at least {percent(GAIN, 0)}, and "
                   f"leaves no training channel worse beyond its noise (its RMSE grown by more "
                   f"than the noise σ in quadrature, σ estimated from the channel's second "

@@ -247,6 +247,8 @@ def _decision_document(decision) -> dict:
 def gap_document(gap: GapDiagnosis) -> dict:
     """Plain, JSON-ready account of one gear unit's gap diagnosis (SI)."""
     diagnosis = gap.diagnosis
+    calibration = gap.before.calibration
+    nominal = calibration.nominal_model
     steps = []
     for index, (attribution, fits) in enumerate(diagnosis.steps):
         steps.append({
@@ -278,15 +280,17 @@ def gap_document(gap: GapDiagnosis) -> dict:
         "gear_unit": gap.gear_id, "training": list(gap.training),
         "held_out": list(gap.held_out),
         "split": "declared (model.gap.held_out)" if gap.declared else "default",
-        "calibration": {"parameters": [{"name": p.name, "unit": p.unit, "nominal": p.nominal,
-                                        "estimate": float(e)} for p, e in
-                                       zip(gap.before.calibration.fit.parameters,
-                                           gap.before.calibration.fit.estimate)],
-                        "training_cost": gap.before.calibration.fit.cost},
+        "calibration": {"parameters": [{"name": p.name, "unit": p.unit,
+                                        "nominal": knob.read(nominal), "estimate": float(e)}
+                                       for knob, p, e in zip(calibration.knobs,
+                                                             calibration.fit.parameters,
+                                                             calibration.fit.estimate)],
+                        "training_cost": calibration.fit.cost},
         "before": _map_document(gap.before),
         "steps": steps,
         "answer": list(diagnosis.answer), "forms": list(diagnosis.forms),
         "tie": list(diagnosis.tie), "undecided": list(diagnosis.undecided),
+        "calibrated_again": [_decision_document(d) for d in diagnosis.recalibrated],
         "statement": diagnosis.statement,
         "held_out_noise": diagnosis.noise,
         "held_out_gap_shares": None if diagnosis.shares is None else {
