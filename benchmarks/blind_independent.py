@@ -77,6 +77,7 @@ from blindcheck import battery as own  # noqa: E402
 from blindcheck import scoring  # noqa: E402
 from blindcheck.plans import NUISANCE_RANGES, PLANS, Plan, contact_phases, draws  # noqa: E402
 from blindcheck.record import provenance, write_blind_check  # noqa: E402
+from blindcheck.truth_gap import floor_calibration, held_out_load, physical_size  # noqa: E402
 
 P_ATM = 101325.0
 #: Issue 14's targets on the independent battery (effect ≥ 2× noise).
@@ -290,27 +291,6 @@ def write_case(template: str, gear_id: str, case: Case, truths: tuple, folder: P
     return write_campaign(campaign, folder / label, histories, note, case.key, sensors, rate)
 
 
-def _held_out_load(campaign, gear_id: str, held, configure) -> float:
-    records = aligned_records(campaign, gear_id, configure, list(held), effects=[])
-    return math.sqrt(np.mean([np.mean((r.simulated["load"][r.after]
-                                       - r.measured["load"][r.after]) ** 2)
-                              for r in records.values()]))
-
-
-def _physical_size(clean, bare, gear_id: str, held) -> dict:
-    """What the truths change physically on the held-out drops, noise-free: the peak
-    load (N and share) and the maximum stroke (m)."""
-    out = {}
-    for run_id in held:
-        with_effect, without = (c.series[run_id].gears[gear_id] for c in (clean, bare))
-        peak, plain_peak = float(with_effect.load.max()), float(without.load.max())
-        out[run_id] = {"peak_load_change_N": peak - plain_peak,
-                       "peak_load_change_share": peak / plain_peak - 1.0,
-                       "max_stroke_change_m": float(with_effect.stroke.max()
-                                                    - without.stroke.max())}
-    return out
-
-
 def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) -> dict:
     """Size, write and diagnose one case (sized on its own shapes, nuisances and contact
     phases), and score it against its truth."""
@@ -355,12 +335,11 @@ def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) ->
             bare = load_campaign(write_case(template, gear_id, case, (), folder,
                                             NO_SENSOR_EFFECTS, "bare", nuisances))
             held = diagnosis.held_out
-            gap_before = _held_out_load(clean, gear_id, held, diagnosis.calibration.apply)
-            gap_after = _held_out_load(clean, gear_id, held, diagnosis.configure)
-            floor_calibration = calibrate_gear(bare, gear_id, effects=[],
-                                               run_ids=list(diagnosis.training))
-            floor = _held_out_load(bare, gear_id, held, floor_calibration.apply)
-            physical = _physical_size(clean, bare, gear_id, held)
+            gap_before = held_out_load(clean, gear_id, held, diagnosis.calibration.apply)
+            gap_after = held_out_load(clean, gear_id, held, diagnosis.configure)
+            floor_model = floor_calibration(bare, gear_id, diagnosis)
+            floor = held_out_load(bare, gear_id, held, floor_model.apply)
+            physical = physical_size(clean, bare, gear_id, held)
         except Exception as error:   # noqa: BLE001 -- recorded and scored as a failure
             return {**truth, "named": [], "statement": f"failed: {type(error).__name__}: "
                     f"{error}", "error": f"{type(error).__name__}: {error}", "skipped": None,
@@ -375,7 +354,8 @@ def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) ->
     own_before = math.sqrt(max(gap_before ** 2 - floor ** 2, 0.0))
     own_after = math.sqrt(max(gap_after ** 2 - floor ** 2, 0.0))
     return {**truth, "sizes": {t.form: t.size for t in chosen}, "named": list(diagnosis.answer),
-            "undecided": list(diagnosis.undecided), "named_forms": list(diagnosis.forms), "statement": diagnosis.statement,
+            "undecided": list(diagnosis.undecided),
+            "recalibrated": [d.rule for d in diagnosis.recalibrated], "named_forms": list(diagnosis.forms), "statement": diagnosis.statement,
             "error": None, "skipped": None, "held_out": list(held),
             "before": pb["load"], "after": pa["load"],
             "shrink": 1.0 - pa["load"] / pb["load"] if pb["load"] > 0 else 0.0,

@@ -627,9 +627,39 @@ def test_a_nominal_calibration_in_a_local_minimum_is_done_again_before_effects_a
                                     start=start)
         assert from_truth.fit.cost < 0.98 * first.fit.cost
         diagnosis = diagnose(campaign, "left-main", calibration=first)
+    assert first.fit.estimate[names.index("top-out-compression")] < 0.1e-3
     assert diagnosis.answer == ()
     assert [d.rule for d in diagnosis.recalibrated] == ["calibrated again"]
     assert diagnosis.calibration.fit.cost <= 1.05 * from_truth.fit.cost
+    assert diagnosis.step_costs[0] == diagnosis.calibration.fit.cost == \
+        diagnosis.recalibrated[-1].figures["cost_after"]
+    assert len(diagnosis.steps) == len(diagnosis.step_costs) == \
+        len(diagnosis.refit_decisions) == len(diagnosis.evidence) == 1
     assert diagnosis.statement.startswith(
-        "The nominal model's calibration on the training runs stopped in a local minimum")
+        "The nominal model's calibration on the training runs did not reach the best fit")
     assert diagnosis.statement.endswith("No effect in the library explains the gap.")
+
+
+def test_the_floor_is_the_better_of_two_calibrations_of_the_bare_case(monkeypatch):
+    """The floor of a case is the nominal model calibrated on its bare records from the
+    nominal values or from where the diagnosis's calibration ended, whichever fits better
+    (the diagnosis's own calibration may have been done again out of a poorer fit)."""
+    from types import SimpleNamespace
+
+    from blindcheck import truth_gap
+
+    made = []
+
+    def calibrate_gear(campaign, gear_id, knobs=None, effects=None, run_ids=None, start=None):
+        made.append((knobs, run_ids, start))
+        return SimpleNamespace(fit=SimpleNamespace(cost=costs[len(made) - 1]))
+
+    monkeypatch.setattr(truth_gap, "calibrate_gear", calibrate_gear)
+    diagnosis = SimpleNamespace(training=("D1", "D2"), calibration=SimpleNamespace(
+        knobs=(SimpleNamespace(name="k1"),), fit=SimpleNamespace(estimate=(7.0,))))
+    costs = [0.02, 0.01]
+    assert truth_gap.floor_calibration("bare", "g", diagnosis).fit.cost == 0.01
+    assert made == [(None, ["D1", "D2"], None), (["k1"], ["D1", "D2"], [7.0])]
+    made.clear()
+    costs = [0.01, 0.02]
+    assert truth_gap.floor_calibration("bare", "g", diagnosis).fit.cost == 0.01

@@ -304,6 +304,7 @@ def run_case(template: str, gear_id: str, case: Case, settings: Settings = Setti
     noise = diagnosis.noise or {}
     return {**truth, "sizes": {n: float(s) for n, s in sizes.items()},
             "named": list(diagnosis.answer), "undecided": list(diagnosis.undecided),
+            "recalibrated": [d.rule for d in diagnosis.recalibrated],
             "statement": diagnosis.statement, "error": None,
             "skipped": None, "held_out": list(diagnosis.held_out),
             "before": load_before, "after": load_after,

@@ -10,7 +10,9 @@ explains it and how far it shrinks once that effect is added.
    largest disagreement on the training runs is named in words.
 3. Which: :func:`certkit.gap.selection.diagnose` scores the library's candidate effects
    (every form of each), refits the leading ones and names one or two effects, declares a
-   tie, or abstains.
+   tie, or abstains; when a first-step refit's bare parameters fit better than the
+   calibration of step 1, the nominal model is calibrated again from them, and steps 2
+   and 4 use that calibration.
 4. How far: the held-out RMSE before (calibrated nominal) and after (refit with the named
    effects), per channel over the whole record from touchdown and per channel and phase,
    with the shrink 1 − after/before; and the residual map that remains with the named
@@ -33,7 +35,8 @@ from certkit.gap.holdout import split_for
 from certkit.gap.missing_force import campaign_missing_forces
 from certkit.gap.phases import segment
 from certkit.gap.residuals import BANDS, Cell, band_shares, describe, largest, residual_cells
-from certkit.gap.selection import CANDIDATES, GAIN, LEADING, RELEVANT, TIE_COST, Diagnosis, diagnose
+from certkit.gap.selection import (CANDIDATES, GAIN, LEADING, RECALIBRATE, RELEVANT, RESTARTS,
+                                   TIE_COST, Diagnosis, diagnose)
 from certkit.gap.statements import decision_words
 from certkit.physics.calibration import (CHANNEL_UNITS, GearCalibration, aligned_records,
                                          calibrate_gear)
@@ -214,6 +217,8 @@ THRESHOLDS = {
     "leading_candidates_refitted": LEADING,
     "gain_training_cost_share": GAIN,
     "tie_training_cost_ratio": TIE_COST,
+    "recalibrate_training_cost_share": RECALIBRATE,
+    "calibrations_again_at_most": RESTARTS,
     "middle_height_held_out_from_heights": MIDDLE_FROM,
 }
 

@@ -2,6 +2,12 @@
 its rules stated once here and every decision recorded where it is taken (forms, ties,
 harm and the floor).
 
+Every refit is judged against a calibration of the nominal model that no first-step
+refit's bare parameters (its effect left out) beat by more than :data:`RECALIBRATE`: when
+one does, the calibration did not reach the best fit of the bare parameters, and it is done
+again from them before the first step is judged (:func:`_calibrated_again`; when a better
+fit remains after :data:`RESTARTS` of them, no effect is named at that step).
+
 At each of at most two steps the candidates (every form of every effect not yet named)
 are scored and profiled (:mod:`certkit.gap.attribution`); the best form of each of the
 :data:`LEADING` relevant effects with the best profiles is refitted with the nominal
@@ -75,11 +81,11 @@ TIMING_SHARE = 0.10
 #: The load pulse, over which a named gain with a skew is compared with the crosstalk that
 #: reads the same: the samples where the load is at least this share of its peak.
 PULSE_SHARE = 0.05
-#: The nominal model every refit is judged against is the best the nominal parameters
-#: reach: when the nominal parameters of a first-step refit, with no effect, fit the
-#: training runs better than the calibration by this share of its cost, the calibration
-#: stopped in a local minimum (its own tolerance is 1e-6), and it is done again from them
-#: (:func:`_calibrated_again`), at most :data:`RESTARTS` times.
+#: A refit is judged against a calibration that no first-step refit's bare parameters (its
+#: effect left out) beat by more than this share of its cost (the calibration's own
+#: tolerance is 1e-6): when one does, the calibration did not reach the best fit of the
+#: bare parameters, and it is done again from them (:func:`_calibrated_again`), at most
+#: :data:`RESTARTS` times; a better fit remaining after that names no effect at the step.
 RECALIBRATE = 0.02
 RESTARTS = 2
 #: The channel whose held-out gap the statement's closed and unexplained shares are of.
@@ -111,8 +117,9 @@ class Diagnosis:
     #: effects beside the named ones whose refit fails the harm rule only: not named, and
     #: the records cannot say whether they are present too
     undecided: tuple = ()
-    #: the nominal model calibrated again from a first-step refit's nominal parameters (a
-    #: Decision each, rule "calibrated again"): its first calibration was a local minimum
+    #: the nominal model calibrated again from a first-step refit's bare parameters (a
+    #: Decision each, rule "calibrated again"), or found not settled (the last, rule "not
+    #: settled": no effect named at the first step)
     recalibrated: tuple = ()
 
     def configure(self, model: DropModel) -> DropModel:
@@ -217,13 +224,9 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
     cost = calibration.fit.cost
     steps, statement, step_costs, refit_notes, tie, evidence = [], "", [], [], (), []
     undecided: tuple = ()
-    #: the nominal model calibrated again from a first-step refit's nominal parameters (a
-    #: Decision each, rule "calibrated again"): its first calibration was a local minimum
-    recalibrated: tuple = ()
     names = {c.key: c for c in candidates}
     recalibrated: list[Decision] = []
     while len(step_costs) < 2:
-        step_costs.append(cost)
         x = list(current.values) + list(current.strengths) if current else None
         models = (configured(residuals, calibration.knobs, chosen, x) if current
                   else [calibration.apply(m) for m in residuals.models])
@@ -249,17 +252,17 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
         leading = _leading(profile, relevant, names)
         fits = [refit(residuals, calibration, chosen + [names[n]], start=profile[n][0])
                 for n in leading]
-        if current is None and len(recalibrated) < RESTARTS:
-            again = _calibrated_again(campaign, gear_id, training, residuals, calibration,
-                                      fits)
-            if again is not None:
-                # the calibration stopped in a local minimum: the step again, against the
-                # nominal model calibrated from where a refit's nominal parameters lay
-                calibration, decision = again
+        if current is None:
+            again, decision = _calibrated_again(campaign, gear_id, training, residuals,
+                                                calibration, fits, len(recalibrated))
+            if decision is not None:
                 recalibrated.append(decision)
-                cost = calibration.fit.cost
-                step_costs.pop()
+            if again is not None:
+                # the step again, against the nominal model calibrated from where a refit's
+                # bare parameters lay
+                calibration, cost = again, again.fit.cost
                 continue
+        step_costs.append(cost)
         attribution = replace(attribution, relevant=tuple(sorted(relevant)),
                               decisions=_decisions(attribution, relevant, leading, names),
                               no_refit=None if fits else Decision(
@@ -279,6 +282,11 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
         # each refit is judged once; the filter and the record both read the judgement
         refused = {f.effects: judge(f, cost, harm[f.effects], removed[f.effects],
                                     mistimed[f.effects]) for f in fits}
+        if unsettled(recalibrated) and current is None:
+            # the bare parameters still fit better than the calibration: every refit would
+            # be credited with some of what they can do, so none is named
+            refused = {f.effects: refused[f.effects] or Decision(
+                _joined(f), "not settled", dict(recalibrated[-1].figures)) for f in fits}
         useful = sorted((f for f in fits if refused[f.effects] is None),
                         key=lambda f: f.training_cost)
         evidence.append(tuple(signatures(campaign_missing_forces(
@@ -310,7 +318,7 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
     answer = tuple(c.name for c in chosen)
     if not statement:
         statement = statements.answer_words(chosen)
-    statement = "".join(map(statements.recalibrated_words, recalibrated)) + statement
+    statement = statements.recalibrated_words(recalibrated) + statement
     if any(c.name == "load-cell gain" for c in chosen):
         gain = current.apply(calibration.knobs, residuals.models[0],
                              chosen).effect("load-cell gain")
@@ -344,17 +352,28 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
                      tuple(recalibrated))
 
 
+def unsettled(recalibrated) -> bool:
+    """Whether the last record of :func:`_calibrated_again` says the nominal calibration
+    did not settle (a better fit of the bare parameters remained after :data:`RESTARTS`)."""
+    return bool(recalibrated) and recalibrated[-1].rule == "not settled"
+
+
 def _calibrated_again(campaign, gear_id: str, training, residuals: RunResiduals,
-                      calibration, fits: list) -> tuple | None:
-    """(the nominal model calibrated again, the Decision that records it) when the nominal
-    parameters of one of the first step's refits, with no effect, fit the training runs
-    better than the calibration by :data:`RECALIBRATE` or more (the calibration stopped in
-    a local minimum, and an effect's refit would be credited with what the nominal
-    parameters can do); None otherwise.  The new calibration starts from the nominal
-    parameters of the refit that fit best without its effect and is kept only when it too
-    beats the first by :data:`RECALIBRATE`."""
+                      calibration, fits: list, done: int) -> tuple:
+    """(the nominal model calibrated again or None, the Decision that records what was
+    found or None), after ``done`` earlier restarts.
+
+    Nothing happens (None, None) unless the bare parameters of one of the first step's
+    refits, its effect left out, fit the training runs better than the calibration by more
+    than :data:`RECALIBRATE` of its cost: the calibration did not reach the best fit of the
+    bare parameters, and an effect's refit would be credited with what they can do.  Then
+    the nominal model is calibrated again from the refit's bare parameters that fit best
+    (rule "calibrated again"), and kept when it too beats the first by more than
+    :data:`RECALIBRATE`.  When it does not, or :data:`RESTARTS` calibrations were done
+    already, the calibration is recorded as not settled (rule "not settled") and no effect
+    is named at this step."""
     if not fits:
-        return None
+        return None, None
     count = len(calibration.knobs)
     vectors = residuals.evaluate([configured(residuals, calibration.knobs, [],
                                              list(f.values[:count])) for f in fits])
@@ -362,14 +381,21 @@ def _calibrated_again(campaign, gear_id: str, training, residuals: RunResiduals,
     best = int(np.argmin(costs))
     limit = (1.0 - RECALIBRATE) * calibration.fit.cost
     if not costs[best] < limit:
-        return None
-    again = calibrate_gear(campaign, gear_id, effects=[], run_ids=list(training),
-                           start=list(fits[best].values[:count]))
+        return None, None
+    start = list(fits[best].values[:count])
+    figures = {"from": _joined(fits[best]), "cost_before": float(calibration.fit.cost), "start_cost": costs[best],
+               "recalibrate": RECALIBRATE, "restarts": RESTARTS, "done": done,
+               "estimate_before": {k.name: float(v) for k, v in
+                                   zip(calibration.knobs, calibration.fit.estimate)},
+               "start": {k.name: float(v) for k, v in zip(calibration.knobs, start)}}
+    if done >= RESTARTS:
+        return None, Decision(_joined(fits[best]), "not settled", figures)
+    again = calibrate_gear(campaign, gear_id, knobs=[k.name for k in calibration.knobs],
+                           effects=[], run_ids=list(training), start=start)
+    figures["cost_after"] = float(again.fit.cost)
     if not again.fit.cost < limit:
-        return None
-    return again, Decision(_joined(fits[best]), "calibrated again", {
-        "cost_before": float(calibration.fit.cost), "start_cost": costs[best],
-        "cost_after": float(again.fit.cost), "recalibrate": RECALIBRATE})
+        return None, Decision(_joined(fits[best]), "not settled", figures)
+    return again, Decision(_joined(fits[best]), "calibrated again", figures)
 
 
 def _crosstalk_alike(campaign, gear_id: str, training, gain, configure,

@@ -36,10 +36,14 @@ RULES = {
     "tie broken": "a near-tie the missing force decided (named, other, marked, unmarked, "
                   "share, tie_cost)",
     "after a tie": "admissible, but the step ended in a tie (tie)",
-    # the nominal model before the first step
-    "calibrated again": "the nominal parameters of this refit, with no effect, fit better "
-                        "than the calibration: a local minimum, calibrated again from them "
-                        "(cost_before, start_cost, cost_after, recalibrate)",
+    # the nominal model at the first step
+    "calibrated again": "the bare parameters this refit reached, without its effect, fit "
+                        "better than the calibration: calibrated again from them "
+                        "(cost_before, start_cost, cost_after, recalibrate, start, "
+                        "estimate_before)",
+    "not settled": "the bare parameters of a refit (from) still fit better than the "
+                   "calibration after the restarts (done, restarts): no effect named at "
+                   "the step (cost_before, start_cost, recalibrate)",
 }
 
 
@@ -111,7 +115,17 @@ def decision_words(decision) -> str:
         return (f"admissible, but the step ended in a tie of {f['tie'][0]} and {f['tie'][1]}: "
                 f"not named")
     if rule == "calibrated again":
-        return recalibrated_words(decision).strip()
+        return (f"the bare parameters this refit reached fit the training runs, without its "
+                f"effect, at {f['start_cost']:.4g} against the calibration's "
+                f"{f['cost_before']:.4g} (more than {percent(f['recalibrate'], 0)} better): "
+                f"the calibration had not reached the best fit of the bare parameters and "
+                f"was done again from them (training cost {f['cost_after']:.4g})")
+    if rule == "not settled":
+        return (f"the bare parameters the refit with {f['from']} reached still fit the "
+                f"training runs, without its effect, at {f['start_cost']:.4g} against the "
+                f"calibration's {f['cost_before']:.4g} after {f['done']} calibrations again "
+                f"(at most {f['restarts']}): the calibration has not settled, and no effect "
+                f"is named at this step")
     raise ValueError(f"no words for the rule {rule!r}")   # a rule added without its sentence
 
 
@@ -142,15 +156,32 @@ def undecided_words(chosen, undecided) -> str:
             f"records cannot tell whether {subject} {verb} present too.")
 
 
-def recalibrated_words(decision) -> str:
-    """The sentence before the answer when the nominal model was calibrated again from the
-    nominal parameters of the refit ``decision.name`` (rule "calibrated again")."""
-    f = decision.figures
-    return (f"The nominal model's calibration on the training runs stopped in a local "
-            f"minimum (training cost {f['cost_before']:.4g}): the nominal parameters of the "
-            f"refit with {decision.name}, with no effect, fit them at {f['start_cost']:.4g}, "
-            f"so it was calibrated again from there ({f['cost_after']:.4g}), and every "
-            f"effect is judged against that. ")
+def recalibrated_words(decisions) -> str:
+    """The sentences before the answer when the nominal model was calibrated again (rule
+    "calibrated again", in order) or found not settled (rule "not settled", last)."""
+    words = []
+    for index, decision in enumerate(decisions):
+        f = decision.figures
+        if decision.rule == "not settled":
+            words.append(f"The bare parameters the refit with {f['from']} reached still fit "
+                         f"the training runs, without it, at {f['start_cost']:.4g} against "
+                         f"the calibration's {f['cost_before']:.4g}: the nominal model's "
+                         f"calibration has not settled, and no effect is named, since each "
+                         f"would be credited with some of what its parameters can do.")
+        elif index == 0:
+            words.append(f"The nominal model's calibration on the training runs did not "
+                         f"reach the best fit of its parameters (training cost "
+                         f"{f['cost_before']:.4g}): the parameters the refit with "
+                         f"{decision.name} reached fit them, without it, at "
+                         f"{f['start_cost']:.4g}, so it was calibrated again from there "
+                         f"(training cost {f['cost_after']:.4g}).")
+        else:
+            words.append(f"Nor did that calibration: from the parameters the refit with "
+                         f"{decision.name} reached ({f['start_cost']:.4g} without it), it "
+                         f"was calibrated again (training cost {f['cost_after']:.4g}).")
+    if decisions and decisions[-1].rule == "calibrated again":
+        words.append("Every effect is judged against the last calibration.")
+    return "".join(w + " " for w in words)
 
 
 def crosstalk_words(gain: float, delay: float) -> str:

@@ -274,9 +274,12 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
     run recording it); every other recorded drop of the gear is simulated with the nominal
     and the fitted parameters and compared with its record (``role`` "held out").
 
-    ``start``: the knobs' values the fit starts from (SI, in the knobs' order; default the
-    nominal ones, which the "nominal" errors are always of).  The bounds are the nominal
-    values' either way.
+    ``start``: the knobs' values the fit starts from (SI, one per knob fitted, in their
+    order; default the nominal ones).  The bounds are the nominal values' either way, and
+    so are the errors' "nominal" RMSEs; the fit's own starting point (each parameter's
+    ``nominal``, ``fit.cost_nominal``) is the start.  The gap diagnosis starts a
+    calibration again where a refit's bare parameters lay; the campaign's calibration
+    always starts from the nominal values.
 
     Raises
     ------
@@ -307,6 +310,9 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
     if base.orifice is None:
         chosen = [k for k in chosen if k.name != "discharge-coefficient"]
     nominal = [knob.read(base) for knob in chosen]
+    if start is not None and len(start) != len(chosen):
+        raise ValueError(f"start has {len(start)} values for {len(chosen)} knobs "
+                         f"({', '.join(k.name for k in chosen)})")
     first = nominal if start is None else [float(v) for v in start]
     parameters = []
     for knob, value, initial in zip(chosen, nominal, first):
