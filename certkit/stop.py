@@ -5,15 +5,19 @@ traceback.
 
 Python runs a signal handler in the main thread between two bytecodes, wherever it is:
 also inside a finaliser (``__del__``, a weak-reference callback), where an exception is
-printed as "Exception ignored" and dropped.  So the handler also records the stop, and
-the places that make a run's work final ask for it again: :func:`raise_if_stopped` before
-outputs are moved into place (:mod:`certkit.outputs`), :func:`finish` when the command
-has ended.  Without :func:`install` (certkit used as a library) both do nothing.
+printed as "Exception ignored" with a traceback and dropped.  So the handler also records
+the stop, and the places that make a run's work final ask for it again:
+:func:`raise_if_stopped` before outputs are moved into place (:mod:`certkit.outputs`),
+:func:`finish` when the command has ended; and :func:`install` keeps Python from printing
+a dropped stop (:func:`_quiet_stop`, as ``sys.unraisablehook``), so the user sees the
+one message of the stop and no traceback.  Without :func:`install` (certkit used as a
+library) none of this happens.
 """
 
 from __future__ import annotations
 
 import signal
+import sys
 import threading
 
 STOP_SIGNALS = (signal.SIGTERM, signal.SIGHUP, signal.SIGINT)
@@ -42,6 +46,15 @@ def _stop(number, _frame):
     raise Stopped(number)
 
 
+def _quiet_stop(unraisable) -> None:
+    """``sys.unraisablehook``: a :class:`Stopped` a finaliser dropped is not printed (it was
+    recorded, and :func:`raise_if_stopped` raises it again); anything else goes to
+    Python's own hook."""
+    if isinstance(unraisable.exc_value, Stopped):
+        return
+    sys.__unraisablehook__(unraisable)
+
+
 def install() -> None:
     """Turn the stop signals into :class:`Stopped`.  Python lets only the main thread set
     signal handlers: imported from another thread (a notebook's worker, a GUI), the
@@ -50,6 +63,7 @@ def install() -> None:
         return
     for number in STOP_SIGNALS:
         signal.signal(number, _stop)
+    sys.unraisablehook = _quiet_stop
 
 
 def raise_if_stopped() -> None:
