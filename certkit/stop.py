@@ -46,13 +46,16 @@ def _stop(number, _frame):
     raise Stopped(number)
 
 
+_other_hook: list = []       # the unraisable hook install() found (a test runner's, say)
+
+
 def _quiet_stop(unraisable) -> None:
     """``sys.unraisablehook``: a :class:`Stopped` a finaliser dropped is not printed (it was
-    recorded, and :func:`raise_if_stopped` raises it again); anything else goes to
-    Python's own hook."""
+    recorded, and :func:`raise_if_stopped` raises it again); anything else goes to the hook
+    that was in place before :func:`install` (Python's own, unless another was set)."""
     if isinstance(unraisable.exc_value, Stopped):
         return
-    sys.__unraisablehook__(unraisable)
+    (_other_hook[0] if _other_hook else sys.__unraisablehook__)(unraisable)
 
 
 def install() -> None:
@@ -63,7 +66,9 @@ def install() -> None:
         return
     for number in STOP_SIGNALS:
         signal.signal(number, _stop)
-    sys.unraisablehook = _quiet_stop
+    if sys.unraisablehook is not _quiet_stop:      # installed twice: keep the first one found
+        _other_hook[:] = [sys.unraisablehook]
+        sys.unraisablehook = _quiet_stop
 
 
 def raise_if_stopped() -> None:

@@ -609,3 +609,8 @@ def test_every_restart_repeats_the_first_step_and_an_unsettled_one_names_nothing
     assert "not settled" in {d.rule for d in diagnosis.refit_decisions[0]}
     assert diagnosis.statement.startswith("The nominal model's calibration on the training runs")
     assert "has not settled, and no effect is named" in diagnosis.statement
+    # an unsettled calibration decides nothing about the library: not "no effect explains"
+    assert diagnosis.statement.endswith(
+        "Whether an effect of the library explains the gap is not decided on this "
+        "calibration.")
+    assert "No effect in the library explains the gap" not in diagnosis.statement

@@ -675,6 +675,7 @@ def test_standard_output_on_a_full_device_is_named_and_exits_4(command):
 def test_only_a_dropped_stop_is_kept_quiet(capsys, monkeypatch):
     """The hook :func:`certkit.stop.install` sets prints nothing for a Stopped a finaliser
     dropped and hands any other exception a finaliser dropped to Python's own hook."""
+    from certkit import stop
     from certkit.stop import Stopped, _quiet_stop
 
     class Raising:
@@ -685,10 +686,22 @@ def test_only_a_dropped_stop_is_kept_quiet(capsys, monkeypatch):
             raise self.error
 
     monkeypatch.setattr(sys, "unraisablehook", _quiet_stop)
+    monkeypatch.setattr(stop, "_other_hook", [])
     Raising(Stopped(signal.SIGINT))           # made and dropped: its finaliser raises here
     assert capsys.readouterr().err == ""
     Raising(ValueError("a real fault"))
     assert "ValueError: a real fault" in capsys.readouterr().err
+    # a hook set before install() (a test runner's) still gets everything but a stop, and
+    # installing twice (the package, then the application) keeps that hook
+    seen = []
+    monkeypatch.setattr(sys, "unraisablehook", lambda u: seen.append(type(u.exc_value)))
+    monkeypatch.setattr(signal, "signal", lambda *args: None)   # leave the handlers alone
+    stop.install()
+    stop.install()
+    assert sys.unraisablehook is _quiet_stop
+    Raising(Stopped(signal.SIGINT))
+    Raising(ValueError("another fault"))
+    assert seen == [ValueError] and capsys.readouterr().err == ""
 
 
 def test_the_command_line_imported_from_another_thread_leaves_signal_handlers_alone():

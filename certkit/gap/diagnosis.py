@@ -182,7 +182,8 @@ def gap_diagnosis(campaign: Campaign, gear_id: str) -> GapDiagnosis:
     calibration = before.calibration
     diagnosis = diagnose(campaign, gear_id, (training, held), calibration=calibration)
     if diagnosis.calibration is not calibration:
-        # calibrated again out of a local minimum: the gap is the one of that calibration
+        # calibrated again (a refit's bare parameters fitted better): the gap is the one
+        # of that calibration
         calibration = diagnosis.calibration
         before = _map(campaign, gear_id, training, held, calibration, calibration.apply)
     after = None

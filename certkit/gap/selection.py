@@ -317,7 +317,7 @@ def diagnose(campaign, gear_id: str, split=None, candidates=CANDIDATES,
         current, cost = best, best.training_cost
     answer = tuple(c.name for c in chosen)
     if not statement:
-        statement = statements.answer_words(chosen)
+        statement = statements.answer_words(chosen, not unsettled(recalibrated))
     statement = statements.recalibrated_words(recalibrated) + statement
     if any(c.name == "load-cell gain" for c in chosen):
         gain = current.apply(calibration.knobs, residuals.models[0],

@@ -197,8 +197,13 @@ def crosstalk_words(gain: float, delay: float) -> str:
             f"load chain's calibration and the frame before taking either as the cause.")
 
 
-def answer_words(chosen) -> str:
-    """The answer when the diagnosis named ``chosen`` (Candidates) or abstained."""
+def answer_words(chosen, settled: bool = True) -> str:
+    """The answer when the diagnosis named ``chosen`` (Candidates) or abstained;
+    ``settled`` False: it named nothing because the nominal model's calibration has not
+    settled (rule "not settled"), which decides nothing about the library."""
+    if not chosen and not settled:
+        return ("Whether an effect of the library explains the gap is not decided on this "
+                "calibration.")
     if not chosen:
         return "No effect in the library explains the gap."
     return "The gap is explained by " + " and ".join(map(form_words, chosen)) + "."
