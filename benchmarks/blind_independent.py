@@ -2,7 +2,7 @@
 
 Run:  .venv/bin/python benchmarks/blind_independent.py SPEC -g GEAR -o DIR [--workers N]
       [--battery development|sealed] [--only FORMS] [--quick] [--rescore RECORD]
-      (the development battery, 212 cases, about half an hour on 2 cores; --rescore scores a
+      (the development battery, 550 cases, about 45 minutes on 2 cores; --rescore scores a
       record's cases again without running them: the record keeps who ran them, run_by,
       apart from who scored them, scored_by)
 
@@ -15,7 +15,10 @@ diagnosis (:func:`certkit.gap.selection.diagnose`) sees only the written campaig
 outcome is scored against the sealed truth.
 
 Cases: every in-library form at every effect/noise ratio and seed; at least 20 cases with
-no effect (the nuisances only); out-of-library effects (abstaining is right); pairs; for
+no effect (the nuisances only); out-of-library effects (abstaining is right; a load-cell
+crosstalk, which to first order is a load-cell gain with a skew, is sized both by its whole
+load change, when naming the gain is as right as abstaining, and by what of it no gain
+with a skew explains, when only an abstention is right: :data:`GAIN_ALIKE`); pairs; for
 each plan of the battery (:mod:`blindcheck.plans`: the development battery is its own plan
 and the spent sealed sets, the sealed battery the set in use).  Every drop's contact falls
 between two logger samples, at a phase drawn from the case's seed.  An effect's size is its
@@ -62,12 +65,9 @@ sys.path.insert(0, str(HERE))
 import truthgen  # noqa: E402
 
 from certkit.compliance.clauses import ideal_impact_velocity  # noqa: E402
-from certkit.compliance.measures import TOUCHDOWN_SHARE, TOUCHDOWN_SIGMAS  # noqa: E402
 from certkit.gap.holdout import split_for  # noqa: E402
 from certkit.gap.residuals import harmed  # noqa: E402
 from certkit.gap.selection import diagnose, pooled  # noqa: E402
-from certkit.physics.calibration import aligned_records, calibrate_gear  # noqa: E402
-from certkit.physics.gear_model import gear_mass  # noqa: E402
 from certkit.physics.synthetic import NO_SENSOR_EFFECTS, Histories, SensorModel, write_campaign  # noqa: E402,E501
 from certkit.spec.blind_record import read_blind_check, template_fingerprint  # noqa: E402
 from certkit.spec.campaign import load_campaign  # noqa: E402
@@ -78,13 +78,13 @@ from blindcheck import scoring  # noqa: E402
 from blindcheck.plans import NUISANCE_RANGES, PLANS, Plan, contact_phases, draws  # noqa: E402
 from blindcheck.record import provenance, write_blind_check  # noqa: E402
 from blindcheck.truth_gap import floor_calibration, held_out_load, physical_size  # noqa: E402
+from blindcheck.sizing import (BEYOND_GAIN, _rate, _sizes, beyond_gain,  # noqa: E402,F401
+                                detector_level, gear_of)
 
-P_ATM = 101325.0
 #: Issue 14's targets on the independent battery (effect ≥ 2× noise).
 TARGETS = {"top1": (0.90, "at least"), "false_attribution": (0.05, "at most"),
            "abstention_out_of_library": (0.80, "at least"),
            "median_own_gap_closed": (0.60, "at least"), "harm_any_channel": (0.05, "at most")}
-SIZING_GRID = 9
 
 
 def _library_forms() -> list[str]:
@@ -104,6 +104,16 @@ def _pairs() -> list[tuple[str, str]]:
     return [(ids[i], ids[(i + 1) % len(ids)]) for i in range(len(ids))]
 
 
+#: Outside-library forms that a load-cell gain with a skew, a library effect, reproduces in
+#: part (crosstalk: F(t) + ε·F(t − d) is, to first order in d, (1 + ε)·F(t − ε·d/(1 + ε))).
+#: Each is sized twice: by its whole load change (a case that may read as the gain within
+#: the noise, scored apart: :func:`score`'s ``crosstalk_within_gain``), and by the part of
+#: it that no gain with a skew explains (:data:`BEYOND_GAIN`, scored for abstention).
+GAIN_ALIKE = ("crosstalk",)
+#: The library effect a :data:`GAIN_ALIKE` form may read as.
+GAIN = "load-cell gain"
+
+
 @dataclass(frozen=True)
 class Case:
     id: str
@@ -111,17 +121,27 @@ class Case:
     ratio: float | None
     seed: int
     plan: Plan = Plan()      # the part of the battery the case belongs to (not in its id)
+    #: what the size is measured by: "load" (the load change), or :data:`BEYOND_GAIN`
+    measure: str = "load"
 
     @property
     def key(self) -> int:
-        text = f"independent|{'+'.join(self.forms)}|{self.ratio}|{self.seed}"
-        return int.from_bytes(hashlib.sha256(text.encode()).digest()[:8], "little")
+        return int.from_bytes(hashlib.sha256(_text(self.forms, self.ratio, self.seed,
+                                                   self.measure).encode()).digest()[:8],
+                              "little")
 
 
-def _case(forms: tuple, ratio, seed: int, plan: Plan = Plan()) -> Case:
+def _text(forms: tuple, ratio, seed: int, measure: str) -> str:
+    """A case's identity (its id and its random streams derive from it): a case sized by
+    the load change has the identity it had before cases were sized otherwise."""
     text = f"independent|{'+'.join(forms)}|{ratio}|{seed}"
+    return text if measure == "load" else f"{text}|{measure}"
+
+
+def _case(forms: tuple, ratio, seed: int, plan: Plan = Plan(), measure: str = "load") -> Case:
+    text = _text(forms, ratio, seed, measure)
     return Case("case-" + hashlib.sha256(text.encode()).hexdigest()[:10], forms, ratio, seed,
-                plan)
+                plan, measure)
 
 
 def _plan_cases(plan: Plan, quick: bool) -> list[Case]:
@@ -134,6 +154,8 @@ def _plan_cases(plan: Plan, quick: bool) -> list[Case]:
               for k in range(4 if quick else plan.null_cases)]
     cases += [_case((f,), r, s, plan) for f in _outside_forms() for r in plan.outside_ratios
               for s in seeds]
+    cases += [_case((f,), r, s, plan, BEYOND_GAIN) for f in GAIN_ALIKE
+              for r in plan.outside_ratios for s in seeds]
     cases += [_case(pair, plan.pair_ratio, s, plan) for pair in _pairs() for s in seeds]
     return cases
 
@@ -142,120 +164,6 @@ def battery(plans=(Plan(),), quick: bool = False) -> list[Case]:
     """The cases of a battery's plans (one :class:`Plan` or several), plan after plan."""
     plans = (plans,) if isinstance(plans, Plan) else tuple(plans)
     return [case for plan in plans for case in _plan_cases(plan, quick)]
-
-
-# --------------------------------------------------------------------------- the gear
-def gear_of(campaign, run, gear_id: str, factors: dict | None = None) -> truthgen.Gear:
-    """The independent simulator's gear from the spec's values (SI), each scattered by
-    ``factors`` (name -> factor).  The orifice law K = ρ·A_h³/(2·(C_d·a)²) is the
-    textbook square law (Milwitzky & Cook, NACA Report 1154, 1953, eq. 9)."""
-    factors = factors or {}
-    unit = campaign.gear_units[gear_id]
-    strut, tyre = unit.strut, unit.tyre
-    total = gear_mass(campaign.spec, run, gear_id)
-    unsprung = strut.unsprung_mass.si
-    precharge = strut.gas_precharge_pressure.si + (P_ATM if strut.pressure_reference == "gauge"
-                                                   else 0.0)
-    orifice = (strut.orifice_area.si if strut.orifice_area is not None
-               else math.pi / 4 * strut.orifice_diameter.si ** 2)
-    discharge = strut.discharge_coefficient.si * factors.get("discharge", 1.0)
-    k = strut.oil_density.si * strut.hydraulic_area.si ** 3 / (2 * (discharge * orifice) ** 2)
-    return truthgen.Gear(
-        upper_mass=total - unsprung, lower_mass=unsprung, piston_area=strut.pneumatic_area.si,
-        gas_volume=strut.gas_volume.si,
-        precharge_abs=precharge * factors.get("precharge", 1.0),
-        polytropic_exponent=strut.polytropic_exponent.si * factors.get("exponent", 1.0),
-        compression_coefficient=k, rebound_coefficient=k, tyre_reference_load=tyre.load_deflection.reference_load.si
-        * factors.get("tyre", 1.0),
-        tyre_reference_deflection=tyre.load_deflection.reference_deflection.si,
-        tyre_exponent=tyre.load_deflection.exponent.si,
-        tyre_damping=tyre.damping.si if tyre.damping is not None else 0.0)
-
-
-def _drops(campaign, gear_id: str) -> list:
-    recorded = set(split_for(campaign, gear_id)[0]) | set(split_for(campaign, gear_id)[1])
-    return [r for r in campaign.spec.runs if r.id in recorded]
-
-
-def _rate(campaign) -> float:
-    spec = campaign.spec
-    return spec.instrumentation.sampling_rate.si if spec.instrumentation else 1000.0
-
-
-# --------------------------------------------------------------------------- sizing
-def detector_level(campaign, gear_id: str, settings) -> float:
-    """The load above its pre-contact baseline at which the diagnosis's touchdown detector
-    (:func:`certkit.compliance.measures.touchdown_time`, which the calibration and the
-    diagnosis align on) reads the contact of a record of this battery's sensors: the larger
-    of :data:`TOUCHDOWN_SHARE` of the unit's static weight and :data:`TOUCHDOWN_SIGMAS`
-    standard deviations of the load's noise (its random noise and its quantisation's)."""
-    sigma = math.sqrt(settings.load_noise ** 2 + settings.load_step ** 2 / 12.0)
-    weight = campaign.gear_units[gear_id].static_weight.si
-    return max(TOUCHDOWN_SHARE * weight, TOUCHDOWN_SIGMAS * sigma)
-
-
-def _plain_runs(campaign, gear_id: str, phases: tuple, nuisances: truthgen.Nuisances) -> list:
-    """(run, its index, its contact phase, its record without truths) of every drop the
-    diagnosis uses."""
-    index_of = {run.id: i for i, run in enumerate(campaign.spec.runs)}
-    out = []
-    for run in _drops(campaign, gear_id):
-        index = index_of[run.id]
-        plain = truthgen.simulate(gear_of(campaign, run, gear_id),
-                                  ideal_impact_velocity(run.drop_height.si), _rate(campaign),
-                                  drop_index=index, nuisances=nuisances, phase=phases[index])
-        out.append((run, index, phases[index], plain))
-    return out
-
-
-def _first_cycle_change(campaign, gear_id: str, truths: tuple, plain_runs: list, level: float,
-                        nuisances: truthgen.Nuisances = truthgen.Nuisances()) -> float:
-    """RMS over the runs of the load change the truths make over each run's first
-    compression and rebound (touchdown to the end of the rebound of the run without
-    them) [N], with the touchdowns aligned first where the diagnosis's detector reads them
-    (``level``, :func:`detector_level`), both records sampled as the logger samples them
-    (the case's contact phases): a delay of the whole record, and what of a lag the
-    alignment at that level takes out, is what an analysis that aligns on the measured
-    touchdown cannot see, so only what remains counts."""
-    squares = []
-    for run, index, phase, plain in plain_runs:
-        gear = gear_of(campaign, run, gear_id)
-        changed = truthgen.simulate(gear, ideal_impact_velocity(run.drop_height.si),
-                                    _rate(campaign), truths=truths, drop_index=index,
-                                    nuisances=nuisances, phase=phase)
-        weight = (gear.upper_mass + gear.lower_mass) * 9.80665
-        load = own.aligned_on_touchdown(plain.time, changed.load, plain.load, level)
-        window = own.first_cycle(plain.time, plain.load, plain.stroke, weight)
-        squares.append(np.mean((load[window] - plain.load[window]) ** 2))
-    return float(np.sqrt(np.mean(squares)))
-
-
-def _sizes(campaign, gear_id: str, form_id: str, shape: tuple, ratios, settings,
-           nuisances: truthgen.Nuisances = truthgen.Nuisances(), phases: tuple = ()) -> dict:
-    """ratio -> the size at which the form (of ``shape``) changes the first-cycle load by
-    ratio × the load noise, interpolated (log-log) on a grid over the form's size range
-    (None when the range does not reach it); ``phases``: each run's contact phase (default:
-    every contact on a sample)."""
-    phases = phases or (0.0,) * len(campaign.spec.runs)
-    plain_runs = _plain_runs(campaign, gear_id, phases, nuisances)
-    level = detector_level(campaign, gear_id, settings)
-    low, high = truthgen.FORMS[form_id].sizes
-    grid = np.geomspace(low, high, SIZING_GRID)
-    effect = np.array([_first_cycle_change(campaign, gear_id,
-                                           (truthgen.Truth(form_id, float(s), shape),),
-                                           plain_runs, level, nuisances)
-                       for s in grid])
-    out = {}
-    for ratio in ratios:
-        target = ratio * settings.load_noise
-        above = np.nonzero(effect >= target)[0]
-        if above.size == 0 or above[0] == 0 or effect[above[0] - 1] <= 0:
-            out[ratio] = None
-            continue
-        i = int(above[0])
-        slope = math.log(effect[i] / effect[i - 1]) / math.log(grid[i] / grid[i - 1])
-        out[ratio] = float(grid[i - 1] * (target / effect[i - 1]) ** (1.0 / slope))
-    return out
 
 
 # --------------------------------------------------------------------------- one case
@@ -305,12 +213,12 @@ def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) ->
              "outside": outside, "ratio": case.ratio, "seed": case.seed,
              "form": "; ".join(f"{forms[f].label}: {forms[f].description}"
                                for f in case.forms) or "none (nuisances only)",
-             "part": case.plan.name}
+             "part": case.plan.name, "measure": case.measure}
     shapes, nuisances = draws(case.key, case.forms, case.plan)
     campaign = load_campaign(template)
     phases = contact_phases(case.key, len(campaign.spec.runs))
     sizes = {f: _sizes(campaign, gear_id, f, shape, [case.ratio], settings, nuisances,
-                       phases)[case.ratio] for f, shape in zip(case.forms, shapes)}
+                       phases, case.measure)[case.ratio] for f, shape in zip(case.forms, shapes)}
     chosen = tuple(truthgen.Truth(f, sizes[f], shape) for f, shape in zip(case.forms, shapes))
     truth["shapes"] = [dict(shape) for shape in shapes]
     truth["nuisances"] = {"pad_m": nuisances.pad, "gas": nuisances.gas,
@@ -371,6 +279,15 @@ def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) ->
 
 
 # --------------------------------------------------------------------------- scoring
+def gain_alike(outcome: dict) -> bool:
+    """Whether a case is of a :data:`GAIN_ALIKE` form sized by its whole load change, which
+    a load-cell gain with a skew may reproduce within the noise: abstaining and naming the
+    gain (whose statement then names the crosstalk that reads the same) both answer it;
+    it is not counted among the cases outside the library that must abstain."""
+    return (outcome.get("outside", False) and outcome.get("measure", "load") == "load"
+            and any(f in GAIN_ALIKE for f in outcome["forms"]))
+
+
 def _metric(name: str, value, count, cases) -> dict:
     """A metric against this battery's targets (:data:`TARGETS`)."""
     return scoring.metric(name, value, count, cases, TARGETS)
@@ -382,21 +299,33 @@ def _by_form(outcomes: list[dict]) -> list[dict]:
     effect/noise ≥ SCORED_FROM, and the median change of the held-out drops' peak load the
     form made at those sizes (noise-free, in N and as a share)."""
     rows = []
-    for form_id, form in truthgen.FORMS.items():
-        mine = [o for o in outcomes if o["forms"] == [form_id] and not o.get("skipped")]
+    kinds = [(form_id, form, "load") for form_id, form in truthgen.FORMS.items()]
+    kinds += [(form_id, truthgen.FORMS[form_id], BEYOND_GAIN) for form_id in GAIN_ALIKE]
+    for form_id, form, measure in kinds:
+        mine = [o for o in outcomes if o["forms"] == [form_id] and not o.get("skipped")
+                and o.get("measure", "load") == measure]
         if not mine:
             continue
+        alike = form_id in GAIN_ALIKE and measure == "load"
 
         def right(o) -> bool:
             # outside the library only a clean abstention is right (not a tie, not a
-            # failure): the same count as the no-effect cases' false attribution
+            # failure): the same count as the no-effect cases' false attribution; a form a
+            # gain with a skew reproduces, sized by its whole change, may read as the gain
+            if alike:
+                return scoring.named_label(o) in ("none", GAIN)
             return scoring.named_label(o) == "none" if form.effect is None \
                 else o["named"][:1] == o["truth"]
 
         scored = [o for o in mine if o["ratio"] >= scoring.SCORED_FROM]
         peaks = [run for o in scored for run in (o.get("physical") or {}).values()]
+        label = form.label + {"load": " (sized by its whole load change)" if alike else "",
+                              BEYOND_GAIN: " (sized by what no gain with a skew explains)"
+                              }[measure]
+        effect = f"{GAIN} or none (it reads as a gain with a skew)" if alike else form.effect
         rows.append({
-            "form": form_id, "label": form.label, "effect": form.effect,
+            "form": form_id if measure == "load" else f"{form_id} ({measure})",
+            "label": label, "effect": effect,
             "cases": len(mine), "right": sum(map(right, mine)),
             "scored": len(scored), "right_scored": sum(map(right, scored)),
             "median_peak_load_change_N": statistics.median(
@@ -417,11 +346,17 @@ def score(outcomes: list[dict]) -> dict:
         metric.update(_metric(name, metric["value"], metric["count"], metric["cases"]))
     scored = [o for o in inside if len(o["truth"]) == 1 and o["ratio"] >= scoring.SCORED_FROM
               and not o.get("skipped")]
-    outside = [o for o in outcomes if o.get("outside") and not o.get("skipped")]
+    outside = [o for o in outcomes if o.get("outside") and not o.get("skipped")
+               and not gain_alike(o)]
     abstained = sum(scoring.named_label(o) == "none" for o in outside)
     metrics["abstention_out_of_library"] = _metric(
         "abstention_out_of_library", abstained / len(outside) if outside else None, abstained,
         len(outside))
+    alike = [o for o in outcomes if gain_alike(o) and not o.get("skipped")
+             and o["ratio"] >= scoring.SCORED_FROM]
+    read = sum(scoring.named_label(o) in ("none", GAIN) for o in alike)
+    metrics["crosstalk_within_gain"] = _metric(
+        "crosstalk_within_gain", read / len(alike) if alike else None, read, len(alike))
     # harm as the targets count it: cases that named an effect, with no effect or one of
     # effect/noise ≥ SCORED_FROM (single or pairs); below that, listed in the cases only
     named = [o for o in inside if o["named"] and not o.get("skipped")
@@ -436,6 +371,7 @@ def score(outcomes: list[dict]) -> dict:
         len(closed))
     document["forms"] = _by_form(outcomes)
     document["outside"] = [{"id": o["id"], "form": o["forms"], "ratio": o["ratio"],
+                            "measure": o.get("measure", "load"),
                             "named": o["named"], "statement": o["statement"]} for o in outside]
     return document
 
@@ -494,7 +430,11 @@ def record(template: str, gear_id: str, plans: tuple, settings, cases: list[Case
                                      "diagnosis's touchdown detector reads them (the larger "
                                      "of 2 % of the static weight and 6 standard deviations "
                                      "of the load noise) on records sampled as the logger "
-                                     "samples them, in units of the load noise",
+                                     "samples them, in units of the load noise; a load-cell "
+                                     "crosstalk is sized both by that and (measure 'beyond "
+                                     "gain', the cases scored for abstention) by what of it "
+                                     "remains beyond the best load-cell gain with a skew "
+                                     "within ±1 ms",
                      "alignment_level_N": detector_level(campaign, gear_id, settings),
                      "scored_from": scoring.SCORED_FROM, "cases": len(cases),
                      "targets": "those of the metrics, on cases with effect/noise of at least "

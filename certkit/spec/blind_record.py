@@ -61,7 +61,13 @@ METRICS = {
     "abstention_out_of_library": ("abstention outside the library",
                                   "share of the cases whose withheld effect has no candidate "
                                   "in the library (abstaining is right) that ended in an "
-                                  "abstention"),
+                                  "abstention; a load-cell crosstalk counts here when sized by "
+                                  "the load change no load-cell gain with a skew explains"),
+    "crosstalk_within_gain": ("crosstalk a gain with a skew reproduces",
+                              "share of the load-cell crosstalk cases sized by their whole "
+                              "load change (to first order a load-cell gain with a skew, "
+                              "often within the noise) that ended in an abstention or in the "
+                              "load-cell gain named first; any other answer is wrong"),
     "median_own_gap_closed": ("median share of its own gap closed",
                               "median over the single-effect cases named right (effect/noise "
                               "≥ 2) of the share of the held-out load gap the withheld effect "
