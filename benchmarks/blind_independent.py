@@ -16,9 +16,9 @@ outcome is scored against the sealed truth.
 
 Cases: every in-library form at every effect/noise ratio and seed; at least 20 cases with
 no effect (the nuisances only); out-of-library effects (abstaining is right; a load-cell
-crosstalk, which to first order is a load-cell gain with a skew, is sized both by its whole
-load change, when naming the gain is as right as abstaining, and by what of it no gain
-with a skew explains, when only an abstention is right: :data:`GAIN_ALIKE`); pairs; for
+crosstalk, which to first order is a load-cell gain, is sized both by its whole load change
+and by what of it no load-cell gain explains, and naming the gain for it is right too where
+the gain closes the crosstalk's own held-out gap: :data:`GAIN_ALIKE`); pairs; for
 each plan of the battery (:mod:`blindcheck.plans`: the development battery is its own plan
 and the spent sealed sets, the sealed battery the set in use).  Every drop's contact falls
 between two logger samples, at a phase drawn from the case's seed.  An effect's size is its
@@ -79,7 +79,7 @@ from blindcheck.plans import NUISANCE_RANGES, PLANS, Plan, contact_phases, draws
 from blindcheck.record import provenance, write_blind_check  # noqa: E402
 from blindcheck.truth_gap import floor_calibration, held_out_load, physical_size  # noqa: E402
 from blindcheck.sizing import (BEYOND_GAIN, _rate, _sizes, beyond_gain,  # noqa: E402,F401
-                                detector_level, gear_of)
+                                beyond_gain_noise, detector_level, gear_of)
 
 #: Issue 14's targets on the independent battery (effect ≥ 2× noise).
 TARGETS = {"top1": (0.90, "at least"), "false_attribution": (0.05, "at most"),
@@ -104,14 +104,21 @@ def _pairs() -> list[tuple[str, str]]:
     return [(ids[i], ids[(i + 1) % len(ids)]) for i in range(len(ids))]
 
 
-#: Outside-library forms that a load-cell gain with a skew, a library effect, reproduces in
-#: part (crosstalk: F(t) + ε·F(t − d) is, to first order in d, (1 + ε)·F(t − ε·d/(1 + ε))).
-#: Each is sized twice: by its whole load change (a case that may read as the gain within
-#: the noise, scored apart: :func:`score`'s ``crosstalk_within_gain``), and by the part of
-#: it that no gain with a skew explains (:data:`BEYOND_GAIN`, scored for abstention).
+#: Outside-library forms that a load-cell gain, a library effect, reproduces in part
+#: (crosstalk: F(t) + ε·F(t − d) is, to first order in d, (1 + ε)·F(t − ε·d/(1 + ε)), and
+#: on a load record aligned on its touchdown a gain with any skew is the gain).  Each is
+#: sized twice: by its whole load change, and by the part of it no load-cell gain explains
+#: (:data:`BEYOND_GAIN`), so that some cases are more than a gain within the noise.  Naming
+#: the gain for one is right where the gain closes the case's own held-out gap
+#: (:func:`read_as_gain`): the data cannot tell the two apart there, and the statement then
+#: names the crosstalk that reads the same.
 GAIN_ALIKE = ("crosstalk",)
 #: The library effect a :data:`GAIN_ALIKE` form may read as.
 GAIN = "load-cell gain"
+#: The share of its own held-out gap a gain named for a :data:`GAIN_ALIKE` case must close
+#: to count as the crosstalk read as a gain: issue 27's target for the median share an
+#: effect named right closes (60 %).
+READ_AS_GAIN = TARGETS["median_own_gap_closed"][0]
 
 
 @dataclass(frozen=True)
@@ -228,6 +235,9 @@ def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) ->
         return {**truth, "named": [], "statement": "not generated: size out of range",
                 "error": None, "skipped": "size out of range", "shrink": 0.0, "before": None,
                 "after": None, "closed": None, "harmed": False, "harmed_any": False}
+    if any(f in GAIN_ALIKE for f in case.forms):
+        truth["beyond_gain_noise"] = beyond_gain_noise(campaign, gear_id, chosen, settings,
+                                                       nuisances, phases)
     noisy = SensorModel(settings.load_noise, settings.load_step, settings.load_offset,
                         settings.travel_noise, settings.travel_step, settings.travel_offset,
                         load_zero_error=settings.load_zero_error,
@@ -279,13 +289,33 @@ def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) ->
 
 
 # --------------------------------------------------------------------------- scoring
-def gain_alike(outcome: dict) -> bool:
-    """Whether a case is of a :data:`GAIN_ALIKE` form sized by its whole load change, which
-    a load-cell gain with a skew may reproduce within the noise: abstaining and naming the
-    gain (whose statement then names the crosstalk that reads the same) both answer it;
-    it is not counted among the cases outside the library that must abstain."""
-    return (outcome.get("outside", False) and outcome.get("measure", "load") == "load"
-            and any(f in GAIN_ALIKE for f in outcome["forms"]))
+#: How this battery counts the cases outside the library (the report prints a record's own
+#: definitions before certkit's general ones; records made before 2026-11-27 counted a
+#: gain named for a crosstalk as wrong).
+DEFINITIONS = {
+    "abstention_out_of_library": (
+        "share of the cases whose withheld effect has no candidate in the library (gas drift, "
+        "load-cell crosstalk) that ended in an abstention or, for a crosstalk, in the "
+        "load-cell gain named first closing at least 60 % of the crosstalk's own held-out "
+        "load gap (against the noise-free truth, beyond the floor) and making no held-out "
+        "channel worse beyond its noise: the crosstalk read as the gain it reproduces to "
+        "first order, which the statement then names"),
+    "abstention_every_outside_case": (
+        "share of every case outside the library that ended in an abstention (a gain named "
+        "for a crosstalk counted wrong, as before 2026-11-27)"),
+}
+
+
+def read_as_gain(outcome: dict) -> bool:
+    """Whether a case outside the library of a :data:`GAIN_ALIKE` form ended in the
+    load-cell gain named first, closing :data:`READ_AS_GAIN` or more of the case's own
+    held-out load gap (``closed``: against the noise-free truth, beyond the floor the
+    nuisances leave) and harming no held-out channel: the crosstalk read as the gain it
+    reproduces, right as an abstention is."""
+    closed = outcome.get("closed")
+    return (bool(outcome.get("outside")) and any(f in GAIN_ALIKE for f in outcome["forms"])
+            and scoring.named_label(outcome) == GAIN and closed is not None
+            and closed >= READ_AS_GAIN and not outcome.get("harmed_any"))
 
 
 def _metric(name: str, value, count, cases) -> dict:
@@ -306,26 +336,23 @@ def _by_form(outcomes: list[dict]) -> list[dict]:
                 and o.get("measure", "load") == measure]
         if not mine:
             continue
-        alike = form_id in GAIN_ALIKE and measure == "load"
 
         def right(o) -> bool:
             # outside the library only a clean abstention is right (not a tie, not a
-            # failure): the same count as the no-effect cases' false attribution; a form a
-            # gain with a skew reproduces, sized by its whole change, may read as the gain
-            if alike:
-                return scoring.named_label(o) in ("none", GAIN)
-            return scoring.named_label(o) == "none" if form.effect is None \
-                else o["named"][:1] == o["truth"]
+            # failure): the same count as the no-effect cases' false attribution; or a
+            # crosstalk read as the gain it reproduces
+            if form.effect is None:
+                return scoring.named_label(o) == "none" or read_as_gain(o)
+            return o["named"][:1] == o["truth"]
 
         scored = [o for o in mine if o["ratio"] >= scoring.SCORED_FROM]
         peaks = [run for o in scored for run in (o.get("physical") or {}).values()]
-        label = form.label + {"load": " (sized by its whole load change)" if alike else "",
-                              BEYOND_GAIN: " (sized by what no gain with a skew explains)"
-                              }[measure]
-        effect = f"{GAIN} or none (it reads as a gain with a skew)" if alike else form.effect
+        label = form.label + {
+            "load": " (sized by its whole load change)" if form_id in GAIN_ALIKE else "",
+            BEYOND_GAIN: " (sized by what no load-cell gain explains)"}[measure]
         rows.append({
             "form": form_id if measure == "load" else f"{form_id} ({measure})",
-            "label": label, "effect": effect,
+            "label": label, "effect": form.effect,
             "cases": len(mine), "right": sum(map(right, mine)),
             "scored": len(scored), "right_scored": sum(map(right, scored)),
             "median_peak_load_change_N": statistics.median(
@@ -346,17 +373,14 @@ def score(outcomes: list[dict]) -> dict:
         metric.update(_metric(name, metric["value"], metric["count"], metric["cases"]))
     scored = [o for o in inside if len(o["truth"]) == 1 and o["ratio"] >= scoring.SCORED_FROM
               and not o.get("skipped")]
-    outside = [o for o in outcomes if o.get("outside") and not o.get("skipped")
-               and not gain_alike(o)]
-    abstained = sum(scoring.named_label(o) == "none" for o in outside)
-    metrics["abstention_out_of_library"] = _metric(
-        "abstention_out_of_library", abstained / len(outside) if outside else None, abstained,
-        len(outside))
-    alike = [o for o in outcomes if gain_alike(o) and not o.get("skipped")
-             and o["ratio"] >= scoring.SCORED_FROM]
-    read = sum(scoring.named_label(o) in ("none", GAIN) for o in alike)
-    metrics["crosstalk_within_gain"] = _metric(
-        "crosstalk_within_gain", read / len(alike) if alike else None, read, len(alike))
+    outside = [o for o in outcomes if o.get("outside") and not o.get("skipped")]
+    for name, right in (
+            ("abstention_out_of_library", lambda o: scoring.named_label(o) == "none"
+             or read_as_gain(o)),
+            ("abstention_every_outside_case", lambda o: scoring.named_label(o) == "none")):
+        count = sum(map(right, outside))
+        metrics[name] = _metric(name, count / len(outside) if outside else None, count,
+                                len(outside))
     # harm as the targets count it: cases that named an effect, with no effect or one of
     # effect/noise ≥ SCORED_FROM (single or pairs); below that, listed in the cases only
     named = [o for o in inside if o["named"] and not o.get("skipped")
@@ -370,8 +394,13 @@ def score(outcomes: list[dict]) -> dict:
         "median_own_gap_closed", statistics.median(closed) if closed else None, None,
         len(closed))
     document["forms"] = _by_form(outcomes)
+    # every case not generated (its size out of its form's range), outside the library too
+    document["skipped"] = [o["id"] for o in outcomes if o.get("skipped")]
+    document["definitions"] = DEFINITIONS
     document["outside"] = [{"id": o["id"], "form": o["forms"], "ratio": o["ratio"],
                             "measure": o.get("measure", "load"),
+                            "beyond_gain_noise": o.get("beyond_gain_noise"),
+                            "read_as_gain": read_as_gain(o), "closed": o.get("closed"),
                             "named": o["named"], "statement": o["statement"]} for o in outside]
     return document
 
@@ -493,7 +522,8 @@ def main() -> int:
     for name, metric in document["metrics"].items():
         print(f"{name}: {metric['value']} ({metric['count']}/{metric['cases']}) target "
               f"{metric['direction']} {metric['target']} met {metric['met']}")
-    print(f"{len(cases)} cases in {clock.perf_counter() - started:.0f} s")
+    print(f"{len(cases)} cases ({len(document['skipped'])} not generated: size out of range) "
+          f"in {clock.perf_counter() - started:.0f} s")
     return 0
 
 

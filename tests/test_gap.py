@@ -331,6 +331,28 @@ def test_the_report_summarises_the_blind_check_and_says_what_falls_short(with_hy
     assert names["blind/blind_check.json"] == hashlib.sha256(BLIND.read_bytes()).hexdigest()
 
 
+def test_the_report_gives_a_metric_as_its_record_defines_it(with_hysteresis, tmp_path):
+    """A record that counts a metric its own way (the independent battery's abstention since
+    crosstalk a gain reads as is scored apart) is printed with its own definition, not
+    certkit's general one; a metric it does not define keeps the general one."""
+    from certkit.evidence.model_evidence import ModelEvidence
+    from certkit.physics.calibration import Calibration
+    from certkit.spec.blind_record import METRICS
+
+    record = json.loads(BLIND.read_text(encoding="utf-8"))
+    record["definitions"] = {"harm_rate": "harm as this record counts it, stated here"}
+    defined = tmp_path / "blind_check_defined.json"
+    defined.write_text(json.dumps(record), encoding="utf-8")
+    spec = _with_blind_check(with_hysteresis, defined, "blind-defined.yaml")
+    out = tmp_path / "out"
+    render_report(assess(load_campaign(spec)), out, model=ModelEvidence(Calibration((), ()), ""))
+    html = (out / "report.html").read_text(encoding="utf-8")
+    section = html[html.index("How far the diagnosis can be trusted"):]
+    assert "harm as this record counts it, stated here" in section
+    assert METRICS["harm_rate"][1] not in section
+    assert METRICS["top1"][1] in section
+
+
 def test_the_report_states_the_recorded_decisions_and_derives_none():
     # decisions whose figures and thresholds no rule of today's code has: the report must
     # state them as recorded, so a change of the rules can never be mis-described by it

@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from scipy.optimize import minimize_scalar
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 import truthgen  # noqa: E402
@@ -16,7 +17,6 @@ import truthgen  # noqa: E402
 from certkit.compliance.clauses import ideal_impact_velocity  # noqa: E402
 from certkit.compliance.measures import TOUCHDOWN_SHARE, TOUCHDOWN_SIGMAS  # noqa: E402
 from certkit.gap.holdout import split_for  # noqa: E402
-from certkit.physics.effects.load_cell_gain import MAX_SKEW  # noqa: E402
 from certkit.physics.gear_model import gear_mass  # noqa: E402
 
 from blindcheck import battery as own  # noqa: E402
@@ -24,8 +24,10 @@ from blindcheck import battery as own  # noqa: E402
 P_ATM = 101325.0
 #: Sizes on a form's size range at which its load change is simulated (then interpolated).
 SIZING_GRID = 9
-#: The measure of a case sized by what no gain with a skew explains (:func:`beyond_gain`).
+#: The measure of a case sized by what no load-cell gain explains (:func:`beyond_gain`).
 BEYOND_GAIN = "beyond gain"
+#: The load-cell gain errors ε the search of :func:`beyond_gain` spans.
+GAIN_BOUNDS = (-0.5, 1.0)
 
 
 def gear_of(campaign, run, gear_id: str, factors: dict | None = None) -> truthgen.Gear:
@@ -100,8 +102,7 @@ def _first_cycle_change(campaign, gear_id: str, truths: tuple, plain_runs: list,
     (the case's contact phases): a delay of the whole record, and what of a lag the
     alignment at that level takes out, is what an analysis that aligns on the measured
     touchdown cannot see, so only what remains counts.  ``measure`` :data:`BEYOND_GAIN`:
-    only what remains of the change beyond the best gain with a skew
-    (:func:`beyond_gain`)."""
+    only what remains of the change beyond the best load-cell gain (:func:`beyond_gain`)."""
     changed_runs, plain_runs_load, windows = [], [], []
     for run, index, phase, plain in plain_runs:
         gear = gear_of(campaign, run, gear_id)
@@ -114,28 +115,46 @@ def _first_cycle_change(campaign, gear_id: str, truths: tuple, plain_runs: list,
         plain_runs_load.append((plain.time, plain.load))
         windows.append(own.first_cycle(plain.time, plain.load, plain.stroke, weight))
     if measure == BEYOND_GAIN:
-        return beyond_gain(changed_runs, plain_runs_load, windows)
+        return beyond_gain(changed_runs, plain_runs_load, windows, level)
     squares = [np.mean((load[w] - plain[w]) ** 2)
                for load, (_, plain), w in zip(changed_runs, plain_runs_load, windows)]
     return float(np.sqrt(np.mean(squares)))
 
 
-def beyond_gain(changed: list, plain: list, windows: list, skews: int = 81) -> float:
+def beyond_gain_noise(campaign, gear_id: str, truths: tuple, settings,
+                      nuisances: truthgen.Nuisances, phases: tuple) -> float:
+    """What of the load change ``truths`` make over the first cycle no load-cell gain
+    explains (:func:`beyond_gain`), in units of the load noise, on the case's nuisances and
+    contact phases."""
+    plain_runs = _plain_runs(campaign, gear_id, phases, nuisances)
+    level = detector_level(campaign, gear_id, settings)
+    return _first_cycle_change(campaign, gear_id, truths, plain_runs, level, nuisances,
+                               BEYOND_GAIN) / settings.load_noise
+
+
+def beyond_gain(changed: list, plain: list, windows: list, level: float) -> float:
     """RMS over the runs' ``windows`` of what remains of the records ``changed`` beyond the
-    gain with a skew, (1 + ε)·F(t − τ) of the records ``plain`` ((time, F) per run), that
-    fits them best: one ε and τ for every run (a property of the load channel), τ on a
-    grid of ``skews`` values over ±:data:`MAX_SKEW` (the reach of the library's gain
-    candidate), ε by least squares at each τ."""
-    best = math.inf
-    for skew in np.linspace(-MAX_SKEW, MAX_SKEW, skews):
-        moved = [np.interp(time - skew, time, force)[w] for (time, force), w
-                 in zip(plain, windows)]
-        target = [load[w] for load, w in zip(changed, windows)]
-        scale = (sum(float(np.dot(m, c)) for m, c in zip(moved, target))
-                 / sum(float(np.dot(m, m)) for m in moved))
-        squares = [np.mean((c - scale * m) ** 2) for m, c in zip(moved, target)]
-        best = min(best, float(np.sqrt(np.mean(squares))))
-    return best
+    load-cell gain that fits them best: (1 + ε)·F of the records ``plain`` ((time, F) per
+    run), aligned on the touchdown at ``level`` as ``changed`` is, one ε for every run (a
+    property of the load channel), found by a bounded scalar search.
+
+    The library's gain candidate carries a skew τ too, but the diagnosis aligns each
+    simulated load on its own touchdown (:func:`certkit.physics.calibration._simulated`):
+    the skew moves the load against the stroke and tyre records, not against the touchdown.
+    On the load record aligned there, a gain with any skew is the gain alone (to the
+    interpolation's smoothing), and a crosstalk, which leaves stroke and tyre alone, is
+    explained by the gain's scale only."""
+    target = [load[w] for load, w in zip(changed, windows)]
+
+    def remains(gain: float) -> float:
+        squares = [np.mean((c - own.aligned_on_touchdown(time, (1.0 + gain) * force, force,
+                                                         level)[w]) ** 2)
+                   for c, (time, force), w in zip(target, plain, windows)]
+        return float(np.sqrt(np.mean(squares)))
+
+    found = minimize_scalar(remains, bounds=GAIN_BOUNDS, method="bounded",
+                            options={"xatol": 1e-7})
+    return min(float(found.fun), remains(0.0))
 
 
 def _sizes(campaign, gear_id: str, form_id: str, shape: tuple, ratios, settings,

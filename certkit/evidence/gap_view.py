@@ -226,6 +226,7 @@ def _blind_view(campaign, units) -> dict:
     for key in keys:
         metric = record.metrics[key]
         label, definition = METRICS.get(key, (key.replace("_", " "), "as recorded"))
+        definition = record.definitions.get(key, definition)
         value = "not measured" if metric.value is None else percent(metric.value)
         judged = metric.judged
         target = "no target" if metric.target is None else \

@@ -61,13 +61,10 @@ METRICS = {
     "abstention_out_of_library": ("abstention outside the library",
                                   "share of the cases whose withheld effect has no candidate "
                                   "in the library (abstaining is right) that ended in an "
-                                  "abstention; a load-cell crosstalk counts here when sized by "
-                                  "the load change no load-cell gain with a skew explains"),
-    "crosstalk_within_gain": ("crosstalk a gain with a skew reproduces",
-                              "share of the load-cell crosstalk cases sized by their whole "
-                              "load change (to first order a load-cell gain with a skew, "
-                              "often within the noise) that ended in an abstention or in the "
-                              "load-cell gain named first; any other answer is wrong"),
+                                  "abstention"),
+    "abstention_every_outside_case": ("abstention, every case outside the library",
+                                      "share of every case outside the library that ended "
+                                      "in an abstention"),
     "median_own_gap_closed": ("median share of its own gap closed",
                               "median over the single-effect cases named right (effect/noise "
                               "≥ 2) of the share of the held-out load gap the withheld effect "
@@ -211,6 +208,9 @@ class BlindCheckRecord(_Record):
     #: per truth form of an independent battery: its cases and how many were answered
     #: right (absent from certkit's own battery)
     forms: list[FormRow] = []
+    #: metric key -> its definition as this record counts it, where that is not (or no
+    #: longer) the general one of :data:`METRICS`
+    definitions: dict[str, str] = {}
 
     @property
     def cases_run_by(self) -> Provenance:
