@@ -17,8 +17,8 @@ outcome is scored against the sealed truth.
 Cases: every in-library form at every effect/noise ratio and seed; at least 20 cases with
 no effect (the nuisances only); out-of-library effects (abstaining is right; a load-cell
 crosstalk, which to first order is a load-cell gain, is sized both by its whole load change
-and by what of it no load-cell gain explains, and naming the gain for it is right too where
-the gain closes the crosstalk's own held-out gap: :data:`GAIN_ALIKE`); pairs; for
+and by what of it no load-cell gain explains, and naming the gain is right too for a case
+of which less than twice the noise is beyond the gain: :data:`GAIN_ALIKE`); pairs; for
 each plan of the battery (:mod:`blindcheck.plans`: the development battery is its own plan
 and the spent sealed sets, the sealed battery the set in use).  Every drop's contact falls
 between two logger samples, at a phase drawn from the case's seed.  An effect's size is its
@@ -83,7 +83,11 @@ from blindcheck.sizing import (BEYOND_GAIN, _rate, _sizes, beyond_gain,  # noqa:
 
 #: Issue 14's targets on the independent battery (effect ≥ 2× noise).
 TARGETS = {"top1": (0.90, "at least"), "false_attribution": (0.05, "at most"),
-           "abstention_out_of_library": (0.80, "at least"),
+           # issue 27's abstention target, on the cases outside the library answered
+           # right: an abstention, or the gain for a crosstalk a gain reads as within the
+           # noise (the issue: "only what a gain-with-skew cannot explain is refused as
+           # crosstalk"); the abstentions alone are kept beside it without a target
+           "outside_library_answered": (0.80, "at least"),
            "median_own_gap_closed": (0.60, "at least"), "harm_any_channel": (0.05, "at most")}
 
 
@@ -108,17 +112,13 @@ def _pairs() -> list[tuple[str, str]]:
 #: (crosstalk: F(t) + ε·F(t − d) is, to first order in d, (1 + ε)·F(t − ε·d/(1 + ε)), and
 #: on a load record aligned on its touchdown a gain with any skew is the gain).  Each is
 #: sized twice: by its whole load change, and by the part of it no load-cell gain explains
-#: (:data:`BEYOND_GAIN`), so that some cases are more than a gain within the noise.  Naming
-#: the gain for one is right where the gain closes the case's own held-out gap
-#: (:func:`read_as_gain`): the data cannot tell the two apart there, and the statement then
-#: names the crosstalk that reads the same.
+#: (:data:`BEYOND_GAIN`).  A case of which less than :data:`scoring.SCORED_FROM` × the noise
+#: is beyond the gain (``beyond_gain_noise``) reads as the gain within the noise: naming the
+#: gain is right for it too (:func:`gain_alike`); any other is more than a gain, and only
+#: an abstention is right.
 GAIN_ALIKE = ("crosstalk",)
 #: The library effect a :data:`GAIN_ALIKE` form may read as.
 GAIN = "load-cell gain"
-#: The share of its own held-out gap a gain named for a :data:`GAIN_ALIKE` case must close
-#: to count as the crosstalk read as a gain: issue 27's target for the median share an
-#: effect named right closes (60 %).
-READ_AS_GAIN = TARGETS["median_own_gap_closed"][0]
 
 
 @dataclass(frozen=True)
@@ -290,32 +290,39 @@ def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) ->
 
 # --------------------------------------------------------------------------- scoring
 #: How this battery counts the cases outside the library (the report prints a record's own
-#: definitions before certkit's general ones; records made before 2026-11-27 counted a
-#: gain named for a crosstalk as wrong).
+#: definitions before certkit's general ones).
 DEFINITIONS = {
     "abstention_out_of_library": (
         "share of the cases whose withheld effect has no candidate in the library (gas drift, "
-        "load-cell crosstalk) that ended in an abstention or, for a crosstalk, in the "
-        "load-cell gain named first closing at least 60 % of the crosstalk's own held-out "
-        "load gap (against the noise-free truth, beyond the floor) and making no held-out "
-        "channel worse beyond its noise: the crosstalk read as the gain it reproduces to "
-        "first order, which the statement then names"),
-    "abstention_every_outside_case": (
-        "share of every case outside the library that ended in an abstention (a gain named "
-        "for a crosstalk counted wrong, as before 2026-11-27)"),
+        "load-cell crosstalk) that ended in an abstention"),
+    "outside_library_answered": (
+        "share of the same cases that ended in an abstention or, for a crosstalk of which "
+        "less than twice the load noise is beyond the load-cell gain that reads most like it "
+        "(over the first compression and rebound, with the touchdowns aligned), in the gain "
+        "named first with no held-out channel made worse beyond its noise: within the noise "
+        "the records cannot tell that crosstalk from a gain, and the statement then names "
+        "the crosstalk that reads the same"),
 }
 
 
-def read_as_gain(outcome: dict) -> bool:
-    """Whether a case outside the library of a :data:`GAIN_ALIKE` form ended in the
-    load-cell gain named first, closing :data:`READ_AS_GAIN` or more of the case's own
-    held-out load gap (``closed``: against the noise-free truth, beyond the floor the
-    nuisances leave) and harming no held-out channel: the crosstalk read as the gain it
-    reproduces, right as an abstention is."""
-    closed = outcome.get("closed")
+def gain_alike(outcome: dict) -> bool:
+    """Whether a case outside the library is of a :data:`GAIN_ALIKE` form of which less
+    than :data:`scoring.SCORED_FROM` × the load noise is beyond the load-cell gain that
+    reads most like it (``beyond_gain_noise``, :func:`blindcheck.sizing.beyond_gain`): the
+    size below which the battery scores no effect.  A record made before the measure was
+    kept has no such case."""
+    beyond = outcome.get("beyond_gain_noise")
     return (bool(outcome.get("outside")) and any(f in GAIN_ALIKE for f in outcome["forms"])
-            and scoring.named_label(outcome) == GAIN and closed is not None
-            and closed >= READ_AS_GAIN and not outcome.get("harmed_any"))
+            and beyond is not None and beyond < scoring.SCORED_FROM)
+
+
+def outside_answered(outcome: dict) -> bool:
+    """A case outside the library answered right: an abstention, or for a case that reads
+    as a gain within the noise (:func:`gain_alike`) the gain named first with no held-out
+    channel made worse beyond its noise."""
+    label = scoring.named_label(outcome)
+    return label == "none" or (gain_alike(outcome) and label == GAIN
+                               and not outcome.get("harmed_any"))
 
 
 def _metric(name: str, value, count, cases) -> dict:
@@ -338,18 +345,21 @@ def _by_form(outcomes: list[dict]) -> list[dict]:
             continue
 
         def right(o) -> bool:
-            # outside the library only a clean abstention is right (not a tie, not a
-            # failure): the same count as the no-effect cases' false attribution; or a
-            # crosstalk read as the gain it reproduces
+            # outside the library a clean abstention is right (not a tie, not a failure:
+            # the same count as the no-effect cases' false attribution), or the gain for a
+            # crosstalk that reads as one within the noise
             if form.effect is None:
-                return scoring.named_label(o) == "none" or read_as_gain(o)
+                return outside_answered(o)
             return o["named"][:1] == o["truth"]
 
         scored = [o for o in mine if o["ratio"] >= scoring.SCORED_FROM]
         peaks = [run for o in scored for run in (o.get("physical") or {}).values()]
         label = form.label + {
-            "load": " (sized by its whole load change)" if form_id in GAIN_ALIKE else "",
-            BEYOND_GAIN: " (sized by what no load-cell gain explains)"}[measure]
+            "load": (" (sized by its whole load change; where less than twice the noise of "
+                     "it is beyond a load-cell gain, naming the gain is right too)")
+            if form_id in GAIN_ALIKE else "",
+            BEYOND_GAIN: " (sized by what no load-cell gain explains; only an abstention is "
+                         "right)"}[measure]
         rows.append({
             "form": form_id if measure == "load" else f"{form_id} ({measure})",
             "label": label, "effect": form.effect,
@@ -374,10 +384,8 @@ def score(outcomes: list[dict]) -> dict:
     scored = [o for o in inside if len(o["truth"]) == 1 and o["ratio"] >= scoring.SCORED_FROM
               and not o.get("skipped")]
     outside = [o for o in outcomes if o.get("outside") and not o.get("skipped")]
-    for name, right in (
-            ("abstention_out_of_library", lambda o: scoring.named_label(o) == "none"
-             or read_as_gain(o)),
-            ("abstention_every_outside_case", lambda o: scoring.named_label(o) == "none")):
+    for name, right in (("abstention_out_of_library", lambda o: scoring.named_label(o) == "none"),
+                        ("outside_library_answered", outside_answered)):
         count = sum(map(right, outside))
         metrics[name] = _metric(name, count / len(outside) if outside else None, count,
                                 len(outside))
@@ -400,7 +408,7 @@ def score(outcomes: list[dict]) -> dict:
     document["outside"] = [{"id": o["id"], "form": o["forms"], "ratio": o["ratio"],
                             "measure": o.get("measure", "load"),
                             "beyond_gain_noise": o.get("beyond_gain_noise"),
-                            "read_as_gain": read_as_gain(o), "closed": o.get("closed"),
+                            "gain_alike": gain_alike(o), "closed": o.get("closed"),
                             "named": o["named"], "statement": o["statement"]} for o in outside]
     return document
 
@@ -461,9 +469,12 @@ def record(template: str, gear_id: str, plans: tuple, settings, cases: list[Case
                                      "of the load noise) on records sampled as the logger "
                                      "samples them, in units of the load noise; a load-cell "
                                      "crosstalk is sized both by that and (measure 'beyond "
-                                     "gain', the cases scored for abstention) by what of it "
-                                     "remains beyond the best load-cell gain with a skew "
-                                     "within ±1 ms",
+                                     "gain') by what of that change remains beyond the "
+                                     "load-cell gain that fits it best on the records so "
+                                     "aligned (the diagnosis aligns a simulated load on its "
+                                     "own touchdown, so a gain's skew is aligned away), "
+                                     "each crosstalk case recording that remainder "
+                                     "(beyond_gain_noise)",
                      "alignment_level_N": detector_level(campaign, gear_id, settings),
                      "scored_from": scoring.SCORED_FROM, "cases": len(cases),
                      "targets": "those of the metrics, on cases with effect/noise of at least "

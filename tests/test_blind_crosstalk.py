@@ -1,6 +1,7 @@
 """The independent battery's load-cell crosstalk, sized twice (issue 27): by its whole load
-change, most of which a load-cell gain with a skew reproduces, and by the part no gain
-with a skew explains; only the second is a case outside the library that must abstain."""
+change, most of which a load-cell gain reproduces, and by the part no gain explains; a
+crosstalk that reads as a gain within the noise may be answered by the gain, any other
+only by an abstention."""
 
 import json
 import math
@@ -55,6 +56,12 @@ def _beyond_best_gain(changed, plain, windows, at):
                            options={"xatol": 1e-8}).fun
 
 
+def _beyond_best_gain_unaligned(record, plain):
+    """What the best gain leaves of ``record`` if nothing aligned it: the skew's own part."""
+    return minimize_scalar(lambda g: math.sqrt(np.mean((record - (1 + g) * plain) ** 2)),
+                           bounds=(-0.5, 1.0), method="bounded").fun
+
+
 def test_on_the_touchdown_aligned_load_a_gain_with_a_skew_is_the_gain_alone():
     time = np.arange(-0.05, 0.4, 1e-3)
     plain = _pulse(time)
@@ -65,9 +72,10 @@ def test_on_the_touchdown_aligned_load_a_gain_with_a_skew_is_the_gain_alone():
         remains = independent.beyond_gain([recorded], [(time, plain)], [window], at)
         # the skew is aligned away with the touchdown: what remains is the linear
         # interpolation's smoothing of the pulse's onset between samples (a few N of its
-        # 10 kN), not the skew itself, which unaligned would leave several times that
-        unaligned = math.sqrt(np.mean((1.03 * _pulse(time - skew) - 1.03 * plain) ** 2))
-        assert remains < 0.05 * whole and remains <= 0.2 * unaligned + 1e-3, (skew, remains)
+        # 10 kN), not the skew itself, which unaligned the best gain would leave (35-80 N)
+        unaligned = _beyond_best_gain_unaligned(1.03 * _pulse(time - skew), plain)
+        assert remains < 0.2 * unaligned or remains < 1e-3, (skew, remains, unaligned)
+        assert unaligned > 0.25 * whole or skew == 0.0
     # a crosstalk of 10 % of the load 12 ms earlier: what remains is what a bounded search
     # written here finds
     crosstalk = plain + 0.1 * _pulse(time - 0.012)
@@ -115,56 +123,66 @@ def test_a_crosstalk_sized_beyond_the_gain_leaves_its_multiple_of_the_noise_ther
     assert remains == pytest.approx(2.0 * settings.load_noise, rel=0.05)
 
 
-def _outcome(forms, named, measure="load", ratio=2.0, closed=None, harmed=False):
+def _outcome(forms, named, measure="load", ratio=2.0, beyond=None, harmed=False):
     outside = any(truthgen.FORMS[f].effect is None for f in forms)
-    return {"id": "x", "forms": list(forms), "measure": measure, "outside": outside,
-            "truth": [truthgen.FORMS[f].effect for f in forms
-                      if truthgen.FORMS[f].effect is not None],
-            "ratio": ratio, "seed": 1, "named": named, "statement": "",
-            "error": None, "skipped": None, "before": 100.0,
-            "after": 50.0 if named else 100.0, "shrink": 0.5 if named else 0.0,
-            "closed": closed, "harmed": harmed, "harmed_any": harmed, "physical": {}}
+    outcome = {"id": "x", "forms": list(forms), "measure": measure, "outside": outside,
+               "truth": [truthgen.FORMS[f].effect for f in forms
+                         if truthgen.FORMS[f].effect is not None],
+               "ratio": ratio, "seed": 1, "named": named, "statement": "",
+               "error": None, "skipped": None, "before": 100.0,
+               "after": 50.0 if named else 100.0, "shrink": 0.5 if named else 0.0,
+               "closed": 0.9 if named else None, "harmed": harmed, "harmed_any": harmed,
+               "physical": {}}
+    if beyond is not None:
+        outcome["beyond_gain_noise"] = beyond
+    return outcome
 
 
-def test_a_crosstalk_read_as_the_gain_that_closes_its_gap_is_right_as_an_abstention_is():
+def test_a_crosstalk_that_reads_as_a_gain_within_the_noise_may_be_answered_by_the_gain():
     """Counted by hand.  Outside the library, right: an abstention (gas drift once, crosstalk
-    twice), or the load-cell gain named first for a crosstalk closing at least 60 % of its
-    own held-out gap with no held-out channel worse (closing 80 % and exactly 60 %).
-    Wrong: friction for gas drift; sensor lag for a crosstalk; the gain closing 59 %, or
-    closing 90 % but harming a channel, or named second.  5 of 10; abstentions alone 3 of
-    10."""
+    three times), or the load-cell gain named first for a crosstalk of which less than
+    2 × noise is beyond the gain (0.6 × and 1.99 ×), harming no held-out channel.  Wrong:
+    friction for gas drift; sensor lag for a crosstalk within the gain's noise; the gain
+    for crosstalk 2.0 × and 5 × beyond it (sized so, or by its whole change); the gain that
+    harms a channel; the gain named second; the gain for a record without the measure.
+    Answered right 6 of 14; abstained 4 of 14."""
     beyond = independent.BEYOND_GAIN
     gain = "load-cell gain"
     outcomes = [
-        _outcome(("lugre",), ["seal friction"], closed=0.9),
+        _outcome(("lugre",), ["seal friction"]),
         _outcome(("gas-drift",), []),
-        _outcome(("gas-drift",), ["seal friction"], closed=0.7),
-        _outcome(("crosstalk",), [], beyond),
-        _outcome(("crosstalk",), ["sensor lag"], beyond, 5.0, closed=0.3),
-        _outcome(("crosstalk",), [gain], closed=0.8),
-        _outcome(("crosstalk",), [gain], beyond, 5.0, closed=0.60),
-        _outcome(("crosstalk",), [gain], closed=0.59),
-        _outcome(("crosstalk",), [gain], beyond, closed=0.9, harmed=True),
-        _outcome(("crosstalk",), []),
-        _outcome(("crosstalk",), ["sensor lag", gain], ratio=5.0, closed=0.9),
+        _outcome(("gas-drift",), ["seal friction"]),
+        _outcome(("crosstalk",), [], beyond, beyond=2.0),
+        _outcome(("crosstalk",), [gain], beyond, beyond=2.0),
+        _outcome(("crosstalk",), [gain], beyond, 5.0, beyond=5.0),
+        _outcome(("crosstalk",), [gain], beyond=0.6),
+        _outcome(("crosstalk",), [gain], ratio=5.0, beyond=1.99),
+        _outcome(("crosstalk",), [gain], ratio=5.0, beyond=2.3),
+        _outcome(("crosstalk",), ["sensor lag"], beyond=0.7),
+        _outcome(("crosstalk",), [gain], beyond=0.7, harmed=True),
+        _outcome(("crosstalk",), [], beyond=0.5),
+        _outcome(("crosstalk",), ["sensor lag", gain], ratio=5.0, beyond=1.2),
+        _outcome(("crosstalk",), [gain]),                  # a record without the measure
     ]
+    outcomes[-1].pop("beyond_gain_noise", None)
+    outcomes.insert(4, _outcome(("crosstalk",), [], beyond, 5.0, beyond=5.0))
     result = independent.score(outcomes)
     m = result["metrics"]
-    outside = m["abstention_out_of_library"]
-    assert (outside["count"], outside["cases"]) == (5, 10)
-    assert outside["value"] == 0.5 and outside["met"] is False and outside["target"] == 0.8
-    strict = m["abstention_every_outside_case"]
-    assert (strict["count"], strict["cases"]) == (3, 10) and strict["target"] is None
+    answered = m["outside_library_answered"]
+    assert (answered["count"], answered["cases"]) == (6, 14)
+    assert answered["met"] is False and answered["target"] == 0.8
+    strict = m["abstention_out_of_library"]
+    assert (strict["count"], strict["cases"]) == (4, 14) and strict["target"] is None
     rows = {row["form"]: row for row in result["forms"]}
-    assert (rows["crosstalk"]["right"], rows["crosstalk"]["cases"]) == (2, 4)
+    assert (rows["crosstalk"]["right"], rows["crosstalk"]["cases"]) == (3, 8)
     assert (rows["crosstalk (beyond gain)"]["right"],
             rows["crosstalk (beyond gain)"]["cases"]) == (2, 4)
     assert (rows["gas-drift"]["right"], rows["gas-drift"]["cases"]) == (1, 2)
     assert rows["crosstalk"]["effect"] is None
-    assert "what no load-cell gain explains" in rows["crosstalk (beyond gain)"]["label"]
+    assert "only an abstention is right" in rows["crosstalk (beyond gain)"]["label"]
     assert set(result["definitions"]) == {"abstention_out_of_library",
-                                          "abstention_every_outside_case"}
-    assert "60 %" in result["definitions"]["abstention_out_of_library"]
+                                          "outside_library_answered"}
+    assert "less than twice the load noise" in result["definitions"]["outside_library_answered"]
 
 
 def test_every_plan_has_crosstalk_sized_both_ways_and_the_earlier_cases_keep_their_ids():

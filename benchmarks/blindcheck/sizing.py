@@ -143,7 +143,10 @@ def beyond_gain(changed: list, plain: list, windows: list, level: float) -> floa
     the skew moves the load against the stroke and tyre records, not against the touchdown.
     On the load record aligned there, a gain with any skew is the gain alone (to the
     interpolation's smoothing), and a crosstalk, which leaves stroke and tyre alone, is
-    explained by the gain's scale only."""
+    explained by the gain's scale only.  The figure is what a gain alone leaves with the
+    nominal parameters as they are, noise-free, over the first cycle; the diagnosis fits a
+    gain on the training runs' whole records together with the nominal parameters, which
+    may take up part of what remains here."""
     target = [load[w] for load, w in zip(changed, windows)]
 
     def remains(gain: float) -> float:
@@ -161,8 +164,8 @@ def _sizes(campaign, gear_id: str, form_id: str, shape: tuple, ratios, settings,
            nuisances: truthgen.Nuisances = truthgen.Nuisances(), phases: tuple = (),
            measure: str = "load") -> dict:
     """ratio -> the size at which the form (of ``shape``) changes the first-cycle load by
-    ratio × the load noise (``measure`` :data:`BEYOND_GAIN`: what of the change no gain with
-    a skew explains), interpolated (log-log) on a grid over the form's size range (None when
+    ratio × the load noise (``measure`` :data:`BEYOND_GAIN`: what of the change no load-cell
+    gain explains, :func:`beyond_gain`), interpolated (log-log) on a grid over the form's size range (None when
     the range does not reach it); ``phases``: each run's contact phase (default: every
     contact on a sample)."""
     phases = phases or (0.0,) * len(campaign.spec.runs)

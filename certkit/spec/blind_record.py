@@ -62,9 +62,11 @@ METRICS = {
                                   "share of the cases whose withheld effect has no candidate "
                                   "in the library (abstaining is right) that ended in an "
                                   "abstention"),
-    "abstention_every_outside_case": ("abstention, every case outside the library",
-                                      "share of every case outside the library that ended "
-                                      "in an abstention"),
+    "outside_library_answered": ("outside the library, answered right",
+                                 "share of the cases whose withheld effect has no candidate "
+                                 "in the library that ended in an abstention or, where the "
+                                 "record defines it so, in the library effect the withheld "
+                                 "one reads as within the noise"),
     "median_own_gap_closed": ("median share of its own gap closed",
                               "median over the single-effect cases named right (effect/noise "
                               "≥ 2) of the share of the held-out load gap the withheld effect "
