@@ -309,10 +309,13 @@ def gain_alike(outcome: dict) -> bool:
     """Whether a case outside the library is of a :data:`GAIN_ALIKE` form of which less
     than :data:`scoring.SCORED_FROM` × the load noise is beyond the load-cell gain that
     reads most like it (``beyond_gain_noise``, :func:`blindcheck.sizing.beyond_gain`): the
-    size below which the battery scores no effect.  A record made before the measure was
-    kept has no such case."""
+    size below which the battery scores no effect.  Only a case sized by its whole load
+    change can be: one sized by what no gain explains is sized to be more than a gain (its
+    remainder is its ratio, ≥ 2, to the interpolation's last digits).  A record made before
+    the measure was kept has no such case."""
     beyond = outcome.get("beyond_gain_noise")
-    return (bool(outcome.get("outside")) and any(f in GAIN_ALIKE for f in outcome["forms"])
+    return (bool(outcome.get("outside")) and outcome.get("measure", "load") == "load"
+            and any(f in GAIN_ALIKE for f in outcome["forms"])
             and beyond is not None and beyond < scoring.SCORED_FROM)
 
 
