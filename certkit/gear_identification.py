@@ -56,7 +56,7 @@ from certkit.ident.tuning import tune_free_run
 from certkit.ident.validation import fit_percent, max_abs_error, nrmse, residual_analysis, rmse
 from certkit.ident.wiener import (Plant, SmallSignalExperiment, WienerLSSVM,
                                   best_linear_records, small_signal_records)
-from certkit.physics.calibration import calibrate_gear, simulate_like_runs
+from certkit.physics.calibration import calibrate_gear, calibration_starts, simulate_like_runs
 from certkit.physics.drops import default_split, drop_heights, recorded_drops
 from certkit.physics.gear_model import drop_model_for
 from certkit.physics.simulation import simulate_driven
@@ -272,10 +272,10 @@ def _governing_equation(campaign: Campaign, gear_id: str, result: GearIdentifica
     returns the calibrated model of the first held-out run (the Wiener plant), or None.
     ``calibration``: the gear's drop model already calibrated, used when it was fitted to
     exactly these training runs (one calibrated model for the report), else made here."""
-
     try:
         if calibration is None or set(calibration.runs) != set(result.training):
-            calibration = calibrate_gear(campaign, gear_id, run_ids=list(result.training))
+            calibration = calibrate_gear(campaign, gear_id, run_ids=list(result.training),
+                                         starts=calibration_starts(campaign))
     except CertkitInputError as error:
         result.notes.append("governing equation not simulated: " + "; ".join(
             p.message for p in error.problems))

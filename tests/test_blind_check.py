@@ -445,19 +445,21 @@ def test_the_report_names_the_files_that_differ_from_the_running_certkit():
 def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
     import blind_independent as independent
     import truthgen
-    from blindcheck.plans import NUISANCE_RANGES, S1, S2, S3, S4, S5, draws
+    from blindcheck.plans import NUISANCE_RANGES, S1, S2, S3, S4, S5, S6, draws
 
     development, sealed = independent.PLANS["development"], independent.PLANS["sealed"]
     dev_cases, sealed_cases = independent.battery(development), independent.battery(sealed)
-    # S1 to S4, spent, are part of the development battery with their own seeds; S5 is
+    # S1 to S5, spent, are part of the development battery with their own seeds; S6 is
     # sealed
-    assert {S1, S2, S3, S4} <= set(development) and sealed == (S5,)
+    assert {S1, S2, S3, S4, S5} <= set(development) and sealed == (S6,)
     assert {c.seed for c in dev_cases if c.plan is S1} == {7101, 7102} | set(range(7500, 7520))
     assert {c.seed for c in dev_cases if c.plan is S2} == {9101, 9102} | set(range(9500, 9520))
     assert {c.seed for c in dev_cases if c.plan is S3} == {9301, 9302} | set(range(9700, 9720))
     assert {c.seed for c in dev_cases if c.plan is S4} == {12401, 12402} | set(range(12800,
                                                                                    12820))
-    assert {c.seed for c in sealed_cases} == {14401, 14402} | set(range(14800, 14820))
+    assert {c.seed for c in dev_cases if c.plan is S5} == {14401, 14402} | set(range(14800,
+                                                                                   14820))
+    assert {c.seed for c in sealed_cases} == {16401, 16402} | set(range(16800, 16820))
     # at least as many cases as a development plan; no seed, no case id in common
     assert len(sealed_cases) >= len(independent.battery(development[0])) >= 106
     assert not {c.seed for c in dev_cases} & {c.seed for c in sealed_cases}
@@ -468,7 +470,7 @@ def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
         assert all(shape == () for shape in shapes) and nuisances == truthgen.Nuisances()
     # a drawn case draws every shape parameter inside its plan's range, and the same again
     drawn = {}
-    for case in sealed_cases + [c for c in dev_cases if c.plan in (S1, S2, S3, S4)]:
+    for case in sealed_cases + [c for c in dev_cases if c.plan in (S1, S2, S3, S4, S5)]:
         shapes, nuisances = draws(case.key, case.forms, case.plan)
         assert (shapes, nuisances) == draws(case.key, case.forms, case.plan)
         for form_id, shape in zip(case.forms, shapes):
@@ -491,7 +493,7 @@ def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
         (-1e-3, 1e-3)
     assert S3.shape_ranges("bessel-delay") == S2.shape_ranges("bessel-delay")
     assert all(S4.shape_ranges(f) == S3.shape_ranges(f) == S5.shape_ranges(f)
-               for f in truthgen.FORMS)
+               == S6.shape_ranges(f) for f in truthgen.FORMS)
     assert S1.shape_ranges("bessel-delay") == truthgen.FORMS["bessel-delay"].shape_ranges
 
 

@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 
+from certkit.gap.selection import NOMINAL_STARTS
 from certkit.physics.calibration import aligned_records, calibrate_gear
 
 
@@ -22,10 +23,10 @@ def floor_calibration(bare, gear_id: str, diagnosis):
     """The nominal model calibrated on the training runs of ``bare`` (the case without its
     effects and without sensor effects), from the nominal values and from where the
     diagnosis's own calibration ended, whichever fits better: the floor is the best the
-    nominal model reaches, as the diagnosis's calibration is (its calibration done again
-    when a refit's bare parameters fit better)."""
+    nominal model reaches, as the diagnosis's calibration is (from the nominal values and
+    the same further starts, and done again when a refit's bare parameters fit better)."""
     runs = list(diagnosis.training)
-    first = calibrate_gear(bare, gear_id, effects=[], run_ids=runs)
+    first = calibrate_gear(bare, gear_id, effects=[], run_ids=runs, starts=NOMINAL_STARTS)
     other = calibrate_gear(bare, gear_id, knobs=[k.name for k in diagnosis.calibration.knobs],
                            effects=[], run_ids=runs,
                            start=list(diagnosis.calibration.fit.estimate))

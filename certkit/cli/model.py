@@ -16,7 +16,7 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
-from certkit.cli.app import SpecArgument, command, fail, out, warning
+from certkit.cli.app import SpecArgument, bad_option, command, fail, out, warning
 from certkit.display import display
 from certkit.display import parameter as parameter_text
 from certkit.display import with_unit
@@ -75,18 +75,27 @@ def calibrate(spec: SpecArgument,
                   "-g", "--gear", metavar="GEAR",
                   help="the id of a gear unit to calibrate (repeat the option for several); "
                        "default: every recorded one")] = None,
+              starts: Annotated[int | None, typer.Option(
+                  "--starts", metavar="N",
+                  help="further starts of the fit spread over the parameters' bounds, the "
+                       "best kept, 0 to 20; default: the spec's model.calibration.starts, "
+                       "else 0")] = None,
               json_file: Annotated[Path | None, typer.Option(
                   "--json", metavar="FILE", help="also write the results, in SI, to FILE (JSON)")] = None,
               ) -> None:
     """Fit the drop model's parameters to the measured runs; all drop heights jointly."""
     from certkit.physics.calibration import calibrate as run_calibration
+    from certkit.evidence.model_view import starts_words
     from certkit.physics.calibration import calibration_document
 
 
 
+    if starts is not None and not 0 <= starts <= 20:
+        bad_option("starts", "a whole number from 0 to 20", starts)
     campaign = load_campaign(spec)
     _check_json_target(json_file, campaign)
-    result = run_calibration(campaign, knobs=parameter or None, gears=gear or None)
+    result = run_calibration(campaign, knobs=parameter or None, gears=gear or None,
+                             starts=starts)
     if not result.gears:
         fail(spec, "no run records a gear unit with time histories; nothing to fit")
     for item in result.gears:
@@ -118,6 +127,8 @@ def calibrate(spec: SpecArgument,
             rmse.add_row(e.run, CHANNEL_LABELS[e.channel], with_unit(e.nominal, kind, units),
                          with_unit(e.calibrated, kind, units))
         out.print(rmse)
+        if item.search is not None:
+            out.print(starts_words(item.search))
         for text in fit_.warnings:
             warning(text)
         if not fit_.success:

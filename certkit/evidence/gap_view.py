@@ -15,7 +15,7 @@ from markupsafe import Markup
 
 from certkit.display import magnitude, number, parameter, percent, with_unit
 from certkit.evidence.methods import gap_method, unit_size
-from certkit.evidence.model_view import origins
+from certkit.evidence.model_view import origins, starts_words
 from certkit.evidence.sections import BlindSection, GapSection
 from certkit.physics.drops import MIDDLE_FROM
 from certkit.gap.code import code_fingerprint, differing_files
@@ -448,6 +448,7 @@ def gap_view(evidence, campaign, units) -> GapSection:
                       f"the default (every drop at the highest drop height held out, and at "
                       f"the middle one from {MIDDLE_FROM} heights up)"),
             "calibration_cost": number(gap.before.calibration.fit.cost),
+            "calibration_starts": starts_words(gap.before.calibration.search),
             "largest": _gap_largest(gap.before, units),
             "heatmap": figures[0], "overlays": figures[1:],
             "steps": _gap_steps(gap, units), "statement": diagnosis.statement,

@@ -24,6 +24,22 @@ MODEL_METHOD = ("The two-mass governing equations of a gear drop (airframe mass 
                 "play no part in the fit.")
 
 
+def model_method(starts: int) -> str:
+    """Appendix A's method: :data:`MODEL_METHOD` and where the fit starts from
+    (``model.calibration.starts``)."""
+    from certkit.physics.starts import KEEP_MARGIN
+    if not starts:
+        return (f"{MODEL_METHOD} The fit starts from the spec's values only "
+                f"(model.calibration.starts is 0); a fit can stop in a basin of its cost "
+                f"short of the best fit, which further starts would find.")
+    return (f"{MODEL_METHOD} The fit starts from the spec's values and from {starts} further "
+            f"starts spread over the parameters' bounds (model.calibration.starts: the "
+            f"first {starts} points of Halton's sequence, on a log scale between positive "
+            f"bounds), each fitted (forward differences); the best is fitted again (central "
+            f"differences) and kept when its cost is more than {percent(KEEP_MARGIN, 1)} "
+            f"below the fit from the spec's values.")
+
+
 def held_out_drops(held_at_middle: bool, declared: bool) -> str:
     """Which drops the held-out protocol simulates, as the split rule chose them."""
     if declared:
@@ -69,16 +85,25 @@ def gap_method(units) -> dict:
     from certkit.gap.phases import BREAKOUT_TRAVEL, BREAKOUT_WINDOW, REBOUND_DROP
     from certkit.gap.residuals import BANDS, MAX_LAG, TIMING_LAG
     from certkit.gap.selection import (CANDIDATES, DETECTABLE, FLOOR_CHANNEL, GAIN, LEADING,
-                                       PULSE_SHARE, RECALIBRATE, RELEVANT, RESTARTS, TIE_COST,
+                                       NOMINAL_STARTS, PULSE_SHARE, RECALIBRATE, RELEVANT,
+                                       RESTARTS, TIE_COST,
                                        TIMING_SHARE)
     from certkit.physics.effects.load_cell_gain import MAX_SKEW
+    from certkit.physics.starts import KEEP_MARGIN
     from certkit.physics.effects.tyre_hysteresis import ONSET_RANGE
 
     bands = ", ".join(f"{name} ({low:g}-{high:g} Hz)" if math.isfinite(high)
                       else f"{name}" for name, low, high in BANDS)
     return {
         "split": (f"The bare drop model (no optional effects) is calibrated on the training "
-                  f"runs only. The held-out runs are used for nothing but the errors reported "
+                  f"runs only, from the spec's values and from {NOMINAL_STARTS} further "
+                  f"starts spread over the parameters' bounds (the first {NOMINAL_STARTS} "
+                  f"points of Halton's sequence, on a log scale between positive bounds), "
+                  f"each fitted (forward differences), the best fitted again (central "
+                  f"differences); it is kept when its cost is more than "
+                  f"{percent(KEEP_MARGIN, 1)} below the fit from the spec's values (a fit "
+                  f"can stop in a basin of its cost far from the best, which would leave a "
+                  f"gap that is the optimiser's). The held-out runs are used for nothing but the errors reported "
                   f"as held out: by default every drop at the highest drop height (the "
                   f"certification case is extrapolation), and the middle height's drops too "
                   f"when there are {MIDDLE_FROM} heights or more; the spec's model.gap.held_out "

@@ -34,7 +34,8 @@ from certkit.errors import CertkitInputError
 from certkit.gap.diagnosis import gap_diagnosis
 from certkit.gear_identification import (Identification, identify_gear, not_identified,
                                          plant_note)
-from certkit.physics.calibration import Calibration, calibrate_gear, calibration_runs
+from certkit.physics.calibration import (Calibration, calibrate_gear, calibration_runs,
+                                         calibration_starts)
 from certkit.physics.fitting import FitError
 from certkit.physics.gear_model import drop_model_for
 from certkit.physics.simulation import SimulationError
@@ -124,7 +125,8 @@ def _model_task(gear_id: str, identification: bool = True) -> tuple:
     with threadpool_limits(limits=1):    # one BLAS thread: the same numbers on any machine
         try:
             calibration = calibrate_gear(campaign, gear_id, _knobs(campaign),
-                                         run_ids=calibration_runs(campaign, gear_id))
+                                         run_ids=calibration_runs(campaign, gear_id),
+                                         starts=calibration_starts(campaign))
         except Exception as error:   # noqa: BLE001 - stated in the appendix, never fatal
             failures.append(_failure(CALIBRATION, gear_id, error))
         try:

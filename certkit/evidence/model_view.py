@@ -15,7 +15,7 @@ from markupsafe import Markup
 
 from certkit.display import (display, magnitude, number, parameter, percent, pretty, typed,
                              with_unit)
-from certkit.evidence.methods import MODEL_METHOD, held_out_drops, identification_method
+from certkit.evidence.methods import held_out_drops, identification_method, model_method
 from certkit.evidence.sections import IdentificationSection, ModelSection
 from certkit.units import convert
 
@@ -69,9 +69,10 @@ def _tabulated_marks(tabulated: dict, gear_id: str, run: str) -> dict:
 
 
 def model_view(evidence, units, reference=None, origins=None, effects=(),
-               tabulated=None) -> ModelSection:
+               tabulated=None, starts: int = 0) -> ModelSection:
     """The calibration appendix: per gear unit the calibrated parameters, the fit on the
-    training runs and the prediction of the held-out ones, or why not computed."""
+    training runs and the prediction of the held-out ones, or why not computed.
+    ``starts``: the spec's model.calibration.starts."""
     from certkit.evidence.figures import model_figure
     from certkit.evidence.model_evidence import CALIBRATION
     from certkit.spec.rundata import CHANNEL_LABELS
@@ -139,6 +140,7 @@ def model_view(evidence, units, reference=None, origins=None, effects=(),
             "parameters": parameters, "warnings": [_bound_words(w, gear, units)
                                                    for w in fit.warnings],
             "message": fit.message, "evaluations": fit.evaluations,
+            "starts": starts_words(gear.search),
             "cost": f"{number(fit.cost_nominal)} → {number(fit.cost)}", "rmse": rmse,
             "figures": figures, "velocities": velocities, "held_out_words": held_out_words,
             "step": with_unit(gear.step, "time", units)})
@@ -149,10 +151,27 @@ def model_view(evidence, units, reference=None, origins=None, effects=(),
              f"and then simulated on the held-out runs, which it has not seen, so their errors "
              f"show how well it predicts. This is the calibrated model of the whole report: "
              f"the identification's 'governing equation, calibrated' is the same model.")
-    return ModelSection(method=MODEL_METHOD, intro=intro, synthetic=synthetic_warning(evidence),
+    return ModelSection(method=model_method(starts), intro=intro, synthetic=synthetic_warning(evidence),
                         note=evidence.note, failures=failures_view(evidence, CALIBRATION),
                         gears=gears, effects=declared, reference_rows=reference_rows,
                         reference=_reference_view(reference, units))
+
+
+def starts_words(search) -> str:
+    """What a calibration's further starts found, as recorded (empty when it had none)."""
+    if search is None:
+        return ""
+    count, lowest = len(search.points), min(search.start_costs)
+    if search.kept is None:
+        return (f"It was fitted from the spec's values (training cost "
+                f"{number(search.first_cost)}) and from {count} further starts spread over "
+                f"the parameters' bounds, the lowest of which reached {number(lowest)}: the "
+                f"fit from the spec's values is kept.")
+    return (f"The fit from the spec's values stopped at a training cost of "
+            f"{number(search.first_cost)}; of {count} further starts spread over the "
+            f"parameters' bounds, start {search.kept + 1} reached "
+            f"{number(search.start_costs[search.kept])} and was fitted on from there: that "
+            f"calibration is kept.")
 
 
 def _bound_words(warning: str, gear, units) -> str:

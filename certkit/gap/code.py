@@ -13,7 +13,7 @@ PACKAGE = Path(__file__).resolve().parent.parent
 #: The modules whose code decides a blind check's outcome (simulation, data, diagnosis);
 #: a folder stands for every module in it.
 DIAGNOSIS_CODE = ("gap/attribution.py", "gap/selection.py", "gap/missing_force.py",
-                  "physics/calibration.py",
+                  "physics/calibration.py", "physics/starts.py",
                   "physics/drop_model.py", "physics/dynamics.py", "physics/effects/",
                   "physics/fitting.py", "gap/holdout.py", "compliance/measures.py",
                   "gap/phases.py", "gap/residuals.py", "spec/rundata.py",

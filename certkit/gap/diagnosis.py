@@ -36,11 +36,12 @@ from certkit.gap.missing_force import campaign_missing_forces
 from certkit.gap.phases import segment
 from certkit.gap.residuals import BANDS, Cell, band_shares, describe, largest, residual_cells
 from certkit.gap.selection import (CANDIDATES, GAIN, LEADING, RECALIBRATE, RELEVANT, RESTARTS,
-                                   TIE_COST, Diagnosis, diagnose)
+                                   TIE_COST, Diagnosis, diagnose,
+                                   nominal_calibration)
 from certkit.gap.statements import decision_words
-from certkit.physics.calibration import (CHANNEL_UNITS, GearCalibration, aligned_records,
-                                         calibrate_gear)
+from certkit.physics.calibration import CHANNEL_UNITS, GearCalibration, aligned_records
 from certkit.physics.drops import MIDDLE_FROM
+from certkit.physics.starts import starts_document
 from certkit.spec.campaign import Campaign
 from certkit.threads import one_blas_thread
 
@@ -96,7 +97,7 @@ def residual_map(campaign: Campaign, gear_id: str,
     """Steps 1-2 for one gear unit (``split`` default: :func:`split_for`)."""
     training, held = split or split_for(campaign, gear_id)[:2]
     if calibration is None:
-        calibration = calibrate_gear(campaign, gear_id, effects=[], run_ids=list(training))
+        calibration = nominal_calibration(campaign, gear_id, training)
     return _map(campaign, gear_id, training, held, calibration, calibration.apply)
 
 
@@ -291,7 +292,8 @@ def gap_document(gap: GapDiagnosis) -> dict:
                                        for knob, p, e in zip(calibration.knobs,
                                                              calibration.fit.parameters,
                                                              calibration.fit.estimate)],
-                        "training_cost": calibration.fit.cost},
+                        "training_cost": calibration.fit.cost,
+                        "further_starts": starts_document(calibration.search)},
         "before": _map_document(gap.before),
         "steps": steps,
         "answer": list(diagnosis.answer), "forms": list(diagnosis.forms),
@@ -313,3 +315,4 @@ def gap_document(gap: GapDiagnosis) -> dict:
                              "shrink": e.shrink} for e in gap.held_out_errors],
         "after": _map_document(gap.after),
     }
+

@@ -37,6 +37,7 @@ from certkit.physics.effects.base import Knob, set_effect
 from certkit.physics.fitting import FitParameter, FitResult, fit
 from certkit.physics.gear_model import drop_model_for
 from certkit.physics.simulation import batch_step, simulate_batch
+from certkit.physics.starts import StartSearch, best_of_starts, starts_document
 from certkit.spec.campaign import Campaign
 from certkit.units import STANDARD_GRAVITY
 from certkit.threads import one_blas_thread
@@ -160,6 +161,7 @@ class GearCalibration:
     nominal_model: DropModel
     calibrated_model: DropModel
     held_out: tuple[str, ...] = ()   # recorded drops not fitted, simulated to validate
+    search: StartSearch | None = None   # the further starts, when the fit was given some
 
     def apply(self, model: DropModel) -> DropModel:
         """``model`` (of this gear, any run) with the calibrated values."""
@@ -266,10 +268,14 @@ def _residual_vector(runs: list[_Run], simulated: list[dict]) -> np.ndarray:
     return np.concatenate(parts)
 
 
+# --------------------------------------------------------------------------- further starts
+#: The fit's budget and tolerance (``least_squares``'s max_nfev and its three tolerances).
+FIT_EVALUATIONS = 60
+FIT_TOLERANCE = 1e-6
 @one_blas_thread
 def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = None,
                    effects: list[str] | None = None, run_ids: list[str] | None = None,
-                   start: list[float] | None = None) -> GearCalibration:
+                   start: list[float] | None = None, starts: int = 0) -> GearCalibration:
     """Fit ``knobs`` of ``gear_id``'s drop model to the runs ``run_ids`` (default: every
     run recording it); every other recorded drop of the gear is simulated with the nominal
     and the fitted parameters and compared with its record (``role`` "held out").
@@ -280,6 +286,12 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
     ``nominal``, ``fit.cost_nominal``) is the start.  The gap diagnosis starts a
     calibration again where a refit's bare parameters lay; the campaign's calibration
     always starts from the nominal values.
+
+    ``starts``: further starts (:func:`certkit.physics.starts.halton_starts`, within the bounds) the fit is tried
+    from, kept only when one reaches a lower cost (:func:`certkit.physics.starts.best_of_starts`; recorded in
+    ``search``).  A fit of a drop model can stop in a basin of its cost far from the best
+    one (a stiff top-out pad, say, barely moves the load until it is much softer); the
+    gap diagnosis calibrates its nominal model so.
 
     Raises
     ------
@@ -340,7 +352,12 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
                          for i in range(len(matrix))])
 
     result = fit(lambda x: many(np.asarray(x)[None, :])[0], parameters, residuals_many=many,
-                 max_evaluations=60, tolerance=1e-6)
+                 max_evaluations=FIT_EVALUATIONS, tolerance=FIT_TOLERANCE)
+    search = None
+    if starts:
+        result, search = best_of_starts(result, parameters,
+                                        lambda x: many(np.asarray(x)[None, :])[0], many,
+                                        starts, FIT_EVALUATIONS, FIT_TOLERANCE)
 
     fitted_ids = {r.run_id for r in runs}
     held = [] if run_ids is None else [r for r in _runs_for(campaign, gear_id, chosen_effects,
@@ -365,7 +382,7 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
         errors=tuple(errors), traces=tuple(traces),
         contact_velocities={r.run_id: (r.velocity, r.velocity_source) for r in shown},
         step=step, nominal_model=base, calibrated_model=configure(base, result.estimate),
-        held_out=tuple(r.run_id for r in held))
+        held_out=tuple(r.run_id for r in held), search=search)
 
 
 def calibration_runs(campaign: Campaign, gear_id: str) -> list[str]:
@@ -380,22 +397,33 @@ def calibration_runs(campaign: Campaign, gear_id: str) -> list[str]:
     return training if training else held
 
 
+def calibration_starts(campaign: Campaign) -> int:
+    """How many further starts the campaign's calibration is tried from: the spec's
+    ``model.calibration.starts``, else none."""
+    settings = campaign.spec.model.calibration
+    return settings.starts if settings is not None else 0
+
+
 @one_blas_thread
 def calibrate(campaign: Campaign, knobs: list[str] | None = None,
               gears: list[str] | None = None, effects: list[str] | None = None,
-              run_ids: list[str] | None = None) -> Calibration:
+              run_ids: list[str] | None = None, starts: int | None = None) -> Calibration:
     """Calibrate every gear unit (or ``gears``) that some run records with time histories,
-    each on ``run_ids`` (default: :func:`calibration_runs`), validated on its other drops."""
+    each on ``run_ids`` (default: :func:`calibration_runs`), validated on its other drops,
+    from the spec's values and ``starts`` further starts (default
+    :func:`calibration_starts`)."""
     spec = campaign.spec
     settings = spec.model.calibration
     if knobs is None and settings is not None and settings.parameters:
         knobs = list(settings.parameters)
+    starts = calibration_starts(campaign) if starts is None else starts
     recorded = [g.id for g in spec.gear_units
                 if any(s is not None and g.id in s.gears for s in campaign.series.values())]
     chosen = recorded if gears is None else [g for g in gears if g in recorded]
     results = tuple(calibrate_gear(campaign, gear_id, knobs, effects,
                                    run_ids if run_ids is not None
-                                   else calibration_runs(campaign, gear_id))
+                                   else calibration_runs(campaign, gear_id),
+                                   starts=starts)
                     for gear_id in chosen)
     return Calibration(tuple(spec.model.effects if effects is None else effects), results)
 
@@ -425,6 +453,7 @@ def calibration_document(calibration: Calibration) -> dict:
                       "nominal": e.nominal, "calibrated": e.calibrated} for e in gear.errors],
             "converged": bool(fit_.success), "message": fit_.message,
             "evaluations": fit_.evaluations, "step_s": gear.step,
+            "further_starts": starts_document(gear.search),
         })
     return {"effects": list(calibration.effects), "gear_units": gears}
 

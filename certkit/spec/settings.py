@@ -177,7 +177,8 @@ CalibrationParameter = Literal[
 
 class CalibrationSpec(SpecBlock):
     """What `certkit calibrate` fits (default: C_d, pre-charge, n, tyre stiffness and
-    exponent, the top-out stop's compression, friction and load-cell gain when those are on)."""
+    exponent, the top-out stop's compression, friction and load-cell gain when those are on),
+    to which runs, and from how many further starts."""
 
     parameters: list[CalibrationParameter] = Field([], description="parameters to fit")
     runs: list[Identifier] = Field(
@@ -185,6 +186,12 @@ class CalibrationSpec(SpecBlock):
                         "every drop but those at the highest drop height, and the middle "
                         "height's when there are four heights or more); the others are "
                         "simulated to validate the calibrated model")
+    starts: int = Field(
+        0, ge=0, le=20,
+        description="further starts of the fit, spread over the parameters' bounds "
+                    "(Halton's sequence); the fit reaching the lowest cost is kept when it "
+                    "is more than 0.1 % below the fit from the spec's values (0: from the "
+                    "spec's values only; each start costs about one more fit)")
 
 
 class BlockModelSpec(SpecBlock):
