@@ -647,16 +647,20 @@ def test_a_nominal_calibration_in_a_local_minimum_is_done_again_before_effects_a
 
 def test_the_floor_is_the_better_of_two_calibrations_of_the_bare_case(monkeypatch):
     """The floor of a case is the nominal model calibrated on its bare records from the
-    nominal values or from where the diagnosis's calibration ended, whichever fits better
-    (the diagnosis's own calibration may have been done again out of a poorer fit)."""
+    nominal values (and the diagnosis's further starts) or from where the diagnosis's
+    calibration ended, whichever fits better (the diagnosis's own calibration may have
+    been done again out of a poorer fit)."""
     from types import SimpleNamespace
 
     from blindcheck import truth_gap
 
+    from certkit.gap.selection import NOMINAL_STARTS
+
     made = []
 
-    def calibrate_gear(campaign, gear_id, knobs=None, effects=None, run_ids=None, start=None):
-        made.append((knobs, run_ids, start))
+    def calibrate_gear(campaign, gear_id, knobs=None, effects=None, run_ids=None, start=None,
+                       starts=0):
+        made.append((knobs, run_ids, start, starts))
         return SimpleNamespace(fit=SimpleNamespace(cost=costs[len(made) - 1]))
 
     monkeypatch.setattr(truth_gap, "calibrate_gear", calibrate_gear)
@@ -664,7 +668,8 @@ def test_the_floor_is_the_better_of_two_calibrations_of_the_bare_case(monkeypatc
         knobs=(SimpleNamespace(name="k1"),), fit=SimpleNamespace(estimate=(7.0,))))
     costs = [0.02, 0.01]
     assert truth_gap.floor_calibration("bare", "g", diagnosis).fit.cost == 0.01
-    assert made == [(None, ["D1", "D2"], None), (["k1"], ["D1", "D2"], [7.0])]
+    assert NOMINAL_STARTS == 8
+    assert made == [(None, ["D1", "D2"], None, 8), (["k1"], ["D1", "D2"], [7.0], 0)]
     made.clear()
     costs = [0.01, 0.02]
     assert truth_gap.floor_calibration("bare", "g", diagnosis).fit.cost == 0.01

@@ -130,3 +130,44 @@ def test_a_fit_that_meets_non_finite_residuals_is_reported_not_a_traceback(measu
     assert outcome.exit_code == 2
     assert "residuals are not finite at gas-precharge" in outcome.output
     assert "Traceback" not in outcome.output
+
+
+def test_further_starts_are_recorded_and_one_basin_keeps_the_first_fit(measured, tmp_path):
+    """Two knobs whose truth lies 8 % from the nominal: every start reaches the first fit's
+    minimum, so the first fit is kept exactly and the starts are recorded, inside the
+    bounds."""
+    target = tmp_path / "starts.json"
+    knobs = ["discharge-coefficient", "tyre-stiffness"]
+    outcome = runner.invoke(app, ["calibrate", str(measured), "-p", knobs[0], "-p", knobs[1],
+                                  "--starts", "2", "--json", str(target)])
+    assert outcome.exit_code == 0, outcome.output
+    assert "from 2 further starts" in " ".join(outcome.output.split())
+    gear = json.loads(target.read_text(encoding="utf-8"))["gear_units"][0]
+    starts = gear["further_starts"]
+    assert starts["kept_start"] is None and starts["failures"] == []
+    assert len(starts["points"]) == len(starts["training_costs"]) == 2
+    for point in starts["points"]:
+        for value, parameter in zip(point, gear["parameters"]):
+            assert parameter["lower"] < value < parameter["upper"]
+    plain = calibrate(load_campaign(measured), knobs=knobs).gears[0]
+    assert plain.search is None
+    assert [p["estimate"] for p in gear["parameters"]] == [float(e) for e in plain.fit.estimate]
+    assert [p["nominal"] for p in gear["parameters"]] == [p.nominal for p in plain.fit.parameters]
+
+
+def test_the_spec_sets_the_further_starts_and_the_option_is_checked(measured):
+    from certkit.physics.calibration import calibration_starts
+
+    text = measured.read_text(encoding="utf-8")
+    assert "\nmodel:\n  effects:" in text
+    spec = measured.parent / "with-starts.yaml"     # beside the data files it names
+    spec.write_text(text.replace("\nmodel:\n  effects:",
+                                 "\nmodel:\n  calibration: {starts: 1}\n  effects:"),
+                    encoding="utf-8")
+    campaign = load_campaign(spec)
+    assert calibration_starts(campaign) == 1 and calibration_starts(load_campaign(measured)) == 0
+    gear = calibrate(campaign, knobs=["discharge-coefficient"]).gears[0]
+    assert len(gear.search.points) == 1
+    outcome = runner.invoke(app, ["calibrate", str(measured), "--starts", "21"])
+    assert outcome.exit_code == 2
+    assert "--starts: expected a whole number from 0 to 20, found 21" in outcome.output

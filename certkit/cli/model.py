@@ -77,9 +77,10 @@ def calibrate(spec: SpecArgument,
                        "default: every recorded one")] = None,
               starts: Annotated[int | None, typer.Option(
                   "--starts", metavar="N",
-                  help="further starts of the fit spread over the parameters' bounds, the "
-                       "best kept, 0 to 20; default: the spec's model.calibration.starts, "
-                       "else 0")] = None,
+                  help="further starts of the fit spread over the parameters' bounds, 0 to "
+                       "20; the best is kept when it fits better than the fit from the "
+                       "spec's values beyond the fit's tolerance; default: the spec's "
+                       "model.calibration.starts, else 0")] = None,
               json_file: Annotated[Path | None, typer.Option(
                   "--json", metavar="FILE", help="also write the results, in SI, to FILE (JSON)")] = None,
               ) -> None:
@@ -90,8 +91,9 @@ def calibrate(spec: SpecArgument,
 
 
 
-    if starts is not None and not 0 <= starts <= 20:
-        bad_option("starts", "a whole number from 0 to 20", starts)
+    from certkit.physics.starts import MOST_STARTS
+    if starts is not None and not 0 <= starts <= MOST_STARTS:
+        bad_option("starts", f"a whole number from 0 to {MOST_STARTS}", starts)
     campaign = load_campaign(spec)
     _check_json_target(json_file, campaign)
     result = run_calibration(campaign, knobs=parameter or None, gears=gear or None,

@@ -27,17 +27,25 @@ MODEL_METHOD = ("The two-mass governing equations of a gear drop (airframe mass 
 def model_method(starts: int) -> str:
     """Appendix A's method: :data:`MODEL_METHOD` and where the fit starts from
     (``model.calibration.starts``)."""
-    from certkit.physics.starts import KEEP_MARGIN
     if not starts:
         return (f"{MODEL_METHOD} The fit starts from the spec's values only "
                 f"(model.calibration.starts is 0); a fit can stop in a basin of its cost "
-                f"short of the best fit, which further starts would find.")
-    return (f"{MODEL_METHOD} The fit starts from the spec's values and from {starts} further "
-            f"starts spread over the parameters' bounds (model.calibration.starts: the "
-            f"first {starts} points of Halton's sequence, on a log scale between positive "
-            f"bounds), each fitted (forward differences); the best is fitted again (central "
-            f"differences) and kept when its cost is more than {percent(KEEP_MARGIN, 1)} "
-            f"below the fit from the spec's values.")
+                f"short of the best fit, which further starts might find.")
+    return (f"{MODEL_METHOD} The fit starts from the spec's values and "
+            f"{starts_method(starts)} (model.calibration.starts).")
+
+
+def starts_method(count: int) -> str:
+    """How ``count`` further starts of a calibration are placed and chosen, in words
+    (:mod:`certkit.physics.starts`)."""
+    from certkit.physics.starts import KEEP_MARGIN
+    return (f"from {count} further starts spread over the parameters' bounds (points 1 to "
+            f"{count} of Sobol's sequence, unscrambled, on a log scale between two positive "
+            f"bounds and a linear one otherwise), each fitted (forward differences); the "
+            f"start with the lowest cost (the earliest within {percent(KEEP_MARGIN, 1)} of "
+            f"it) is fitted again (central differences), and that fit is kept when its "
+            f"cost is more than {percent(KEEP_MARGIN, 1)} below the fit from the spec's "
+            f"values; a start whose fit fails is passed over")
 
 
 def held_out_drops(held_at_middle: bool, declared: bool) -> str:
@@ -89,21 +97,15 @@ def gap_method(units) -> dict:
                                        RESTARTS, TIE_COST,
                                        TIMING_SHARE)
     from certkit.physics.effects.load_cell_gain import MAX_SKEW
-    from certkit.physics.starts import KEEP_MARGIN
     from certkit.physics.effects.tyre_hysteresis import ONSET_RANGE
 
     bands = ", ".join(f"{name} ({low:g}-{high:g} Hz)" if math.isfinite(high)
                       else f"{name}" for name, low, high in BANDS)
     return {
         "split": (f"The bare drop model (no optional effects) is calibrated on the training "
-                  f"runs only, from the spec's values and from {NOMINAL_STARTS} further "
-                  f"starts spread over the parameters' bounds (the first {NOMINAL_STARTS} "
-                  f"points of Halton's sequence, on a log scale between positive bounds), "
-                  f"each fitted (forward differences), the best fitted again (central "
-                  f"differences); it is kept when its cost is more than "
-                  f"{percent(KEEP_MARGIN, 1)} below the fit from the spec's values (a fit "
-                  f"can stop in a basin of its cost far from the best, which would leave a "
-                  f"gap that is the optimiser's). The held-out runs are used for nothing but the errors reported "
+                  f"runs only, from the spec's values and {starts_method(NOMINAL_STARTS)} "
+                  f"(a fit can stop in a basin of its cost far from the best, which would "
+                  f"leave a gap that is the optimiser's). The held-out runs are used for nothing but the errors reported "
                   f"as held out: by default every drop at the highest drop height (the "
                   f"certification case is extrapolation), and the middle height's drops too "
                   f"when there are {MIDDLE_FROM} heights or more; the spec's model.gap.held_out "

@@ -161,17 +161,24 @@ def starts_words(search) -> str:
     """What a calibration's further starts found, as recorded (empty when it had none)."""
     if search is None:
         return ""
-    count, lowest = len(search.points), min(search.start_costs)
-    if search.kept is None:
-        return (f"It was fitted from the spec's values (training cost "
-                f"{number(search.first_cost)}) and from {count} further starts spread over "
-                f"the parameters' bounds, the lowest of which reached {number(lowest)}: the "
-                f"fit from the spec's values is kept.")
-    return (f"The fit from the spec's values stopped at a training cost of "
-            f"{number(search.first_cost)}; of {count} further starts spread over the "
-            f"parameters' bounds, start {search.kept + 1} reached "
-            f"{number(search.start_costs[search.kept])} and was fitted on from there: that "
-            f"calibration is kept.")
+    from certkit.physics.starts import KEEP_MARGIN
+    count = len(search.points)
+    done = [c for c in search.start_costs if c is not None]
+    failed = (f" The fit from {len(search.failures)} of them failed and was passed over: "
+              f"{'; '.join(search.failures)}." if search.failures else "")
+    if search.kept is not None:
+        return (f"The fit from the spec's values stopped at a training cost of "
+                f"{number(search.first_cost)}; of {count} further starts spread over the "
+                f"parameters' bounds, start {search.kept + 1} reached "
+                f"{number(search.start_costs[search.kept])} and was fitted on from there: "
+                f"that calibration is kept.{failed}")
+    reached = (f"the lowest of which reached {number(min(done))}" if done else
+               "none of which could be fitted")
+    return (f"It was fitted from the spec's values (training cost "
+            f"{number(search.first_cost)}) and from {count} further starts spread over the "
+            f"parameters' bounds, {reached}: none came more than "
+            f"{percent(KEEP_MARGIN, 1)} below the fit from the spec's values, which is "
+            f"kept.{failed}")
 
 
 def _bound_words(warning: str, gear, units) -> str:

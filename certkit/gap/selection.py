@@ -409,7 +409,9 @@ def _calibrated_again(campaign, gear_id: str, training, residuals: RunResiduals,
     figures["cost_after"] = float(again.fit.cost)
     if not again.fit.cost < limit:
         return None, Decision(_joined(fits[best]), "not settled", figures)
-    return again, Decision(_joined(fits[best]), "calibrated again", figures)
+    # the record of the first calibration's further starts goes with the calibration
+    return (replace(again, search=calibration.search),
+            Decision(_joined(fits[best]), "calibrated again", figures))
 
 
 def _crosstalk_alike(campaign, gear_id: str, training, gain, configure,

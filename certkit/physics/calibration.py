@@ -287,9 +287,9 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
     calibration again where a refit's bare parameters lay; the campaign's calibration
     always starts from the nominal values.
 
-    ``starts``: further starts (:func:`certkit.physics.starts.halton_starts`, within the bounds) the fit is tried
-    from, kept only when one reaches a lower cost (:func:`certkit.physics.starts.best_of_starts`; recorded in
-    ``search``).  A fit of a drop model can stop in a basin of its cost far from the best
+    ``starts``: further starts within the bounds the fit is tried from (0 to
+    :data:`certkit.physics.starts.MOST_STARTS`), kept only when one reaches a lower cost
+    (:func:`certkit.physics.starts.best_of_starts`; recorded in ``search``).  A fit of a drop model can stop in a basin of its cost far from the best
     one (a stiff top-out pad, say, barely moves the load until it is much softer); the
     gap diagnosis calibrates its nominal model so.
 
