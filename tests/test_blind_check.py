@@ -460,6 +460,10 @@ def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
     assert {c.seed for c in dev_cases if c.plan is S5} == {14401, 14402} | set(range(14800,
                                                                                    14820))
     assert {c.seed for c in sealed_cases} == {16401, 16402} | set(range(16800, 16820))
+    # S5's record, kept as it was run while S5 was sealed, holds exactly S5's cases, in order
+    kept = BENCHMARKS / "records" / "seed-S5-c8840fe" / "blind-check.json"
+    assert [o["id"] for o in json.loads(kept.read_text(encoding="utf-8"))["cases"]] == \
+        [c.id for c in dev_cases if c.plan is S5]
     # at least as many cases as a development plan; no seed, no case id in common
     assert len(sealed_cases) >= len(independent.battery(development[0])) >= 106
     assert not {c.seed for c in dev_cases} & {c.seed for c in sealed_cases}
