@@ -500,6 +500,7 @@ def test_a_calibration_beaten_by_a_refits_bare_parameters_is_done_again(monkeypa
     again, from the refit that fits best without its effect; the new calibration is kept
     only when it too is below 0.98, else the calibration has not settled; and after
     RESTARTS calibrations a better fit that remains is "not settled" without another."""
+    from dataclasses import dataclass
     from types import SimpleNamespace
 
     import numpy as np
@@ -515,15 +516,23 @@ def test_a_calibration_beaten_by_a_refits_bare_parameters_is_done_again(monkeypa
     residuals = SimpleNamespace(evaluate=lambda sets: [
         np.full(5, without_effect[values[0]]) for candidates, values in sets
         if candidates == []])
-    calibration = SimpleNamespace(knobs=(SimpleNamespace(name="k1"), SimpleNamespace(name="k2")),
-                                  fit=SimpleNamespace(cost=1.0, estimate=(3.0, 30.0)))
+    @dataclass(frozen=True)
+    class Calibrated:          # what the rule reads of a calibration, and may replace
+        fit: SimpleNamespace
+        knobs: tuple = ()
+        search: object = None
+
+    first_search = object()    # the first calibration's further starts, carried over
+    calibration = Calibrated(knobs=(SimpleNamespace(name="k1"), SimpleNamespace(name="k2")),
+                             fit=SimpleNamespace(cost=1.0, estimate=(3.0, 30.0)),
+                             search=first_search)
     fits = [SimpleNamespace(effects=("friction",), values=(1.0, 10.0, 0.3)),
             SimpleNamespace(effects=("loop",), values=(2.0, 20.0, 0.4))]
     started, after = [], {"cost": 0.45}
 
     def calibrate_gear(campaign, gear_id, knobs, effects, run_ids, start):
         started.append((knobs, effects, run_ids, start))
-        return SimpleNamespace(fit=SimpleNamespace(cost=after["cost"]))
+        return Calibrated(fit=SimpleNamespace(cost=after["cost"]))
 
     monkeypatch.setattr(selection, "calibrate_gear", calibrate_gear)
 
@@ -537,7 +546,7 @@ def test_a_calibration_beaten_by_a_refits_bare_parameters_is_done_again(monkeypa
     new, decision = again()
     # the same knobs, no effect, the training runs, the loop's bare parameters
     assert started == [(["k1", "k2"], [], ["D1", "D2"], [2.0, 20.0])]
-    assert new.fit.cost == 0.45
+    assert new.fit.cost == 0.45 and new.search is first_search
     assert (decision.name, decision.rule) == ("loop", "calibrated again")
     assert decision.figures == {"from": "loop", "cost_before": 1.0, "start_cost": 0.5,
                                 "cost_after": 0.45, "recalibrate": 0.02, "restarts": 2,
