@@ -126,6 +126,54 @@ def test_when_every_start_fails_the_first_fit_stands():
     assert result.estimate[0] == first.estimate[0]
 
 
-def test_the_margin_is_one_per_mille():
-    # stated in the report's method text and the spec's description
-    assert KEEP_MARGIN == 1e-3
+def test_the_texts_that_state_the_margin_and_the_limit_state_the_code_s():
+    """The spec's description and the command's help spell the margin and the most starts
+    out (they are read without loading the physics); the method text takes them from the
+    code."""
+    from typer.testing import CliRunner
+
+    from certkit.cli import app
+    from certkit.display import percent
+    from certkit.evidence.methods import model_method
+    from certkit.spec.settings import CalibrationSpec
+
+    margin = percent(KEEP_MARGIN, 1)
+    field = CalibrationSpec.model_fields["starts"]
+    assert f"more than {margin} below" in field.description
+    assert [m.le for m in field.metadata if hasattr(m, "le")] == [MOST_STARTS]
+    help_text = " ".join(CliRunner().invoke(app, ["calibrate", "--help"],
+                                            terminal_width=200).output.split())
+    assert f"0 to {MOST_STARTS}; the best is kept when its training cost is more than " \
+        f"{margin} below" in help_text
+    assert f"more than {margin} below the fit from the spec's values" in model_method(2)
+
+
+def test_the_report_says_what_the_starts_found_in_each_case():
+    from certkit.evidence.model_view import starts_words
+    from certkit.physics.starts import StartSearch
+
+    # costs as the report prints every number: four significant digits
+    points = ((1.0,), (2.0,), (3.0,))
+    kept = starts_words(StartSearch(points, (0.5, 0.1, 0.3), 0.9, 1))
+    assert kept.startswith("The fit from the spec's values reached a training cost "
+                           "(normalised RMS residual) of 0.9000. It was also tried from 3 "
+                           "further starts")
+    assert "start 2 reached 0.1000 and, fitted again from where it stopped, came more than " \
+        "0.1 % lower: that calibration is kept." in kept
+    none_lower = starts_words(StartSearch(points, (0.9, 1.2, None), 0.9, None,
+                                          ("start 3: not finite",)))
+    assert "the lowest reached 0.9000 and, fitted again, came no more than 0.1 % below the " \
+        "fit from the spec's values, which is kept." in none_lower
+    assert "(values in SI): start 3: not finite." in none_lower
+    refit_failed = starts_words(StartSearch(points, (0.5, 0.2, 0.3), 0.9, None,
+                                            ("start 2, fitted again: stiff",)))
+    assert "the lowest, start 2 at 0.2000, could not be fitted again, so the fit from the " \
+        "spec's values is kept." in refit_failed
+    all_failed = starts_words(StartSearch(points, (None, None, None), 0.9, None,
+                                          ("a", "b", "c")))
+    assert "none of them could be fitted, so the fit from the spec's values is kept." \
+        in all_failed
+    again = starts_words(StartSearch(points, (0.9, 1.2, 1.0), 0.9, None), again_cost=0.4)
+    assert again.endswith("The model was then calibrated again from a refit's parameters "
+                          "(training cost 0.4000), and that calibration is the one used.")
+    assert starts_words(None) == ""

@@ -78,9 +78,10 @@ def calibrate(spec: SpecArgument,
               starts: Annotated[int | None, typer.Option(
                   "--starts", metavar="N",
                   help="further starts of the fit spread over the parameters' bounds, 0 to "
-                       "20; the best is kept when it fits better than the fit from the "
-                       "spec's values beyond the fit's tolerance; default: the spec's "
-                       "model.calibration.starts, else 0")] = None,
+                       "20; the best is kept when its training cost is more than 0.1 % below "
+                       "the fit from the spec's values; overrides the spec's "
+                       "model.calibration.starts for this command (default: that, else 0)"
+                  )] = None,
               json_file: Annotated[Path | None, typer.Option(
                   "--json", metavar="FILE", help="also write the results, in SI, to FILE (JSON)")] = None,
               ) -> None:

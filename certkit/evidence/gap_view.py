@@ -448,7 +448,10 @@ def gap_view(evidence, campaign, units) -> GapSection:
                       f"the default (every drop at the highest drop height held out, and at "
                       f"the middle one from {MIDDLE_FROM} heights up)"),
             "calibration_cost": number(gap.before.calibration.fit.cost),
-            "calibration_starts": starts_words(gap.before.calibration.search),
+            "calibration_starts": starts_words(
+                gap.before.calibration.search,
+                gap.before.calibration.fit.cost
+                if any(d.rule == "calibrated again" for d in diagnosis.recalibrated) else None),
             "largest": _gap_largest(gap.before, units),
             "heatmap": figures[0], "overlays": figures[1:],
             "steps": _gap_steps(gap, units), "statement": diagnosis.statement,

@@ -29,23 +29,28 @@ def model_method(starts: int) -> str:
     (``model.calibration.starts``)."""
     if not starts:
         return (f"{MODEL_METHOD} The fit starts from the spec's values only "
-                f"(model.calibration.starts is 0); a fit can stop in a basin of its cost "
-                f"short of the best fit, which further starts might find.")
+                f"(model.calibration.starts is 0); a fit can stop at a local best fit (no "
+                f"small change of the parameters improves it) short of the best one, which "
+                f"further starts might find.")
     return (f"{MODEL_METHOD} The fit starts from the spec's values and "
-            f"{starts_method(starts)} (model.calibration.starts).")
+            f"{starts_method(starts, 'model.calibration.starts')}.")
 
 
-def starts_method(count: int) -> str:
+def starts_method(count: int, setting: str = "") -> str:
     """How ``count`` further starts of a calibration are placed and chosen, in words
-    (:mod:`certkit.physics.starts`)."""
-    from certkit.physics.starts import KEEP_MARGIN
-    return (f"from {count} further starts spread over the parameters' bounds (points 1 to "
-            f"{count} of Sobol's sequence, unscrambled, on a log scale between two positive "
-            f"bounds and a linear one otherwise), each fitted (forward differences); the "
-            f"start with the lowest cost (the earliest within {percent(KEEP_MARGIN, 1)} of "
-            f"it) is fitted again (central differences), and that fit is kept when its "
-            f"cost is more than {percent(KEEP_MARGIN, 1)} below the fit from the spec's "
-            f"values; a start whose fit fails is passed over")
+    (:mod:`certkit.physics.starts`); ``setting``: the spec key that sets ``count``."""
+    from certkit.physics.starts import KEEP_MARGIN, START_EVALUATIONS
+    margin = percent(KEEP_MARGIN, 1)
+    return (f"from {count} further starts{f' ({setting})' if setting else ''} spread over "
+            f"the parameters' bounds (points 1 to {count} of Sobol's sequence, a fixed, "
+            f"evenly spread set of points, the same on every machine; on a log scale "
+            f"between two positive bounds, a linear one otherwise). Each start is a short "
+            f"fit (forward differences; at most {START_EVALUATIONS} evaluations of the "
+            f"residuals, finite-difference points not counted); the "
+            f"start with the lowest training cost (the earliest within {margin} of it) is "
+            f"fitted again from where it stopped (central differences), and that fit is "
+            f"kept when its training cost is more than {margin} below the fit from the "
+            f"spec's values; a start whose fit fails is passed over")
 
 
 def held_out_drops(held_at_middle: bool, declared: bool) -> str:
@@ -103,9 +108,10 @@ def gap_method(units) -> dict:
                       else f"{name}" for name, low, high in BANDS)
     return {
         "split": (f"The bare drop model (no optional effects) is calibrated on the training "
-                  f"runs only, from the spec's values and {starts_method(NOMINAL_STARTS)} "
-                  f"(a fit can stop in a basin of its cost far from the best, which would "
-                  f"leave a gap that is the optimiser's). The held-out runs are used for nothing but the errors reported "
+                  f"runs only, from the spec's values and {starts_method(NOMINAL_STARTS)}: "
+                  f"a fit can stop at a local best fit far from the best one, which would "
+                  f"leave a model-to-test difference caused by the fitting, not by missing "
+                  f"physics. The held-out runs are used for nothing but the errors reported "
                   f"as held out: by default every drop at the highest drop height (the "
                   f"certification case is extrapolation), and the middle height's drops too "
                   f"when there are {MIDDLE_FROM} heights or more; the spec's model.gap.held_out "

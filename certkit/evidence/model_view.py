@@ -139,7 +139,9 @@ def model_view(evidence, units, reference=None, origins=None, effects=(),
             "held_out": ", ".join(gear.held_out) or "none",
             "parameters": parameters, "warnings": [_bound_words(w, gear, units)
                                                    for w in fit.warnings],
-            "message": fit.message, "evaluations": fit.evaluations,
+            "message": fit.message,
+            "evaluations": f"{fit.evaluations} model evaluations"
+                           + (" in all, further starts included" if gear.search else ""),
             "starts": starts_words(gear.search),
             "cost": f"{number(fit.cost_nominal)} → {number(fit.cost)}", "rmse": rmse,
             "figures": figures, "velocities": velocities, "held_out_words": held_out_words,
@@ -157,28 +159,41 @@ def model_view(evidence, units, reference=None, origins=None, effects=(),
                         reference=_reference_view(reference, units))
 
 
-def starts_words(search) -> str:
-    """What a calibration's further starts found, as recorded (empty when it had none)."""
+def starts_words(search, again_cost: float | None = None) -> str:
+    """What a calibration's further starts found, as recorded (empty when it had none).
+    ``again_cost``: the training cost of a calibration done again afterwards from a
+    refit's parameters (the gap diagnosis), which is then the calibration used."""
     if search is None:
         return ""
-    from certkit.physics.starts import KEEP_MARGIN
-    count = len(search.points)
-    done = [c for c in search.start_costs if c is not None]
-    failed = (f" The fit from {len(search.failures)} of them failed and was passed over: "
-              f"{'; '.join(search.failures)}." if search.failures else "")
+    from certkit.physics.starts import KEEP_MARGIN, START_EVALUATIONS
+    margin, costs = percent(KEEP_MARGIN, 1), search.start_costs
+    done = [(c, i) for i, c in enumerate(costs) if c is not None]
+    words = (f"The fit from the spec's values reached a training cost (normalised RMS "
+             f"residual) of {number(search.first_cost)}. It was also tried from "
+             f"{len(search.points)} further starts spread over the parameters' bounds, each "
+             f"a short fit (at most {START_EVALUATIONS} evaluations of the residuals, "
+             f"finite-difference points not counted)")
     if search.kept is not None:
-        return (f"The fit from the spec's values stopped at a training cost of "
-                f"{number(search.first_cost)}; of {count} further starts spread over the "
-                f"parameters' bounds, start {search.kept + 1} reached "
-                f"{number(search.start_costs[search.kept])} and was fitted on from there: "
-                f"that calibration is kept.{failed}")
-    reached = (f"the lowest of which reached {number(min(done))}" if done else
-               "none of which could be fitted")
-    return (f"It was fitted from the spec's values (training cost "
-            f"{number(search.first_cost)}) and from {count} further starts spread over the "
-            f"parameters' bounds, {reached}: none came more than "
-            f"{percent(KEEP_MARGIN, 1)} below the fit from the spec's values, which is "
-            f"kept.{failed}")
+        words += (f"; start {search.kept + 1} reached {number(costs[search.kept])} and, "
+                  f"fitted again from where it stopped, came more than {margin} lower: that "
+                  f"calibration is kept.")
+    elif not done:
+        words += "; none of them could be fitted, so the fit from the spec's values is kept."
+    elif len(search.failures) > len(costs) - len(done):
+        # the last failure is the best start's fit done again
+        lowest, index = min(done)
+        words += (f"; the lowest, start {index + 1} at {number(lowest)}, could not be fitted "
+                  f"again, so the fit from the spec's values is kept.")
+    else:
+        words += (f"; the lowest reached {number(min(done)[0])} and, fitted again, came no "
+                  f"more than {margin} below the fit from the spec's values, which is kept.")
+    if search.failures:
+        words += (f" Fits that failed and were passed over (values in SI): "
+                  f"{'; '.join(search.failures)}.")
+    if again_cost is not None:
+        words += (f" The model was then calibrated again from a refit's parameters (training "
+                  f"cost {number(again_cost)}), and that calibration is the one used.")
+    return words
 
 
 def _bound_words(warning: str, gear, units) -> str:

@@ -189,10 +189,10 @@ class CalibrationSpec(SpecBlock):
     starts: int = Field(
         0, ge=0, le=20,   # le: certkit.physics.starts.MOST_STARTS
         description="further starts of the fit, spread over the parameters' bounds "
-                    "(Sobol's sequence); the fit reaching the lowest cost is kept when it is "
-                    "lower than the fit from the spec's values beyond the fit's tolerance "
-                    "(the report states the margin; 0: from the spec's values only; each "
-                    "start costs about one more fit)")
+                    "(Sobol's sequence: a fixed, evenly spread set of points); the best is "
+                    "kept when its training cost is more than 0.1 % below the fit from the "
+                    "spec's values (0: from the spec's values only; each start costs about "
+                    "one more fit)")
 
 
 class BlockModelSpec(SpecBlock):
