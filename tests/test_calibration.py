@@ -171,3 +171,27 @@ def test_the_spec_sets_the_further_starts_and_the_option_is_checked(measured):
     outcome = runner.invoke(app, ["calibrate", str(measured), "--starts", "21"])
     assert outcome.exit_code == 2
     assert "--starts: expected a whole number from 0 to 20, found 21" in outcome.output
+
+
+def test_the_report_states_the_specs_further_starts(measured):
+    """The spec's model.calibration.starts reaches appendix A's method text through the
+    model evidence (one home for the setting: the evidence carries what was used)."""
+    import html as markup
+
+    from certkit import assess
+    from certkit.evidence import report as report_module
+    from certkit.evidence.model_evidence import ModelEvidence
+    from certkit.evidence.provenance import provenance
+    from certkit.physics.calibration import Calibration
+
+    campaign = load_campaign(measured)
+    for starts, words in ((3, "The fit starts from the spec's values and from 3 further "
+                              "starts (model.calibration.starts) spread over the parameters' "
+                              "bounds"),
+                          (0, "The fit starts from the spec's values only "
+                              "(model.calibration.starts is 0)")):
+        evidence = ModelEvidence(Calibration((), ()), "", calibration_starts=starts)
+        page = report_module.render_html(report_module.build_view(
+            assess(campaign), provenance(campaign.inputs), evidence))
+        section = " ".join(markup.unescape(page[page.index('<section id="model"'):]).split())
+        assert words in section

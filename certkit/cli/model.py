@@ -86,13 +86,11 @@ def calibrate(spec: SpecArgument,
                   "--json", metavar="FILE", help="also write the results, in SI, to FILE (JSON)")] = None,
               ) -> None:
     """Fit the drop model's parameters to the measured runs; all drop heights jointly."""
-    from certkit.physics.calibration import calibrate as run_calibration
     from certkit.evidence.model_view import starts_words
+    from certkit.physics.calibration import calibrate as run_calibration
     from certkit.physics.calibration import calibration_document
-
-
-
     from certkit.physics.starts import MOST_STARTS
+
     if starts is not None and not 0 <= starts <= MOST_STARTS:
         bad_option("starts", f"a whole number from 0 to {MOST_STARTS}", starts)
     campaign = load_campaign(spec)

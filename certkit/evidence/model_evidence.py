@@ -69,6 +69,7 @@ class ModelEvidence:
     gap: dict = field(default_factory=dict)  # gear id -> certkit.gap.diagnosis.GapDiagnosis
     gap_notes: tuple[str, ...] = ()          # gear units not diagnosed, and why, in words
     failures: tuple[StageFailure, ...] = ()  # stages that could not be computed
+    calibration_starts: int = 0              # further starts of the calibration (the spec's)
 
     def failed(self, stage: str) -> list[StageFailure]:
         """The failures of ``stage``, in gear-unit order."""
@@ -263,7 +264,8 @@ def model_evidence(campaign: Campaign, identification: bool = True,
                 if any(s is not None and g.id in s.gears for s in campaign.series.values())]
     if not recorded:
         return ModelEvidence(None, "No run has time histories, so the drop model cannot be "
-                                   "compared with or calibrated against the tests.", synthetic)
+                                   "compared with or calibrated against the tests.", synthetic,
+                             calibration_starts=calibration_starts(campaign))
     ready, missing = [], []
     for gear_id in recorded:
         run = next(r for r in spec.runs if gear_id in r.gear_units)
@@ -274,7 +276,8 @@ def model_evidence(campaign: Campaign, identification: bool = True,
             missing += [f"{p.key} ({p.message})" for p in error.problems]
     if not ready:
         return ModelEvidence(None, "The drop model cannot be built from the spec: "
-                                   + "; ".join(missing) + ".", synthetic)
+                                   + "; ".join(missing) + ".", synthetic,
+                             calibration_starts=calibration_starts(campaign))
     note = "" if not missing else ("Not modelled (the drop model cannot be built from the "
                                    "spec): " + "; ".join(missing) + ".")
     # the longest tasks first, so that the processes finish together
@@ -304,4 +307,5 @@ def model_evidence(campaign: Campaign, identification: bool = True,
     return ModelEvidence(calibration, note, synthetic,
                          Identification(identified, plant_note(campaign), skipped)
                          if identification else None,
-                         diagnoses, tuple(gap_notes), tuple(failures))
+                         diagnoses, tuple(gap_notes), tuple(failures),
+                         calibration_starts(campaign))

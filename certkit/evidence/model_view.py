@@ -69,10 +69,9 @@ def _tabulated_marks(tabulated: dict, gear_id: str, run: str) -> dict:
 
 
 def model_view(evidence, units, reference=None, origins=None, effects=(),
-               tabulated=None, starts: int = 0) -> ModelSection:
+               tabulated=None) -> ModelSection:
     """The calibration appendix: per gear unit the calibrated parameters, the fit on the
-    training runs and the prediction of the held-out ones, or why not computed.
-    ``starts``: the spec's model.calibration.starts."""
+    training runs and the prediction of the held-out ones, or why not computed."""
     from certkit.evidence.figures import model_figure
     from certkit.evidence.model_evidence import CALIBRATION
     from certkit.spec.rundata import CHANNEL_LABELS
@@ -153,7 +152,8 @@ def model_view(evidence, units, reference=None, origins=None, effects=(),
              f"and then simulated on the held-out runs, which it has not seen, so their errors "
              f"show how well it predicts. This is the calibrated model of the whole report: "
              f"the identification's 'governing equation, calibrated' is the same model.")
-    return ModelSection(method=model_method(starts), intro=intro, synthetic=synthetic_warning(evidence),
+    return ModelSection(method=model_method(evidence.calibration_starts), intro=intro,
+                        synthetic=synthetic_warning(evidence),
                         note=evidence.note, failures=failures_view(evidence, CALIBRATION),
                         gears=gears, effects=declared, reference_rows=reference_rows,
                         reference=_reference_view(reference, units))

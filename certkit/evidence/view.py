@@ -128,9 +128,7 @@ def build_view(assessment: Assessment, record: dict, model=None) -> ReportView:
         "audit": _audit_settings(spec.audit, units),
         "provenance": record, "version": VERSION,
         "model": model_view(model, units, spec.reference_results, origins(spec),
-                             spec.model.effects, _results_by_run(assessment),
-                             spec.model.calibration.starts
-                             if spec.model.calibration is not None else 0)
+                             spec.model.effects, _results_by_run(assessment))
         if appendices else None,
         "identification": identification_view(model, spec.model.identification, units,
                                               spec.reference_results, origins(spec),
