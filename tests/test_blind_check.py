@@ -388,7 +388,7 @@ def test_a_rescore_keeps_who_ran_the_cases(tmp_path, monkeypatch):
 
     example = BENCHMARKS.parent / EXAMPLE
 
-    committed = example.parent / "blind-check" / "blind-check.json"
+    committed = BENCHMARKS.parent / SEALED_RECORD
     earlier = json.loads(committed.read_text(encoding="utf-8"))
     ran = {"certkit": "0.0.9", "code": "a" * 64, "commit": "b" * 40, "date": "2026-01-02",
            "files": {"gap/selection.py": "c" * 64}, "command": "the run's command"}
@@ -397,7 +397,8 @@ def test_a_rescore_keeps_who_ran_the_cases(tmp_path, monkeypatch):
     source = tmp_path / "earlier.json"
     source.write_text(json.dumps(earlier), encoding="utf-8")
     monkeypatch.setattr(sys, "argv", ["blind_independent.py", str(example), "-g", "left-main",
-                                      "-o", str(tmp_path / "out"), "--rescore", str(source)])
+                                      "--battery", "sealed", "-o", str(tmp_path / "out"),
+                                      "--rescore", str(source)])
     assert independent.main() == 0
     record = read_blind_check(tmp_path / "out" / "blind-check.json")
     assert record.run_by.model_dump(exclude_none=True) == ran and record.template.code == "a" * 64
@@ -405,6 +406,85 @@ def test_a_rescore_keeps_who_ran_the_cases(tmp_path, monkeypatch):
     assert record.scored_by.command.endswith("--rescore RECORD")
     # the cases are the earlier ones, untouched
     assert record.cases == earlier["cases"]
+
+
+def test_a_run_stopped_part_way_resumes_into_the_record_one_run_makes(tmp_path, monkeypatch,
+                                                                     capsys):
+    """A battery stopped after two cases and resumed runs only the cases left, and its
+    record holds the cases one uninterrupted run gives; the run's provenance names both
+    dates; a resume by other code, or a new run over a stopped one, exits 2."""
+    import blind_independent as independent
+    from blindcheck.progress import NAME
+
+    kept = {o["id"]: o for o in json.loads(
+        (BENCHMARKS.parent / SEALED_RECORD).read_text(encoding="utf-8"))["cases"]}
+    calls = []
+
+    def fake(template, gear_id, case, settings):   # the sealed record's outcome of the case
+        calls.append(case.id)
+        if stop_after is not None and len(calls) > stop_after:
+            raise KeyboardInterrupt("the session ended")
+        return dict(kept[case.id])
+
+    monkeypatch.setattr(independent, "run_case", fake)
+
+    def run(folder, *extra):
+        monkeypatch.setattr(sys, "argv", ["blind_independent.py", EXAMPLE, "-g", "left-main",
+                                          "--battery", "sealed", "--quick", "--workers", "1",
+                                          "-o", str(folder), *extra])
+        return independent.main()
+
+    stop_after = None
+    assert run(tmp_path / "whole") == 0
+    whole = json.loads((tmp_path / "whole" / "blind-check.json").read_text(encoding="utf-8"))
+    cases = len(calls)
+    assert cases == whole["settings"]["cases"] > 3
+    assert not (tmp_path / "whole" / NAME).exists()
+
+    calls.clear()
+    stop_after = 2
+    with pytest.raises(KeyboardInterrupt):
+        run(tmp_path / "part")
+    progress = tmp_path / "part" / NAME
+    assert not (tmp_path / "part" / "blind-check.json").exists()
+    lines = progress.read_text(encoding="utf-8").splitlines()
+    assert len(lines) == 1 + 2
+    # the run began on another day, and the stop cut a third case's line short (it is
+    # dropped, the case run again)
+    head = json.loads(lines[0])
+    head["run_by"]["date"] = "2026-01-02"
+    progress.write_text("\n".join([json.dumps(head)] + lines[1:]) + "\n" + '{"id": "case-cut',
+                        encoding="utf-8")
+    capsys.readouterr()
+
+    # a new run over the stopped one is refused; so is a resume by other code
+    stop_after = None
+    with pytest.raises(SystemExit) as refused:
+        run(tmp_path / "part")
+    assert refused.value.code == 2
+    assert "--resume continues it" in capsys.readouterr().err
+    other = dict(head, run_by=dict(head["run_by"], code="f" * 64))
+    progress.write_text(json.dumps(other) + "\n", encoding="utf-8")
+    with pytest.raises(SystemExit) as refused:
+        run(tmp_path / "part", "--resume")
+    assert refused.value.code == 2
+    assert "started by other code or with another command (differing: code)" in \
+        capsys.readouterr().err
+
+    progress.write_text("\n".join([json.dumps(head)] + lines[1:]) + "\n" + '{"id": "case-cut',
+                        encoding="utf-8")
+    calls.clear()
+    assert run(tmp_path / "part", "--resume") == 0
+    assert len(calls) == cases - 2
+    resumed = json.loads((tmp_path / "part" / "blind-check.json").read_text(encoding="utf-8"))
+    assert not progress.exists()
+    assert resumed["cases"] == whole["cases"]
+    assert resumed["metrics"] == whole["metrics"]
+    today = whole["run_by"]["date"]
+    assert resumed["run_by"]["date"] == f"2026-01-02 and {today}"
+    assert {k: v for k, v in resumed["run_by"].items() if k != "date"} == \
+        {k: v for k, v in whole["run_by"].items() if k != "date"}
+    assert "(resumed: 2 cases had run before)" in capsys.readouterr().out
 
 
 def test_the_report_names_the_files_that_differ_from_the_running_certkit():
