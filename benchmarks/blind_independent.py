@@ -56,7 +56,7 @@ import statistics
 import sys
 import tempfile
 import time as clock
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -78,7 +78,7 @@ from certkit.version import VERSION  # noqa: E402
 from blindcheck import battery as own  # noqa: E402
 from blindcheck import scoring  # noqa: E402
 from blindcheck.plans import NUISANCE_RANGES, PLANS, Plan, contact_phases, draws  # noqa: E402
-from blindcheck.progress import Progress, ProgressError, as_recorded  # noqa: E402
+from blindcheck.progress import Progress, ProgressError, as_recorded, header  # noqa: E402
 from blindcheck.record import provenance, write_blind_check  # noqa: E402
 from blindcheck.truth_gap import floor_calibration, held_out_load, physical_size  # noqa: E402
 from blindcheck.sizing import (BEYOND_GAIN, _rate, _sizes, beyond_gain,  # noqa: E402,F401
@@ -431,7 +431,8 @@ def _part_settings(plan: Plan) -> dict:
 
 
 def record(template: str, gear_id: str, plans: tuple, settings, cases: list[Case],
-           outcomes: list[dict], run_by: dict | None = None, rescored: bool = False) -> dict:
+           outcomes: list[dict], run_by: dict | None = None, rescored: bool = False,
+           quick: bool = False) -> dict:
     """The blind-check record of ``outcomes`` (the cases run, in ``cases``' order) of the
     battery made of ``plans``.
 
@@ -440,7 +441,7 @@ def record(template: str, gear_id: str, plans: tuple, settings, cases: list[Case
     fingerprint is the one that ran the cases: a rescore never re-stamps the run."""
     plans = (plans,) if isinstance(plans, Plan) else tuple(plans)
     plan = plans[0]
-    command = _command(template, gear_id, plan)
+    command = _command(template, gear_id, plan, quick)
     scored_by = provenance(command + " --rescore RECORD" if rescored else command)
     run_by = scored_by if run_by is None else run_by
     campaign = load_campaign(template)
@@ -492,10 +493,11 @@ def record(template: str, gear_id: str, plans: tuple, settings, cases: list[Case
     return document
 
 
-def _command(template: str, gear_id: str, plan: Plan) -> str:
+def _command(template: str, gear_id: str, plan: Plan, quick: bool = False) -> str:
     return (f"python benchmarks/blind_independent.py {Path(template).name} -g {gear_id} "
             f"--battery {plan.battery}" + (f" --only {','.join(plan.only)}" if plan.only
-                                           else "") + " -o DIR")
+                                           else "") + (" --quick" if quick else "")
+            + " -o DIR")
 
 
 def main() -> int:
@@ -536,27 +538,32 @@ def main() -> int:
         # the cases were run by whoever ran them, not by this process
         run_by = earlier.cases_run_by.model_dump()
     else:
-        now = provenance(_command(template, args.gear, plans[0]))   # before the cases run
-        ids = [c.id for c in cases]
-        if args.resume:
-            if not progress.exists():
-                parser.error(f"--resume: {progress.path} does not exist (no run was stopped "
-                             "part-way in that folder)")
-            try:
-                run_by, done = progress.resume(now, ids)
-            except ProgressError as error:
-                parser.error(str(error))
-        else:
-            if progress.exists():
-                parser.error(f"{args.out} holds a run stopped part-way ({progress.path}): "
-                             "--resume continues it; remove the file to start again")
-            run_by, done = now, {}
-            progress.start(run_by, ids)
+        command = _command(template, args.gear, plans[0], args.quick)
+        now = header(provenance(command),                       # before the cases run
+                     template_fingerprint(load_campaign(template)), args.gear,
+                     [c.id for c in cases])
+        try:
+            if args.resume:
+                if not progress.exists():
+                    parser.error(f"--resume: {progress.path} does not exist (no run was "
+                                 "stopped part-way in that folder)")
+                run_by, done = progress.resume(now)
+            else:
+                if progress.exists():
+                    parser.error(f"{args.out} holds a run stopped part-way ({progress.path}): "
+                                 "--resume continues it; remove the file to start again")
+                run_by, done = now["run_by"], {}
+                progress.start(now)
+        except ProgressError as error:
+            parser.error(str(error))
         resumed = len(done)
-        outcomes = run_battery(template, args.gear, settings, cases, args.workers, done,
-                               progress)
+        try:
+            outcomes = run_battery(template, args.gear, settings, cases, args.workers, done,
+                                   progress)
+        finally:
+            progress.close()
     document = record(template, args.gear, plans, settings, cases, outcomes, run_by,
-                      rescored=args.rescore is not None)
+                      rescored=args.rescore is not None, quick=args.quick)
     args.out.mkdir(parents=True, exist_ok=True)
     write_blind_check(document, args.out)
     if args.rescore is None:
@@ -589,14 +596,20 @@ def run_battery(template: str, gear_id: str, settings, cases: list[Case],
                   f"{outcome['ratio']} s{outcome['seed']}: named "
                   f"{' + '.join(outcome['named']) or '(none)'}", flush=True)
 
-    if workers == 1:
+    if workers == 1:                  # in this process
         collect(run_case(template, gear_id, c, settings) for c in pending)
-    else:
-        with ProcessPoolExecutor(max_workers=workers,
-                                 mp_context=multiprocessing.get_context("spawn")) as pool:
-            futures = [pool.submit(run_case, template, gear_id, c, settings) for c in pending]
-            collect(future.result() for future in futures)
+        return [done[c.id] for c in cases]
+    pool = ProcessPoolExecutor(max_workers=workers,
+                               mp_context=multiprocessing.get_context("spawn"))
+    try:
+        futures = [pool.submit(run_case, template, gear_id, c, settings) for c in pending]
+        # as each finishes (kept at once), not in the battery's order: a stop loses only
+        # the cases running
+        collect(future.result() for future in as_completed(futures))
+    finally:                          # a failure stops the run; no queued case runs on
+        pool.shutdown(wait=True, cancel_futures=True)
     return [done[c.id] for c in cases]
+
 
 if __name__ == "__main__":
     sys.exit(main())

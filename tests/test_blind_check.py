@@ -408,23 +408,27 @@ def test_a_rescore_keeps_who_ran_the_cases(tmp_path, monkeypatch):
     assert record.cases == earlier["cases"]
 
 
-def test_a_run_stopped_part_way_resumes_into_the_record_one_run_makes(tmp_path, monkeypatch,
-                                                                     capsys):
-    """A battery stopped after two cases and resumed runs only the cases left, and its
-    record holds the cases one uninterrupted run gives; the run's provenance names both
-    dates; a resume by other code, or a new run over a stopped one, exits 2."""
+def _resumable_battery(monkeypatch):
+    """blind_independent with its cases run in this process by a fake that returns the
+    sealed record's outcome of each case (with tuples, as a fresh case's lists need not be),
+    stopping after ``stop[0]`` cases when that is set; and a function running the quick
+    sealed battery into a folder.  The source tree is taken as committed (a developer's
+    may not be, and a run from such a tree is not resumed)."""
     import blind_independent as independent
-    from blindcheck.progress import NAME
+    import blindcheck.record
+
+    monkeypatch.setattr(blindcheck.record, "git_commit", lambda: "c" * 40)
 
     kept = {o["id"]: o for o in json.loads(
         (BENCHMARKS.parent / SEALED_RECORD).read_text(encoding="utf-8"))["cases"]}
-    calls = []
+    calls, stop = [], [None]
 
-    def fake(template, gear_id, case, settings):   # the sealed record's outcome of the case
+    def fake(template, gear_id, case, settings):
         calls.append(case.id)
-        if stop_after is not None and len(calls) > stop_after:
+        if stop[0] is not None and len(calls) > stop[0]:
             raise KeyboardInterrupt("the session ended")
-        return dict(kept[case.id])
+        return dict(kept[case.id], forms=tuple(kept[case.id]["forms"]),
+                    named=tuple(kept[case.id]["named"]))
 
     monkeypatch.setattr(independent, "run_case", fake)
 
@@ -434,57 +438,121 @@ def test_a_run_stopped_part_way_resumes_into_the_record_one_run_makes(tmp_path, 
                                           "-o", str(folder), *extra])
         return independent.main()
 
-    stop_after = None
+    return run, calls, stop
+
+
+def _stopped_run(run, calls, stop, folder, after):
+    """Run into ``folder`` stopped after ``after`` cases; its progress file's lines."""
+    from blindcheck.progress import NAME
+
+    calls.clear()
+    stop[0] = after
+    with pytest.raises(KeyboardInterrupt):
+        run(folder)
+    stop[0] = None
+    assert not (folder / "blind-check.json").exists()
+    lines = (folder / NAME).read_text(encoding="utf-8").splitlines()
+    assert len(lines) == 1 + after
+    return lines
+
+
+def test_a_run_stopped_part_way_resumes_into_the_record_one_run_makes(tmp_path, monkeypatch,
+                                                                     capsys):
+    """A battery stopped twice and resumed twice runs each case once, and its record holds
+    the cases and figures one uninterrupted run gives; a line the stop cut short is dropped
+    and its case run again; the run's provenance names the day it started and the day of
+    each resume, and is the uninterrupted run's in every other respect."""
+    from blindcheck.progress import NAME
+
+    run, calls, stop = _resumable_battery(monkeypatch)
     assert run(tmp_path / "whole") == 0
     whole = json.loads((tmp_path / "whole" / "blind-check.json").read_text(encoding="utf-8"))
     cases = len(calls)
-    assert cases == whole["settings"]["cases"] > 3
+    assert cases == whole["settings"]["cases"] > 4
+    assert whole["run_by"]["command"].endswith("--battery sealed --quick -o DIR")
     assert not (tmp_path / "whole" / NAME).exists()
 
-    calls.clear()
-    stop_after = 2
-    with pytest.raises(KeyboardInterrupt):
-        run(tmp_path / "part")
-    progress = tmp_path / "part" / NAME
-    assert not (tmp_path / "part" / "blind-check.json").exists()
-    lines = progress.read_text(encoding="utf-8").splitlines()
-    assert len(lines) == 1 + 2
-    # the run began on another day, and the stop cut a third case's line short (it is
-    # dropped, the case run again)
+    folder = tmp_path / "part"
+    lines = _stopped_run(run, calls, stop, folder, 2)
     head = json.loads(lines[0])
-    head["run_by"]["date"] = "2026-01-02"
+    head["run_by"]["date"] = "2000-01-01"          # the run began on another day
+    progress = folder / NAME
     progress.write_text("\n".join([json.dumps(head)] + lines[1:]) + "\n" + '{"id": "case-cut',
                         encoding="utf-8")
-    capsys.readouterr()
 
-    # a new run over the stopped one is refused; so is a resume by other code
-    stop_after = None
-    with pytest.raises(SystemExit) as refused:
-        run(tmp_path / "part")
-    assert refused.value.code == 2
-    assert "--resume continues it" in capsys.readouterr().err
-    other = dict(head, run_by=dict(head["run_by"], code="f" * 64))
-    progress.write_text(json.dumps(other) + "\n", encoding="utf-8")
-    with pytest.raises(SystemExit) as refused:
-        run(tmp_path / "part", "--resume")
-    assert refused.value.code == 2
-    assert "started by other code or with another command (differing: code)" in \
-        capsys.readouterr().err
-
-    progress.write_text("\n".join([json.dumps(head)] + lines[1:]) + "\n" + '{"id": "case-cut',
-                        encoding="utf-8")
+    # resumed, stopped again after one more case, resumed again
     calls.clear()
-    assert run(tmp_path / "part", "--resume") == 0
-    assert len(calls) == cases - 2
-    resumed = json.loads((tmp_path / "part" / "blind-check.json").read_text(encoding="utf-8"))
+    stop[0] = 1
+    with pytest.raises(KeyboardInterrupt):
+        run(folder, "--resume")
+    stop[0] = None
+    assert len(progress.read_text(encoding="utf-8").splitlines()) == 1 + 3
+    calls.clear()
+    capsys.readouterr()
+    assert run(folder, "--resume") == 0
+    assert len(calls) == cases - 3
+    assert "(resumed: 3 cases had run before)" in capsys.readouterr().out
+    resumed = json.loads((folder / "blind-check.json").read_text(encoding="utf-8"))
     assert not progress.exists()
     assert resumed["cases"] == whole["cases"]
     assert resumed["metrics"] == whole["metrics"]
-    today = whole["run_by"]["date"]
-    assert resumed["run_by"]["date"] == f"2026-01-02 and {today}"
+    assert resumed["run_by"]["date"] == f"2000-01-01 and {whole['run_by']['date']}"
     assert {k: v for k, v in resumed["run_by"].items() if k != "date"} == \
         {k: v for k, v in whole["run_by"].items() if k != "date"}
-    assert "(resumed: 2 cases had run before)" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("change, differing", [
+    (lambda h: h["run_by"].update(code="f" * 64), "run_by.code"),
+    (lambda h: h["run_by"]["files"].update({"gap/selection.py": "0" * 64}), "run_by.files"),
+    (lambda h: h["run_by"]["battery_files"].update({"truthgen/forms.py": "0" * 64}),
+     "run_by.battery_files"),
+    (lambda h: h["run_by"].update(commit="1" * 40), "run_by.commit"),
+    (lambda h: h["run_by"].update(command="python benchmarks/blind_independent.py x"),
+     "run_by.command"),
+    (lambda h: h.update(template="0" * 64), "template"),
+    (lambda h: h["environment"].update(numpy="1.0.0"), "environment"),
+    (lambda h: h.update(cases=h["cases"][:-1]), "cases"),
+])
+def test_a_stopped_run_resumes_only_as_itself(tmp_path, monkeypatch, capsys, change, differing):
+    """A resume by other code, command, template, environment or battery exits 2 naming
+    what differs, and so does a new run over a stopped one; the progress is kept."""
+    from blindcheck.progress import NAME
+
+    run, calls, stop = _resumable_battery(monkeypatch)
+    folder = tmp_path / "part"
+    lines = _stopped_run(run, calls, stop, folder, 2)
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as refused:
+        run(folder)
+    assert refused.value.code == 2
+    assert "--resume continues it" in capsys.readouterr().err
+    head = json.loads(lines[0])
+    change(head)
+    text = "\n".join([json.dumps(head)] + lines[1:]) + "\n"
+    (folder / NAME).write_text(text, encoding="utf-8")
+    with pytest.raises(SystemExit) as refused:
+        run(folder, "--resume")
+    assert refused.value.code == 2
+    assert f"is another run than this one (differing: {differing})" in capsys.readouterr().err
+    assert (folder / NAME).read_text(encoding="utf-8") == text
+    assert len(calls) == 3             # the stopped run's: the refused ones ran no case
+
+
+def test_a_run_from_a_tree_with_uncommitted_changes_is_not_resumed(tmp_path, monkeypatch,
+                                                                   capsys):
+    from blindcheck.progress import NAME
+
+    run, calls, stop = _resumable_battery(monkeypatch)
+    folder = tmp_path / "part"
+    lines = _stopped_run(run, calls, stop, folder, 2)
+    head = json.loads(lines[0])
+    head["run_by"]["commit"] = "a" * 40 + "-dirty"
+    (folder / NAME).write_text(json.dumps(head) + "\n", encoding="utf-8")
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as refused:
+        run(folder, "--resume")
+    assert refused.value.code == 2
+    assert "started from a source tree with uncommitted changes" in capsys.readouterr().err
 
 
 def test_the_report_names_the_files_that_differ_from_the_running_certkit():
