@@ -81,7 +81,7 @@ from blindcheck.plans import NUISANCE_RANGES, PLANS, Plan, contact_phases, draws
 from blindcheck.progress import Progress, ProgressError, as_recorded, header  # noqa: E402
 from blindcheck.record import provenance, write_blind_check  # noqa: E402
 from blindcheck.truth_gap import floor_calibration, held_out_load, physical_size  # noqa: E402
-from blindcheck.sizing import (BEYOND_GAIN, _rate, _sizes, beyond_gain,  # noqa: E402,F401
+from blindcheck.sizing import (BEYOND_GAIN, beyond_gain, effect_sizes, logger_rate,  # noqa: E402,F401
                                 beyond_gain_noise, detector_level, gear_of)
 
 #: Issue 14's targets on the independent battery (effect ≥ 2× noise).
@@ -148,7 +148,7 @@ def _text(forms: tuple, ratio, seed: int, measure: str) -> str:
     return text if measure == "load" else f"{text}|{measure}"
 
 
-def _case(forms: tuple, ratio, seed: int, plan: Plan = Plan(), measure: str = "load") -> Case:
+def case_of(forms: tuple, ratio, seed: int, plan: Plan = Plan(), measure: str = "load") -> Case:
     text = _text(forms, ratio, seed, measure)
     return Case("case-" + hashlib.sha256(text.encode()).hexdigest()[:10], forms, ratio, seed,
                 plan, measure)
@@ -157,16 +157,16 @@ def _case(forms: tuple, ratio, seed: int, plan: Plan = Plan(), measure: str = "l
 def _plan_cases(plan: Plan, quick: bool) -> list[Case]:
     seeds = plan.seeds[:1] if quick else plan.seeds
     forms = [f for f in _library_forms() if not plan.only or f in plan.only]
-    cases = [_case((f,), r, s, plan) for f in forms for r in plan.ratios for s in seeds]
+    cases = [case_of((f,), r, s, plan) for f in forms for r in plan.ratios for s in seeds]
     if plan.only:
         return cases
-    cases += [_case((), None, plan.null_seeds + k, plan)
+    cases += [case_of((), None, plan.null_seeds + k, plan)
               for k in range(4 if quick else plan.null_cases)]
-    cases += [_case((f,), r, s, plan) for f in _outside_forms() for r in plan.outside_ratios
+    cases += [case_of((f,), r, s, plan) for f in _outside_forms() for r in plan.outside_ratios
               for s in seeds]
-    cases += [_case((f,), r, s, plan, BEYOND_GAIN) for f in GAIN_ALIKE
+    cases += [case_of((f,), r, s, plan, BEYOND_GAIN) for f in GAIN_ALIKE
               for r in plan.outside_ratios for s in seeds]
-    cases += [_case(pair, plan.pair_ratio, s, plan) for pair in _pairs() for s in seeds]
+    cases += [case_of(pair, plan.pair_ratio, s, plan) for pair in _pairs() for s in seeds]
     return cases
 
 
@@ -191,7 +191,7 @@ def write_case(template: str, gear_id: str, case: Case, truths: tuple, folder: P
     written with ``sensors`` into ``folder/label``."""
     campaign = load_campaign(template)
     factors = _factors(case, case.plan)
-    rate = _rate(campaign)
+    rate = logger_rate(campaign)
     phases = contact_phases(case.key, len(campaign.spec.runs))
 
     def histories(index: int, run) -> dict:
@@ -227,7 +227,7 @@ def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) ->
     shapes, nuisances = draws(case.key, case.forms, case.plan)
     campaign = load_campaign(template)
     phases = contact_phases(case.key, len(campaign.spec.runs))
-    sizes = {f: _sizes(campaign, gear_id, f, shape, [case.ratio], settings, nuisances,
+    sizes = {f: effect_sizes(campaign, gear_id, f, shape, [case.ratio], settings, nuisances,
                        phases, case.measure)[case.ratio] for f, shape in zip(case.forms, shapes)}
     chosen = tuple(truthgen.Truth(f, sizes[f], shape) for f, shape in zip(case.forms, shapes))
     truth["shapes"] = [dict(shape) for shape in shapes]

@@ -41,7 +41,7 @@ def _case(text: str):
     plan_name, seed, ratio, form = text.split(":")
     plans = {p.name: p for parts in PLANS.values() for p in parts}
     forms = () if form == "none" else (form,)
-    return battery._case(forms, None if ratio == "none" else float(ratio), int(seed),
+    return battery.case_of(forms, None if ratio == "none" else float(ratio), int(seed),
                          plans[plan_name])
 
 
@@ -59,7 +59,7 @@ def main() -> int:
         shapes, nuisances = draws(case.key, case.forms, case.plan)
         campaign = battery.load_campaign(template)
         phases = contact_phases(case.key, len(campaign.spec.runs))
-        sizes = {f: battery._sizes(campaign, args.gear, f, shape, [case.ratio], settings,
+        sizes = {f: battery.effect_sizes(campaign, args.gear, f, shape, [case.ratio], settings,
                                    nuisances, phases)[case.ratio]
                  for f, shape in zip(case.forms, shapes)}
         truths = tuple(truthgen.Truth(f, sizes[f], shape) for f, shape in zip(case.forms,

@@ -689,7 +689,7 @@ def test_the_independent_battery_sizes_an_effect_where_the_diagnosis_aligns():
     level = independent.detector_level(campaign, "left-main", Settings())
     assert level == pytest.approx(6 * math.sqrt(20.0 ** 2 + 1.0 / 12), abs=1e-9)
     phases = (0.37, 0.81, 0.12)
-    size = independent._sizes(campaign, "left-main", "bessel-delay", (), [2.0], Settings(),
+    size = independent.effect_sizes(campaign, "left-main", "bessel-delay", (), [2.0], Settings(),
                               truthgen.Nuisances(), phases)[2.0]
     from certkit.gap.phases import segment
 

@@ -97,9 +97,9 @@ def test_a_crosstalk_sized_beyond_the_gain_leaves_its_multiple_of_the_noise_ther
     campaign = load_campaign(EXAMPLE)
     settings = Settings()
     shape = (("delay", 0.012),)
-    size = independent._sizes(campaign, "left-main", "crosstalk", shape, [2.0], settings,
+    size = independent.effect_sizes(campaign, "left-main", "crosstalk", shape, [2.0], settings,
                               measure=independent.BEYOND_GAIN)[2.0]
-    whole = independent._sizes(campaign, "left-main", "crosstalk", shape, [2.0], settings)[2.0]
+    whole = independent.effect_sizes(campaign, "left-main", "crosstalk", shape, [2.0], settings)[2.0]
     # sized by its whole change, 2 × noise is a crosstalk of under 1 %; beyond the gain,
     # several times that
     assert whole < 0.01 and size > 3 * whole

@@ -62,7 +62,7 @@ def _drops(campaign, gear_id: str) -> list:
     return [r for r in campaign.spec.runs if r.id in recorded]
 
 
-def _rate(campaign) -> float:
+def logger_rate(campaign) -> float:
     spec = campaign.spec
     return spec.instrumentation.sampling_rate.si if spec.instrumentation else 1000.0
 
@@ -86,7 +86,7 @@ def _plain_runs(campaign, gear_id: str, phases: tuple, nuisances: truthgen.Nuisa
     for run in _drops(campaign, gear_id):
         index = index_of[run.id]
         plain = truthgen.simulate(gear_of(campaign, run, gear_id),
-                                  ideal_impact_velocity(run.drop_height.si), _rate(campaign),
+                                  ideal_impact_velocity(run.drop_height.si), logger_rate(campaign),
                                   drop_index=index, nuisances=nuisances, phase=phases[index])
         out.append((run, index, phases[index], plain))
     return out
@@ -107,7 +107,7 @@ def _first_cycle_change(campaign, gear_id: str, truths: tuple, plain_runs: list,
     for run, index, phase, plain in plain_runs:
         gear = gear_of(campaign, run, gear_id)
         changed = truthgen.simulate(gear, ideal_impact_velocity(run.drop_height.si),
-                                    _rate(campaign), truths=truths, drop_index=index,
+                                    logger_rate(campaign), truths=truths, drop_index=index,
                                     nuisances=nuisances, phase=phase)
         weight = (gear.upper_mass + gear.lower_mass) * 9.80665
         changed_runs.append(own.aligned_on_touchdown(plain.time, changed.load, plain.load,
@@ -160,7 +160,7 @@ def beyond_gain(changed: list, plain: list, windows: list, level: float) -> floa
     return min(float(found.fun), remains(0.0))
 
 
-def _sizes(campaign, gear_id: str, form_id: str, shape: tuple, ratios, settings,
+def effect_sizes(campaign, gear_id: str, form_id: str, shape: tuple, ratios, settings,
            nuisances: truthgen.Nuisances = truthgen.Nuisances(), phases: tuple = (),
            measure: str = "load") -> dict:
     """ratio -> the size at which the form (of ``shape``) changes the first-cycle load by
