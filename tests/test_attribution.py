@@ -135,6 +135,8 @@ def _load_rewritten(spec, change):
     return spec
 
 
+# slow (about 18 s with the nominal calibration's further starts): CI runs it
+@pytest.mark.slow
 def test_a_load_cell_reading_low_is_named_and_a_delayed_crosstalk_is_not(tmp_path_factory):
     import numpy as np
 
@@ -577,6 +579,8 @@ def test_a_calibration_beaten_by_a_refits_bare_parameters_is_done_again(monkeypa
     assert again(fitted=[]) == (None, None)
 
 
+# slow (about 15 s with the nominal calibration's further starts): CI runs it
+@pytest.mark.slow
 def test_every_restart_repeats_the_first_step_and_an_unsettled_one_names_nothing(
         tmp_path_factory, monkeypatch):
     """Through :func:`diagnose`, on a truth with seal friction (named without a restart):
