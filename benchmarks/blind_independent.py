@@ -2,7 +2,7 @@
 
 Run:  .venv/bin/python benchmarks/blind_independent.py SPEC -g GEAR -o DIR [--workers N]
       [--battery development|sealed] [--only FORMS] [--quick] [--rescore RECORD] [--resume]
-      (the development battery, 660 cases, about three hours on 2 cores; the sealed one, 110
+      (the development battery, 660 cases, about two hours on 2 cores; the sealed one, 110
       cases, about 20 minutes.  --rescore scores a record's cases again without running
       them: the record keeps who ran them, run_by, apart from who scored them, scored_by.
       --resume continues a run stopped part-way in DIR, by the same code: see

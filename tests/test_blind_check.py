@@ -486,7 +486,10 @@ def test_a_run_stopped_part_way_resumes_into_the_record_one_run_makes(tmp_path, 
     with pytest.raises(KeyboardInterrupt):
         run(folder, "--resume")
     stop[0] = None
-    assert len(progress.read_text(encoding="utf-8").splitlines()) == 1 + 3
+    lines = progress.read_text(encoding="utf-8").splitlines()
+    assert len(lines) == 1 + 3
+    # the resume wrote its day into the header: a later resume keeps it
+    assert json.loads(lines[0])["run_by"]["date"] == f"2000-01-01 and {whole['run_by']['date']}"
     calls.clear()
     capsys.readouterr()
     assert run(folder, "--resume") == 0
@@ -509,7 +512,10 @@ def test_a_run_stopped_part_way_resumes_into_the_record_one_run_makes(tmp_path, 
     (lambda h: h["run_by"].update(commit="1" * 40), "run_by.commit"),
     (lambda h: h["run_by"].update(command="python benchmarks/blind_independent.py x"),
      "run_by.command"),
+    (lambda h: h["run_by"].update(certkit="0.0.1"), "run_by.certkit"),
     (lambda h: h.update(template="0" * 64), "template"),
+    (lambda h: h.update(gear="right-main"), "gear"),
+    (lambda h: h["environment"].update(python="3.10.0"), "environment"),
     (lambda h: h["environment"].update(numpy="1.0.0"), "environment"),
     (lambda h: h.update(cases=h["cases"][:-1]), "cases"),
 ])

@@ -10,7 +10,7 @@ resuming process is the run's in all of that, the date alone aside, and the run 
 from a committed source tree (a tree with uncommitted changes has no commit that names its
 code).  A case is a pure function of its id's draws, so a resumed record holds what one
 uninterrupted run would have; its ``run_by`` date names the day the run started and the day
-of each resume.  One process at a time holds the file (an advisory lock), and it is removed
+of each resume (each resume writes its day into the header).  One process at a time holds the file (an advisory lock), and it is removed
 once the record is written.
 """
 
@@ -140,9 +140,19 @@ class Progress:
             raise ProgressError(f"{self.path} holds outcomes of cases not in its battery "
                                 f"({', '.join(unknown[:3])}); remove it and run the battery "
                                 "again")
-        self._handle.truncate(len(text[:kept].encode("utf-8")))  # drop a line cut short
         dates = set(run_by["date"].split(" and ")) | {now["run_by"]["date"]}
-        return {**run_by, "date": " and ".join(sorted(dates))}, done
+        run_by = {**run_by, "date": " and ".join(sorted(dates))}
+        # the header with this resume's day, the finished cases, not a line cut short:
+        # written beside and moved in whole, so a stop now leaves the old file or the new
+        fresh = self.path.with_name(self.path.name + ".new")
+        with fresh.open("w", encoding="utf-8") as handle:
+            handle.write(_line({**run, "run_by": run_by}) + text[len(lines[0]) + 1:kept])
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(fresh, self.path)
+        self.close()
+        self._open()
+        return run_by, done
 
     def _write(self, text: str) -> None:
         self._handle.write(text)
