@@ -81,8 +81,8 @@ from blindcheck.plans import NUISANCE_RANGES, PLANS, Plan, contact_phases, draws
 from blindcheck.progress import Progress, ProgressError, as_recorded, header  # noqa: E402
 from blindcheck.record import provenance, write_blind_check  # noqa: E402
 from blindcheck.truth_gap import floor_calibration, held_out_load, physical_size  # noqa: E402
-from blindcheck.sizing import (BEYOND_GAIN, beyond_gain, effect_sizes, logger_rate,  # noqa: E402,F401
-                                beyond_gain_noise, detector_level, gear_of)
+from blindcheck.sizing import (BEYOND_GAIN, beyond_gain_noise, detector_level,  # noqa: E402
+                               effect_sizes, gear_of, logger_rate)
 
 #: Issue 14's targets on the independent battery (effect ≥ 2× noise).
 TARGETS = {"top1": (0.90, "at least"), "false_attribution": (0.05, "at most"),
@@ -276,7 +276,8 @@ def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) ->
     own_after = math.sqrt(max(gap_after ** 2 - floor ** 2, 0.0))
     return {**truth, "sizes": {t.form: t.size for t in chosen}, "named": list(diagnosis.answer),
             "undecided": list(diagnosis.undecided),
-            "recalibrated": [d.rule for d in diagnosis.recalibrated], "named_forms": list(diagnosis.forms), "statement": diagnosis.statement,
+            "recalibrated": [d.rule for d in diagnosis.recalibrated],
+            "named_forms": list(diagnosis.forms), "statement": diagnosis.statement,
             "error": None, "skipped": None, "held_out": list(held),
             "before": pb["load"], "after": pa["load"],
             "shrink": 1.0 - pa["load"] / pb["load"] if pb["load"] > 0 else 0.0,

@@ -26,11 +26,11 @@ import sys
 import tempfile
 from pathlib import Path
 
-
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import blind_independent as battery  # noqa: E402
 import truthgen  # noqa: E402
 from blindcheck.plans import PLANS, contact_phases, draws  # noqa: E402
+from blindcheck.sizing import effect_sizes  # noqa: E402
 
 from certkit.gap.holdout import split_for  # noqa: E402
 from certkit.gap.selection import NOMINAL_STARTS  # noqa: E402
@@ -59,8 +59,8 @@ def main() -> int:
         shapes, nuisances = draws(case.key, case.forms, case.plan)
         campaign = battery.load_campaign(template)
         phases = contact_phases(case.key, len(campaign.spec.runs))
-        sizes = {f: battery.effect_sizes(campaign, args.gear, f, shape, [case.ratio], settings,
-                                   nuisances, phases)[case.ratio]
+        sizes = {f: effect_sizes(campaign, args.gear, f, shape, [case.ratio], settings,
+                                 nuisances, phases)[case.ratio]
                  for f, shape in zip(case.forms, shapes)}
         truths = tuple(truthgen.Truth(f, sizes[f], shape) for f, shape in zip(case.forms,
                                                                              shapes))

@@ -260,7 +260,8 @@ def test_the_record_and_its_case_table_are_written_as_the_report_reads_them(pool
     second = tmp_path / "second"
     second.mkdir()
     write_blind_check(json.loads(text), second)
-    assert (second / "blind-check.json").read_bytes() == (tmp_path / "blind-check.json").read_bytes()
+    assert (second / "blind-check.json").read_bytes() == \
+        (tmp_path / "blind-check.json").read_bytes()
 
 
 @pytest.mark.parametrize("option, value", [("--seeds", "one,two"), ("--ratios", "")])
@@ -688,15 +689,15 @@ def test_the_independent_battery_sizes_an_effect_where_the_diagnosis_aligns():
     for 2 × 20 N moves the first cycle by 40 N once the two records are aligned there by a
     plain crossing search written here; aligned at 2 % of the weight, as the battery did
     before, the same lag shows more than that."""
-    import blind_independent as independent
     import truthgen
+    from blindcheck import sizing
 
     campaign = load_campaign(EXAMPLE)
-    level = independent.detector_level(campaign, "left-main", Settings())
+    level = sizing.detector_level(campaign, "left-main", Settings())
     assert level == pytest.approx(6 * math.sqrt(20.0 ** 2 + 1.0 / 12), abs=1e-9)
     phases = (0.37, 0.81, 0.12)
-    size = independent.effect_sizes(campaign, "left-main", "bessel-delay", (), [2.0], Settings(),
-                              truthgen.Nuisances(), phases)[2.0]
+    size = sizing.effect_sizes(campaign, "left-main", "bessel-delay", (), [2.0], Settings(),
+                               truthgen.Nuisances(), phases)[2.0]
     from certkit.gap.phases import segment
 
     def crossing(time, signal, at):
@@ -708,7 +709,7 @@ def test_the_independent_battery_sizes_an_effect_where_the_diagnosis_aligns():
     for index, run in enumerate(campaign.spec.runs):
         if run not in runs:
             continue
-        gear = independent.gear_of(campaign, run, "left-main")
+        gear = sizing.gear_of(campaign, run, "left-main")
         speed = ideal_impact_velocity(run.drop_height.si)
         plain = truthgen.simulate(gear, speed, 1000.0, drop_index=index, phase=phases[index])
         lagged = truthgen.simulate(gear, speed, 1000.0, drop_index=index, phase=phases[index],

@@ -17,6 +17,7 @@ sys.path.insert(0, str(BENCHMARKS))
 
 import blind_independent as independent  # noqa: E402
 import truthgen  # noqa: E402
+from blindcheck import sizing  # noqa: E402
 from blindcheck.battery import Settings  # noqa: E402
 
 from certkit import load_campaign  # noqa: E402
@@ -69,7 +70,7 @@ def test_on_the_touchdown_aligned_load_a_gain_with_a_skew_is_the_gain_alone():
     for skew in (0.0, 4e-4, -7e-4):
         recorded = _aligned(time, 1.03 * _pulse(time - skew), plain, at)
         whole = math.sqrt(np.mean((recorded - plain) ** 2))        # about 3 % of the RMS load
-        remains = independent.beyond_gain([recorded], [(time, plain)], [window], at)
+        remains = sizing.beyond_gain([recorded], [(time, plain)], [window], at)
         # the skew is aligned away with the touchdown: what remains is the linear
         # interpolation's smoothing of the pulse's onset between samples (a few N of its
         # 10 kN), not the skew itself, which unaligned the best gain would leave (35-80 N)
@@ -79,7 +80,7 @@ def test_on_the_touchdown_aligned_load_a_gain_with_a_skew_is_the_gain_alone():
     # a crosstalk of 10 % of the load 12 ms earlier: what remains is what a bounded search
     # written here finds
     crosstalk = plain + 0.1 * _pulse(time - 0.012)
-    found = independent.beyond_gain([crosstalk], [(time, plain)], [window], at)
+    found = sizing.beyond_gain([crosstalk], [(time, plain)], [window], at)
     assert found == pytest.approx(_beyond_best_gain([crosstalk], [(time, plain)], [window], at),
                                   rel=1e-3)
     # it is what the crosstalk's timing adds: less than its whole change, not nothing
@@ -87,7 +88,7 @@ def test_on_the_touchdown_aligned_load_a_gain_with_a_skew_is_the_gain_alone():
     assert 0.05 * whole < found < 0.7 * whole
     # a shorter delay is more nearly a gain
     shorter = plain + 0.1 * _pulse(time - 0.004)
-    assert independent.beyond_gain([shorter], [(time, plain)], [window], at) < 0.5 * found
+    assert sizing.beyond_gain([shorter], [(time, plain)], [window], at) < 0.5 * found
 
 
 def test_a_crosstalk_sized_beyond_the_gain_leaves_its_multiple_of_the_noise_there():
@@ -97,18 +98,18 @@ def test_a_crosstalk_sized_beyond_the_gain_leaves_its_multiple_of_the_noise_ther
     campaign = load_campaign(EXAMPLE)
     settings = Settings()
     shape = (("delay", 0.012),)
-    size = independent.effect_sizes(campaign, "left-main", "crosstalk", shape, [2.0], settings,
-                              measure=independent.BEYOND_GAIN)[2.0]
-    whole = independent.effect_sizes(campaign, "left-main", "crosstalk", shape, [2.0], settings)[2.0]
+    size = sizing.effect_sizes(campaign, "left-main", "crosstalk", shape, [2.0], settings,
+                               measure=sizing.BEYOND_GAIN)[2.0]
+    whole = sizing.effect_sizes(campaign, "left-main", "crosstalk", shape, [2.0], settings)[2.0]
     # sized by its whole change, 2 × noise is a crosstalk of under 1 %; beyond the gain,
     # several times that
     assert whole < 0.01 and size > 3 * whole
-    level = independent.detector_level(campaign, "left-main", settings)
+    level = sizing.detector_level(campaign, "left-main", settings)
     changed, plain_runs, windows = [], [], []
     for index, run in enumerate(campaign.spec.runs):
         if "left-main" not in run.gear_units:
             continue
-        gear = independent.gear_of(campaign, run, "left-main")
+        gear = sizing.gear_of(campaign, run, "left-main")
         speed = ideal_impact_velocity(run.drop_height.si)
         plain = truthgen.simulate(gear, speed, 1000.0, drop_index=index)
         crossed = truthgen.simulate(gear, speed, 1000.0, drop_index=index,
@@ -146,7 +147,7 @@ def test_a_crosstalk_that_reads_as_a_gain_within_the_noise_may_be_answered_by_th
     for crosstalk 2.0 × and 5 × beyond it (sized so, or by its whole change); the gain that
     harms a channel; the gain named second; the gain for a record without the measure.
     Answered right 6 of 14; abstained 4 of 14."""
-    beyond = independent.BEYOND_GAIN
+    beyond = sizing.BEYOND_GAIN
     gain = "load-cell gain"
     outcomes = [
         _outcome(("lugre",), ["seal friction"]),
@@ -191,7 +192,7 @@ def test_every_plan_has_crosstalk_sized_both_ways_and_the_earlier_cases_keep_the
     cases = independent.battery(independent.PLANS["development"])
     for plan in independent.PLANS["development"] + independent.PLANS["sealed"]:
         mine = independent.battery(plan)
-        beyond = [c for c in mine if c.measure == independent.BEYOND_GAIN]
+        beyond = [c for c in mine if c.measure == sizing.BEYOND_GAIN]
         assert {(c.forms, c.ratio, c.seed) for c in beyond} == {
             (("crosstalk",), r, s) for r in plan.outside_ratios for s in plan.seeds}
         whole = {(c.forms, c.ratio, c.seed) for c in mine

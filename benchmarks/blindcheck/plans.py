@@ -4,8 +4,9 @@ plans, the sealed sets' seeds and ranges, and each case's draws.
 A battery is one or more plans (:class:`Plan`).  The development battery is the one the
 diagnosis's rules were tuned on; the sealed battery is drawn apart and run once per release
 of the diagnosis.  When a sealed result drives a change of the diagnosis, or of how the
-battery sizes or scores its cases, the sealed set is spent: its plan joins :data:`PLANS` ``["development"]`` with its seeds and ranges, and a new
-sealed plan is drawn (new seeds never run, new ranges where the change concerned them).
+battery sizes or scores its cases, the sealed set is spent: its plan joins :data:`PLANS`
+``["development"]`` with its seeds and ranges, and a new sealed plan is drawn (new seeds
+never run, new ranges where the change concerned them).
 The history is in docs/gap-diagnosis.md, "The rule for the sealed battery".
 
 Every case's contact falls between two logger samples, at a phase drawn per drop from the

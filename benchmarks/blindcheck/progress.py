@@ -10,8 +10,8 @@ resuming process is the run's in all of that, the date alone aside, and the run 
 from a committed source tree (a tree with uncommitted changes has no commit that names its
 code).  A case is a pure function of its id's draws, so a resumed record holds what one
 uninterrupted run would have; its ``run_by`` date names the day the run started and the day
-of each resume (each resume writes its day into the header).  One process at a time holds the file (an advisory lock), and it is removed
-once the record is written.
+of each resume (each resume writes its day into the header).  One process at a time holds
+the file (an advisory lock), and it is removed once the record is written.
 """
 
 from __future__ import annotations

@@ -50,8 +50,8 @@ def gear_of(campaign, run, gear_id: str, factors: dict | None = None) -> truthge
         gas_volume=strut.gas_volume.si,
         precharge_abs=precharge * factors.get("precharge", 1.0),
         polytropic_exponent=strut.polytropic_exponent.si * factors.get("exponent", 1.0),
-        compression_coefficient=k, rebound_coefficient=k, tyre_reference_load=tyre.load_deflection.reference_load.si
-        * factors.get("tyre", 1.0),
+        compression_coefficient=k, rebound_coefficient=k,
+        tyre_reference_load=tyre.load_deflection.reference_load.si * factors.get("tyre", 1.0),
         tyre_reference_deflection=tyre.load_deflection.reference_deflection.si,
         tyre_exponent=tyre.load_deflection.exponent.si,
         tyre_damping=tyre.damping.si if tyre.damping is not None else 0.0)
@@ -161,13 +161,13 @@ def beyond_gain(changed: list, plain: list, windows: list, level: float) -> floa
 
 
 def effect_sizes(campaign, gear_id: str, form_id: str, shape: tuple, ratios, settings,
-           nuisances: truthgen.Nuisances = truthgen.Nuisances(), phases: tuple = (),
-           measure: str = "load") -> dict:
+                 nuisances: truthgen.Nuisances = truthgen.Nuisances(), phases: tuple = (),
+                 measure: str = "load") -> dict:
     """ratio -> the size at which the form (of ``shape``) changes the first-cycle load by
     ratio × the load noise (``measure`` :data:`BEYOND_GAIN`: what of the change no load-cell
-    gain explains, :func:`beyond_gain`), interpolated (log-log) on a grid over the form's size range (None when
-    the range does not reach it); ``phases``: each run's contact phase (default: every
-    contact on a sample)."""
+    gain explains, :func:`beyond_gain`), interpolated (log-log) on a grid over the form's
+    size range (None when the range does not reach it); ``phases``: each run's contact phase
+    (default: every contact on a sample)."""
     phases = phases or (0.0,) * len(campaign.spec.runs)
     plain_runs = _plain_runs(campaign, gear_id, phases, nuisances)
     level = detector_level(campaign, gear_id, settings)

@@ -83,7 +83,8 @@ def calibrate(spec: SpecArgument,
                        "model.calibration.starts for this command (default: that, else 0)"
                   )] = None,
               json_file: Annotated[Path | None, typer.Option(
-                  "--json", metavar="FILE", help="also write the results, in SI, to FILE (JSON)")] = None,
+                  "--json", metavar="FILE",
+                  help="also write the results, in SI, to FILE (JSON)")] = None,
               ) -> None:
     """Fit the drop model's parameters to the measured runs; all drop heights jointly."""
     from certkit.evidence.model_view import starts_words
@@ -141,7 +142,8 @@ def calibrate(spec: SpecArgument,
 @command()
 def identify(spec: SpecArgument,
              json_file: Annotated[Path | None, typer.Option(
-                 "--json", metavar="FILE", help="also write the results, in SI, to FILE (JSON)")] = None) -> None:
+                 "--json", metavar="FILE",
+                 help="also write the results, in SI, to FILE (JSON)")] = None) -> None:
     """Identify Hammerstein, Wiener and NARX models of each gear; validate them on held-out
     drops."""
     from certkit.gear_identification import (OUTPUT_LABELS, PROTOCOL_NAMES,

@@ -259,7 +259,8 @@ def model_evidence(campaign: Campaign, identification: bool = True,
     :class:`StageFailure`; nothing raised inside a stage escapes."""
     progress = progress or (lambda message: None)
     spec = campaign.spec
-    synthetic = tuple(r.id for r in spec.runs if r.data is not None and r.data.origin == "synthetic")
+    synthetic = tuple(r.id for r in spec.runs
+                      if r.data is not None and r.data.origin == "synthetic")
     recorded = [g.id for g in spec.gear_units
                 if any(s is not None and g.id in s.gears for s in campaign.series.values())]
     if not recorded:

@@ -260,8 +260,8 @@ def _discussion(gear, reference, units) -> list[str]:
             best_paper = min(paper_full, key=lambda x: x.rmse)
             best_held = min(held_full, key=lambda x: x.rmse)
             text += (f" Trained on the first {PAPER_TRAINING} samples ("
-                     f"{with_unit(PAPER_TRAINING_DURATION, 'time', units)}) of the very drop it then "
-                     f"simulates, the best model reaches {_mm(best_paper.rmse, units)} "
+                     f"{with_unit(PAPER_TRAINING_DURATION, 'time', units)}) of the very drop it "
+                     f"then simulates, the best model reaches {_mm(best_paper.rmse, units)} "
                      f"({best_paper.model}); trained on other drop heights, "
                      f"{_mm(best_held.rmse, units)} ({best_held.model}).")
         sentences.append(text)

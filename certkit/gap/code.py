@@ -20,7 +20,6 @@ DIAGNOSIS_CODE = ("gap/attribution.py", "gap/selection.py", "gap/missing_force.p
                   "physics/simulation.py", "physics/synthetic.py", "compliance/servicing.py")
 
 
-
 def code_fingerprint() -> str:
     """SHA-256 over the source of :data:`DIAGNOSIS_CODE`: a record made by other code (other
     thresholds, another simulator) says so in the report."""

@@ -315,4 +315,3 @@ def gap_document(gap: GapDiagnosis) -> dict:
                              "shrink": e.shrink} for e in gap.held_out_errors],
         "after": _map_document(gap.after),
     }
-

@@ -250,8 +250,9 @@ class GapSpec(SpecBlock):
                         "(default: every drop at the highest drop height, and the middle "
                         "height's when there are four heights or more)")
     blind_check: Text | None = Field(
-        None, description="the JSON file written by benchmarks/blind_independent.py --battery development, relative to "
-                          "this spec file and inside its folder; the report summarises it and "
+        None, description="the JSON file written by benchmarks/blind_independent.py "
+                          "--battery development, relative to this spec file and inside its "
+                          "folder; the report summarises it and "
                           "hashes it with the other inputs")
     sealed_blind_check: Text | None = Field(
         None, description="the record of the SEALED battery (benchmarks/blind_independent.py "
