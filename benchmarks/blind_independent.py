@@ -154,20 +154,31 @@ def case_of(forms: tuple, ratio, seed: int, plan: Plan = Plan(), measure: str = 
                 plan, measure)
 
 
+#: In ``--only``, the no-effect cases (the plan's null seeds).
+NO_EFFECT = "none"
+
+
 def _plan_cases(plan: Plan, quick: bool) -> list[Case]:
     seeds = plan.seeds[:1] if quick else plan.seeds
     forms = [f for f in _library_forms() if not plan.only or f in plan.only]
     cases = [case_of((f,), r, s, plan) for f in forms for r in plan.ratios for s in seeds]
+    nulls = [case_of((), None, plan.null_seeds + k, plan)
+             for k in range(4 if quick else plan.null_cases)]
     if plan.only:
-        return cases
-    cases += [case_of((), None, plan.null_seeds + k, plan)
-              for k in range(4 if quick else plan.null_cases)]
+        return cases + (nulls if NO_EFFECT in plan.only else [])
+    cases += nulls
     cases += [case_of((f,), r, s, plan) for f in _outside_forms() for r in plan.outside_ratios
               for s in seeds]
     cases += [case_of((f,), r, s, plan, BEYOND_GAIN) for f in GAIN_ALIKE
               for r in plan.outside_ratios for s in seeds]
     cases += [case_of(pair, plan.pair_ratio, s, plan) for pair in _pairs() for s in seeds]
     return cases
+
+
+def plans_of(name: str, only: tuple = ()) -> tuple:
+    """The plans of the battery ``name``, each restricted to ``only`` when it is given (a
+    plan restricted by itself keeps its restriction otherwise)."""
+    return tuple(replace(p, only=only) if only else p for p in PLANS[name])
 
 
 def battery(plans=(Plan(),), quick: bool = False) -> list[Case]:
@@ -228,7 +239,8 @@ def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) ->
     campaign = load_campaign(template)
     phases = contact_phases(case.key, len(campaign.spec.runs))
     sizes = {f: effect_sizes(campaign, gear_id, f, shape, [case.ratio], settings, nuisances,
-                       phases, case.measure)[case.ratio] for f, shape in zip(case.forms, shapes)}
+                             phases, case.measure)[case.ratio]
+             for f, shape in zip(case.forms, shapes)}
     chosen = tuple(truthgen.Truth(f, sizes[f], shape) for f, shape in zip(case.forms, shapes))
     truth["shapes"] = [dict(shape) for shape in shapes]
     truth["nuisances"] = {"pad_m": nuisances.pad, "gas": nuisances.gas,
@@ -442,7 +454,7 @@ def record(template: str, gear_id: str, plans: tuple, settings, cases: list[Case
     fingerprint is the one that ran the cases: a rescore never re-stamps the run."""
     plans = (plans,) if isinstance(plans, Plan) else tuple(plans)
     plan = plans[0]
-    command = _command(template, gear_id, plan, quick)
+    command = _command(template, gear_id, plans, quick)
     scored_by = provenance(command + " --rescore RECORD" if rescored else command)
     run_by = scored_by if run_by is None else run_by
     campaign = load_campaign(template)
@@ -494,11 +506,13 @@ def record(template: str, gear_id: str, plans: tuple, settings, cases: list[Case
     return document
 
 
-def _command(template: str, gear_id: str, plan: Plan, quick: bool = False) -> str:
+def _command(template: str, gear_id: str, plans: tuple, quick: bool = False) -> str:
+    """The command that runs ``plans``: ``--only`` when it restricted them all alike (a plan
+    restricted by itself alone is the battery's own part)."""
+    only = plans[0].only if len({p.only for p in plans}) == 1 else ()
     return (f"python benchmarks/blind_independent.py {Path(template).name} -g {gear_id} "
-            f"--battery {plan.battery}" + (f" --only {','.join(plan.only)}" if plan.only
-                                           else "") + (" --quick" if quick else "")
-            + " -o DIR")
+            f"--battery {plans[0].battery}" + (f" --only {','.join(only)}" if only else "")
+            + (" --quick" if quick else "") + " -o DIR")
 
 
 def main() -> int:
@@ -513,17 +527,20 @@ def main() -> int:
     parser.add_argument("--battery", choices=sorted(PLANS), default="development",
                         help="the development battery (tuned on) or the sealed one")
     parser.add_argument("--only", default="",
-                        help="only these forms' single-effect cases (comma-separated ids)")
+                        help="only these forms' single-effect cases (comma-separated ids; "
+                             f"'{NO_EFFECT}': the no-effect cases); without it, each plan's "
+                             "own cases")
     parser.add_argument("--resume", action="store_true",
                         help="continue the run stopped part-way in DIR (same code, same "
                              "command; its cases are kept)")
     args = parser.parse_args()
     template = str(Path(args.spec).resolve())
     only = tuple(f for f in args.only.split(",") if f)
-    unknown = [f for f in only if f not in _library_forms()]
+    unknown = [f for f in only if f not in _library_forms() + [NO_EFFECT]]
     if unknown:
-        parser.error(f"--only: unknown forms {unknown}; known: {_library_forms()}")
-    plans = tuple(replace(p, only=only) for p in PLANS[args.battery])
+        parser.error(f"--only: unknown forms {unknown}; known: {_library_forms()} and "
+                     f"'{NO_EFFECT}' (the no-effect cases)")
+    plans = plans_of(args.battery, only)
     settings = own.Settings()
     started = clock.perf_counter()
     cases = battery(plans, args.quick)
@@ -539,7 +556,7 @@ def main() -> int:
         # the cases were run by whoever ran them, not by this process
         run_by = earlier.cases_run_by.model_dump()
     else:
-        command = _command(template, args.gear, plans[0], args.quick)
+        command = _command(template, args.gear, plans, args.quick)
         now = header(provenance(command),                       # before the cases run
                      template_fingerprint(load_campaign(template)), args.gear,
                      [c.id for c in cases])

@@ -295,6 +295,47 @@ def test_battery_options_are_checked_before_the_battery_runs(tmp_path, monkeypat
     assert "would contain the input" in capsys.readouterr().err
 
 
+def test_only_picks_forms_and_the_no_effect_cases_and_a_plans_own_restriction_stays(
+        monkeypatch, capsys):
+    """``--only gain-skew,none``: each plan's gain-with-skew cases, then its no-effect cases,
+    the same cases (ids, seeds) as the whole battery holds; without ``--only`` a plan
+    restricted by itself keeps its restriction, and the command names no ``--only``."""
+    import blind_independent as independent
+    from blindcheck.plans import PLANS, Plan
+
+    whole = independent.battery(independent.plans_of("development"))
+    plans = independent.plans_of("development", ("gain-skew", "none"))
+    picked = independent.battery(plans)
+    expected = [c.id for c in whole if c.forms == ("gain-skew",) and c.measure == "load"
+                or (c.forms == () and c.ratio is None)]
+    assert [c.id for c in picked] == expected
+    per_plan = {p.name: [c for c in picked if c.plan.name == p.name] for p in plans}
+    for plan in PLANS["development"]:
+        cases = per_plan[plan.name]
+        # 3 ratios × 2 seeds, then the plan's 20 no-effect cases in their seeds' order
+        assert [c.forms for c in cases] == [("gain-skew",)] * 6 + [()] * plan.null_cases
+        assert [c.seed for c in cases[6:]] == list(range(plan.null_seeds,
+                                                         plan.null_seeds + plan.null_cases))
+    assert independent._command("x/c.yaml", "g", plans) == \
+        "python benchmarks/blind_independent.py c.yaml -g g --battery development " \
+        "--only gain-skew,none -o DIR"
+
+    own = Plan(battery="sealed", name="T", seeds=(5, 6), only=("bessel-delay",))
+    monkeypatch.setitem(PLANS, "sealed", (PLANS["sealed"][0], own))
+    kept = independent.plans_of("sealed")
+    assert kept[1] is own and kept[0] is PLANS["sealed"][0]
+    assert {c.forms for c in independent.battery(kept[1])} == {("bessel-delay",)}
+    assert "--only" not in independent._command("c.yaml", "g", kept)
+    assert independent.plans_of("sealed", ("gain-skew",))[1].only == ("gain-skew",)
+
+    monkeypatch.setattr(sys, "argv", ["blind_independent.py", EXAMPLE, "-g", "left-main",
+                                      "--only", "gain-skew,nothing", "-o", "unused"])
+    with pytest.raises(SystemExit) as refused:
+        independent.main()
+    assert refused.value.code == 2
+    assert "--only: unknown forms ['nothing']" in capsys.readouterr().err
+
+
 RECORD = "campaigns/seed-amphibian/blind-check/blind-check.json"
 
 

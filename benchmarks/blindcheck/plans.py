@@ -46,7 +46,9 @@ class Plan:
     drawn: bool = False          # shapes and nuisances drawn from their ranges
     #: (form, shape name, low, high): ranges of this plan in place of the form's own
     ranges: tuple = ()
-    only: tuple = ()             # restrict to these forms' single-effect cases ("" = all)
+    #: restrict to these forms' single-effect cases, and the no-effect cases when "none" is
+    #: among them (empty: every case of the plan)
+    only: tuple = ()
 
     def shape_ranges(self, form_id: str) -> tuple:
         """The form's (name, low, high) ranges as this plan draws them."""
