@@ -171,6 +171,15 @@ def test_the_spec_sets_the_further_starts_and_the_option_is_checked(measured):
     outcome = runner.invoke(app, ["calibrate", str(measured), "--starts", "21"])
     assert outcome.exit_code == 2
     assert "--starts: expected a whole number from 0 to 20, found 21" in outcome.output
+    # a YAML true, a quoted number or a float is not read as a count of starts
+    for value, found in (("true", "got True"), ('"3"', 'got "3"'), ("2.0", "got 2.0")):
+        spec.write_text(text.replace("\nmodel:\n  effects:",
+                                     f"\nmodel:\n  calibration: {{starts: {value}}}\n  effects:"),
+                        encoding="utf-8")
+        outcome = runner.invoke(app, ["validate", str(spec)])
+        assert outcome.exit_code == 2, (value, outcome.output)
+        message = " ".join(outcome.output.split())
+        assert "model.calibration.starts: input should be a valid integer; " + found in message
 
 
 def test_the_report_states_the_specs_further_starts(measured):

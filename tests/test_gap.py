@@ -457,3 +457,37 @@ def test_the_method_text_says_which_shapes_the_refits_fit():
     assert "the load-cell gain with its channel's skew (within ±1.000 ms" in text
     assert "with its onset (the deflection over which it switches, 0.5000 mm to 10.00 mm)" \
         in text
+
+
+def test_results_json_states_every_threshold_of_the_diagnosis_and_its_starts():
+    """Each numeric rule constant of the naming rules (certkit.gap.selection's __all__) and
+    of the further starts is in results.json's thresholds under its own key, with its
+    value: a reviewer reads there what the decisions were judged against."""
+    import numbers
+
+    from certkit.gap import selection
+    from certkit.gap.diagnosis import THRESHOLDS
+    from certkit.physics import starts
+    from certkit.physics.drops import MIDDLE_FROM
+
+    keys = {"RELEVANT": "relevant_explained_rms_noise_units",
+            "LEADING": "leading_candidates_refitted",
+            "GAIN": "gain_training_cost_share",
+            "TIE_COST": "tie_training_cost_ratio",
+            "DETECTABLE": "detectable_noise_variances_removed",
+            "TIMING_SHARE": "timing_share_of_channel_mean_square",
+            "PULSE_SHARE": "load_pulse_share_of_peak",
+            "RECALIBRATE": "recalibrate_training_cost_share",
+            "RESTARTS": "calibrations_again_at_most",
+            "NOMINAL_STARTS": "nominal_calibration_further_starts",
+            "START_EVALUATIONS": "further_start_evaluations_at_most",
+            "KEEP_MARGIN": "further_start_keep_margin_share"}
+    rules = {name for name in selection.__all__
+             if isinstance(getattr(selection, name), numbers.Real)}
+    assert rules <= set(keys), rules - set(keys)      # a new rule constant needs its key
+    for name, key in keys.items():
+        value = getattr(selection, name, None)
+        value = getattr(starts, name) if value is None else value
+        assert THRESHOLDS[key] == value, name
+    assert THRESHOLDS["middle_height_held_out_from_heights"] == MIDDLE_FROM
+    assert len(THRESHOLDS) == len(keys) + 1

@@ -137,9 +137,12 @@ def test_the_texts_that_state_the_margin_and_the_limit_state_the_code_s():
     from certkit.evidence.methods import model_method
     from certkit.spec.settings import CalibrationSpec
 
+    from certkit.physics.starts import START_EVALUATIONS
+
     margin = percent(KEEP_MARGIN, 1)
     field = CalibrationSpec.model_fields["starts"]
     assert f"more than {margin} below" in field.description
+    assert f"a fit of at most {START_EVALUATIONS} evaluations" in field.description
     assert [m.le for m in field.metadata if hasattr(m, "le")] == [MOST_STARTS]
     help_text = " ".join(CliRunner().invoke(app, ["calibrate", "--help"],
                                             terminal_width=200).output.split())
@@ -167,8 +170,14 @@ def test_the_report_says_what_the_starts_found_in_each_case():
     assert "(values in SI): start 3: not finite." in none_lower
     refit_failed = starts_words(StartSearch(points, (0.5, 0.2, 0.3), 0.9, None,
                                             ("start 2, fitted again: stiff",)))
-    assert "the lowest, start 2 at 0.2000, could not be fitted again, so the fit from the " \
-        "spec's values is kept." in refit_failed
+    assert "the best of them (the earliest within 0.1 % of the lowest, 0.2000) could not be " \
+        "fitted again, so the fit from the spec's values is kept. Fits that failed and were " \
+        "passed over (values in SI): start 2, fitted again: stiff." in refit_failed
+    # a near-tie: start 1 is within the margin of start 2, the lowest, so start 1 was the
+    # one fitted again; the words must not name start 2 for it
+    near_tie = starts_words(StartSearch(points, (1.0005, 1.0, 2.0), 1.2, None,
+                                        ("start 1, fitted again: stiff",)))
+    assert "start 2" not in near_tie and "start 1, fitted again: stiff" in near_tie
     all_failed = starts_words(StartSearch(points, (None, None, None), 0.9, None,
                                           ("a", "b", "c")))
     assert "none of them could be fitted, so the fit from the spec's values is kept." \

@@ -42,11 +42,12 @@ def starts_method(count: int, setting: str = "") -> str:
     from certkit.physics.starts import KEEP_MARGIN, START_EVALUATIONS
     margin = percent(KEEP_MARGIN, 1)
     return (f"from {count} further starts{f' ({setting})' if setting else ''} spread over "
-            f"the parameters' bounds (points 1 to {count} of Sobol's sequence, a fixed, "
-            f"evenly spread set of points, the same on every machine; on a log scale "
-            f"between two positive bounds, a linear one otherwise). Each start is a short "
-            f"fit (forward differences; at most {START_EVALUATIONS} evaluations of the "
-            f"residuals, finite-difference points not counted); the "
+            f"the parameters' bounds (points 1 to {count} of Sobol's sequence, a fixed set "
+            f"of points that fills the box of the bounds more evenly the more there are, "
+            f"the same on every machine; on a log scale between two positive bounds, a "
+            f"linear one otherwise). Each start is fitted with forward differences within "
+            f"{START_EVALUATIONS} evaluations of the residuals (finite-difference points "
+            f"not counted); the "
             f"start with the lowest training cost (the earliest within {margin} of it) is "
             f"fitted again from where it stopped (central differences), and that fit is "
             f"kept when its training cost is more than {margin} below the fit from the "

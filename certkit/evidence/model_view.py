@@ -140,7 +140,8 @@ def model_view(evidence, units, reference=None, origins=None, effects=(),
                                                    for w in fit.warnings],
             "message": fit.message,
             "evaluations": f"{fit.evaluations} model evaluations"
-                           + (" in all, further starts included" if gear.search else ""),
+                           + (" by the fits that finished, further starts included (a fit "
+                              "that failed is not counted)" if gear.search else ""),
             "starts": starts_words(gear.search),
             "cost": f"{number(fit.cost_nominal)} → {number(fit.cost)}", "rmse": rmse,
             "figures": figures, "velocities": velocities, "held_out_words": held_out_words,
@@ -171,8 +172,8 @@ def starts_words(search, again_cost: float | None = None) -> str:
     words = (f"The fit from the spec's values reached a training cost (normalised RMS "
              f"residual) of {number(search.first_cost)}. It was also tried from "
              f"{len(search.points)} further starts spread over the parameters' bounds, each "
-             f"a short fit (at most {START_EVALUATIONS} evaluations of the residuals, "
-             f"finite-difference points not counted)")
+             f"fitted with forward differences within {START_EVALUATIONS} evaluations of the "
+             f"residuals (finite-difference points not counted)")
     if search.kept is not None:
         words += (f"; start {search.kept + 1} reached {number(costs[search.kept])} and, "
                   f"fitted again from where it stopped, came more than {margin} lower: that "
@@ -180,10 +181,10 @@ def starts_words(search, again_cost: float | None = None) -> str:
     elif not done:
         words += "; none of them could be fitted, so the fit from the spec's values is kept."
     elif len(search.failures) > len(costs) - len(done):
-        # the last failure is the best start's fit done again
-        lowest, index = min(done)
-        words += (f"; the lowest, start {index + 1} at {number(lowest)}, could not be fitted "
-                  f"again, so the fit from the spec's values is kept.")
+        # the last failure is the best start's fit done again (it names that start)
+        words += (f"; the best of them (the earliest within {margin} of the lowest, "
+                  f"{number(min(done)[0])}) could not be fitted again, so the fit from the "
+                  f"spec's values is kept.")
     else:
         words += (f"; the lowest reached {number(min(done)[0])} and, fitted again, came no "
                   f"more than {margin} below the fit from the spec's values, which is kept.")

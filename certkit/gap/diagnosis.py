@@ -35,13 +35,13 @@ from certkit.gap.holdout import split_for
 from certkit.gap.missing_force import campaign_missing_forces
 from certkit.gap.phases import segment
 from certkit.gap.residuals import BANDS, Cell, band_shares, describe, largest, residual_cells
-from certkit.gap.selection import (CANDIDATES, GAIN, LEADING, RECALIBRATE, RELEVANT, RESTARTS,
-                                   TIE_COST, Diagnosis, diagnose,
-                                   nominal_calibration)
+from certkit.gap.selection import (CANDIDATES, DETECTABLE, GAIN, LEADING, NOMINAL_STARTS,
+                                   PULSE_SHARE, RECALIBRATE, RELEVANT, RESTARTS, TIE_COST,
+                                   TIMING_SHARE, Diagnosis, diagnose, nominal_calibration)
 from certkit.gap.statements import decision_words
 from certkit.physics.calibration import CHANNEL_UNITS, GearCalibration, aligned_records
 from certkit.physics.drops import MIDDLE_FROM
-from certkit.physics.starts import starts_document
+from certkit.physics.starts import KEEP_MARGIN, START_EVALUATIONS, starts_document
 from certkit.spec.campaign import Campaign
 from certkit.threads import one_blas_thread
 
@@ -219,8 +219,14 @@ THRESHOLDS = {
     "leading_candidates_refitted": LEADING,
     "gain_training_cost_share": GAIN,
     "tie_training_cost_ratio": TIE_COST,
+    "detectable_noise_variances_removed": DETECTABLE,
+    "timing_share_of_channel_mean_square": TIMING_SHARE,
+    "load_pulse_share_of_peak": PULSE_SHARE,
     "recalibrate_training_cost_share": RECALIBRATE,
     "calibrations_again_at_most": RESTARTS,
+    "nominal_calibration_further_starts": NOMINAL_STARTS,
+    "further_start_evaluations_at_most": START_EVALUATIONS,
+    "further_start_keep_margin_share": KEEP_MARGIN,
     "middle_height_held_out_from_heights": MIDDLE_FROM,
 }
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 from typing import Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, StrictInt, model_validator
 
 from certkit.spec.types import (Force, Fraction, Frequency, Identifier, Length, PositiveNumber,
                                 SpecBlock, Text, quantity, unit_text)
@@ -186,13 +186,14 @@ class CalibrationSpec(SpecBlock):
                         "every drop but those at the highest drop height, and the middle "
                         "height's when there are four heights or more); the others are "
                         "simulated to validate the calibrated model")
-    starts: int = Field(
+    starts: StrictInt = Field(
         0, ge=0, le=20,   # le: certkit.physics.starts.MOST_STARTS
         description="further starts of the fit, spread over the parameters' bounds "
-                    "(Sobol's sequence: a fixed, evenly spread set of points); the best is "
-                    "kept when its training cost is more than 0.1 % below the fit from the "
-                    "spec's values (0: from the spec's values only; each start costs about "
-                    "one more fit)")
+                    "(Sobol's sequence: a fixed set of points); the best is kept when its "
+                    "training cost is more than 0.1 % below the fit from the spec's values "
+                    "(0: from the spec's values only; each start adds a fit of at most 60 "
+                    "evaluations of the residuals with forward differences, and the best "
+                    "start is fitted again in full)")
 
 
 class BlockModelSpec(SpecBlock):
