@@ -336,6 +336,23 @@ def test_only_picks_forms_and_the_no_effect_cases_and_a_plans_own_restriction_st
     assert "--only: unknown forms ['nothing']" in capsys.readouterr().err
 
 
+def test_the_lsa_rigs_no_effect_record_holds_the_development_batterys_no_effect_cases():
+    """benchmarks/records/lsa-none-development: the development battery's no-effect cases
+    of every plan, in order, as --only none makes them; its false attribution is the count
+    of its cases that named an effect."""
+    import blind_independent as independent
+
+    record = json.loads((BENCHMARKS / "records" / "lsa-none-development" /
+                         "blind-check.json").read_text(encoding="utf-8"))
+    cases = independent.battery(independent.plans_of("development", ("none",)))
+    assert [o["id"] for o in record["cases"]] == [c.id for c in cases]
+    assert len(cases) == 120 and all(o["forms"] == [] for o in record["cases"])
+    assert record["run_by"]["command"].endswith("--battery development --only none -o DIR")
+    named = sum(1 for o in record["cases"] if o["named"])
+    metric = record["metrics"]["false_attribution"]
+    assert (metric["count"], metric["cases"]) == (named, 120)
+
+
 RECORD = "campaigns/seed-amphibian/blind-check/blind-check.json"
 
 
