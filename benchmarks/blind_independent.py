@@ -220,6 +220,38 @@ def write_case(template: str, gear_id: str, case: Case, truths: tuple, folder: P
     return write_campaign(campaign, folder / label, histories, note, case.key, sensors, rate)
 
 
+def case_named(text: str) -> Case:
+    """The case ``PLAN:SEED:RATIO:FORM`` names (a plan of either battery by its name; RATIO
+    and FORM "none" for a no-effect case), e.g. ``S5:14402:2.0:gain-skew``."""
+    plan_name, seed, ratio, form = text.split(":")
+    plans = {p.name: p for parts in PLANS.values() for p in parts}
+    return case_of(() if form == "none" else (form,), None if ratio == "none" else float(ratio),
+                   int(seed), plans[plan_name])
+
+
+def noisy_sensors(settings: own.Settings) -> SensorModel:
+    """The sensors a case's campaign is recorded with (noise, steps, offsets, zero errors)."""
+    return SensorModel(settings.load_noise, settings.load_step, settings.load_offset,
+                       settings.travel_noise, settings.travel_step, settings.travel_offset,
+                       load_zero_error=settings.load_zero_error,
+                       travel_zero_error=settings.travel_zero_error)
+
+
+def noisy_case(template: str, gear_id: str, case: Case, settings: own.Settings,
+               folder: Path) -> Path:
+    """``case``'s campaign, sized on its own draws and recorded with the battery's sensors,
+    written into ``folder`` as :func:`run_case` writes it (its spec's path)."""
+    shapes, nuisances = draws(case.key, case.forms, case.plan)
+    campaign = load_campaign(template)
+    phases = contact_phases(case.key, len(campaign.spec.runs))
+    truths = tuple(truthgen.Truth(f, effect_sizes(campaign, gear_id, f, shape, [case.ratio],
+                                                  settings, nuisances, phases,
+                                                  case.measure)[case.ratio], shape)
+                   for f, shape in zip(case.forms, shapes))
+    return write_case(template, gear_id, case, truths, folder, noisy_sensors(settings),
+                      "noisy", nuisances)
+
+
 def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) -> dict:
     """Size, write and diagnose one case (sized on its own shapes, nuisances and contact
     phases), and score it against its truth."""
@@ -253,10 +285,7 @@ def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) ->
     if any(f in GAIN_ALIKE for f in case.forms):
         truth["beyond_gain_noise"] = beyond_gain_noise(campaign, gear_id, chosen, settings,
                                                        nuisances, phases)
-    noisy = SensorModel(settings.load_noise, settings.load_step, settings.load_offset,
-                        settings.travel_noise, settings.travel_step, settings.travel_offset,
-                        load_zero_error=settings.load_zero_error,
-                        travel_zero_error=settings.travel_zero_error)
+    noisy = noisy_sensors(settings)
     with tempfile.TemporaryDirectory() as name, threadpool_limits(limits=1):
         folder = Path(name)
         try:

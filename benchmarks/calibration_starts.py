@@ -10,7 +10,7 @@ e.g.  .venv/bin/python benchmarks/calibration_starts.py campaigns/lsa-main-gear-
           S5:14401:2.0:gain-skew S4:12800:none:none
 
 Each case's noisy campaign is written as the battery writes it
-(:func:`blind_independent.write_case`); the nominal model (no effect) is calibrated on the
+(:func:`blind_independent.noisy_case`); the nominal model (no effect) is calibrated on the
 diagnosis's training runs from the spec's values alone, then with N further starts
 (default :data:`certkit.gap.selection.NOMINAL_STARTS`, as the diagnosis calibrates it),
 and the training costs are printed with the start kept and the knobs' values of both.
@@ -28,21 +28,10 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import blind_independent as battery  # noqa: E402
-import truthgen  # noqa: E402
-from blindcheck.plans import PLANS, contact_phases, draws  # noqa: E402
-from blindcheck.sizing import effect_sizes  # noqa: E402
 
 from certkit.gap.holdout import split_for  # noqa: E402
 from certkit.gap.selection import NOMINAL_STARTS  # noqa: E402
 from certkit.physics.calibration import calibrate_gear  # noqa: E402
-
-
-def _case(text: str):
-    plan_name, seed, ratio, form = text.split(":")
-    plans = {p.name: p for parts in PLANS.values() for p in parts}
-    forms = () if form == "none" else (form,)
-    return battery.case_of(forms, None if ratio == "none" else float(ratio), int(seed),
-                         plans[plan_name])
 
 
 def main() -> int:
@@ -55,23 +44,9 @@ def main() -> int:
     template = str(Path(args.spec).resolve())
     settings = battery.own.Settings()
     for text in args.cases:
-        case = _case(text)
-        shapes, nuisances = draws(case.key, case.forms, case.plan)
-        campaign = battery.load_campaign(template)
-        phases = contact_phases(case.key, len(campaign.spec.runs))
-        sizes = {f: effect_sizes(campaign, args.gear, f, shape, [case.ratio], settings,
-                                 nuisances, phases)[case.ratio]
-                 for f, shape in zip(case.forms, shapes)}
-        truths = tuple(truthgen.Truth(f, sizes[f], shape) for f, shape in zip(case.forms,
-                                                                             shapes))
-        noisy = battery.SensorModel(
-            settings.load_noise, settings.load_step, settings.load_offset,
-            settings.travel_noise, settings.travel_step, settings.travel_offset,
-            load_zero_error=settings.load_zero_error,
-            travel_zero_error=settings.travel_zero_error)
         with tempfile.TemporaryDirectory() as folder:
-            written = battery.load_campaign(battery.write_case(
-                template, args.gear, case, truths, Path(folder), noisy, "noisy", nuisances))
+            written = battery.load_campaign(battery.noisy_case(
+                template, args.gear, battery.case_named(text), settings, Path(folder)))
             training = list(split_for(written, args.gear)[0])
             first = calibrate_gear(written, args.gear, effects=[], run_ids=training)
             best = calibrate_gear(written, args.gear, effects=[], run_ids=training,
@@ -81,7 +56,7 @@ def main() -> int:
         kept = "the spec's values" if search.kept is None else f"start {search.kept + 1}"
         costs = ", ".join("failed" if c is None else f"{c:.5g}" for c in search.start_costs)
         print(f"{text}: from the spec's values {first.fit.cost:.5g}; {args.starts} further "
-              f"starts' short fits {costs}; kept: {kept}, {best.fit.cost:.5g}")
+              f"starts' fits {costs}; kept: {kept}, {best.fit.cost:.5g}")
         for name, a, b in zip(names, first.fit.estimate, best.fit.estimate):
             print(f"    {name}: {a:.6g} -> {b:.6g}")
     return 0

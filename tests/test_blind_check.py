@@ -890,3 +890,23 @@ def test_the_floor_is_the_better_of_two_calibrations_of_the_bare_case(monkeypatc
     made.clear()
     costs = [0.01, 0.02]
     assert truth_gap.floor_calibration("bare", "g", diagnosis).fit.cost == 0.01
+
+
+@pytest.mark.slow
+def test_case_decisions_reads_a_case_again_as_the_battery_ran_it(monkeypatch, capsys):
+    """benchmarks/case_decisions.py writes a case as the battery writes it: on the
+    development record's blow-off valve at 5 × (D, seed 31), run by the battery with this
+    diagnosis code, it names what the record says was named, and prints the named refit's
+    decision."""
+    import case_decisions
+
+    record = json.loads((BENCHMARKS.parent / RECORD).read_text(encoding="utf-8"))
+    kept = next(o for o in record["cases"] if o["id"] == "case-4d540baee2")
+    assert (kept["part"], kept["forms"], kept["ratio"], kept["seed"]) == \
+        ("D", ["blow-off"], 5.0, 31)
+    monkeypatch.setattr(sys, "argv", ["case_decisions.py", EXAMPLE, "-g", "left-main",
+                                      "D:31:5.0:blow-off"])
+    assert case_decisions.main() == 0
+    out = capsys.readouterr().out
+    assert f"D:31:5.0:blow-off (case-4d540baee2): named {' + '.join(kept['named'])};" in out
+    assert "step 1: rebound orifice" in out and ": named (cut " in out
