@@ -31,8 +31,9 @@ report: $(VENV)/.installed
 test: $(VENV)/.installed
 	$(VENV)/bin/python -m pytest -q -n auto --dist loadfile -m "not slow"
 
+# --durations: the log says which slow checks cost CI's time
 test-slow: $(VENV)/.installed
-	$(VENV)/bin/python -m pytest -q -n auto --dist loadfile -m slow
+	$(VENV)/bin/python -m pytest -q -n auto --dist loadfile -m slow --durations=15
 
 # the catalog's tests (slow ones too) on SQLite and on a throwaway PostgreSQL server started
 # and stopped by .ci/postgresql (Debian's postgresql package; CI runs them within make test
