@@ -49,7 +49,6 @@ if __name__ == "__main__":     # run as the benchmark (a test imports it as a li
 # isort: split
 import argparse
 import hashlib
-import json
 import math
 import multiprocessing
 import statistics
@@ -67,7 +66,6 @@ sys.path.insert(0, str(HERE))
 import truthgen  # noqa: E402
 
 from certkit.compliance.clauses import ideal_impact_velocity  # noqa: E402
-from certkit.gap.holdout import split_for  # noqa: E402
 from certkit.gap.residuals import harmed  # noqa: E402
 from certkit.gap.selection import diagnose, pooled  # noqa: E402
 from certkit.physics.synthetic import NO_SENSOR_EFFECTS, Histories, SensorModel, write_campaign  # noqa: E402,E501
@@ -221,12 +219,32 @@ def write_case(template: str, gear_id: str, case: Case, truths: tuple, folder: P
 
 
 def case_named(text: str) -> Case:
-    """The case ``PLAN:SEED:RATIO:FORM`` names (a plan of either battery by its name; RATIO
-    and FORM "none" for a no-effect case), e.g. ``S5:14402:2.0:gain-skew``."""
-    plan_name, seed, ratio, form = text.split(":")
+    """The case ``PLAN:SEED:RATIO:FORMS`` names, with ``:beyond-gain`` after it for a
+    crosstalk sized by what no load-cell gain explains: a case of that plan (of either
+    battery) as the battery makes it, e.g. ``S5:14402:2.0:gain-skew``; FORMS one form id or
+    two joined by "+" (a pair), RATIO and FORMS "none" for a no-effect case.
+    :class:`ValueError` when the plan has no such case (the message names its seeds)."""
+    fields = text.split(":")
+    if len(fields) not in (4, 5) or (len(fields) == 5 and fields[4] != "beyond-gain"):
+        raise ValueError(f"{text!r}: expected PLAN:SEED:RATIO:FORMS[:beyond-gain]")
+    plan_name, seed, ratio, forms = fields[:4]
     plans = {p.name: p for parts in PLANS.values() for p in parts}
-    return case_of(() if form == "none" else (form,), None if ratio == "none" else float(ratio),
-                   int(seed), plans[plan_name])
+    if plan_name not in plans:
+        raise ValueError(f"{text!r}: no plan {plan_name!r} (plans: {', '.join(plans)})")
+    plan = plans[plan_name]
+    try:
+        wanted = (() if forms == "none" else tuple(forms.split("+")),
+                  None if ratio == "none" else float(ratio), int(seed),
+                  BEYOND_GAIN if len(fields) == 5 else "load")
+    except ValueError:
+        raise ValueError(f"{text!r}: SEED a whole number, RATIO a number or none") from None
+    for case in battery(plan):
+        if (case.forms, case.ratio, case.seed, case.measure) == wanted:
+            return case
+    raise ValueError(f"{text!r}: plan {plan_name} has no such case (its effect seeds "
+                     f"{', '.join(map(str, plan.seeds))}; its no-effect seeds "
+                     f"{plan.null_seeds}-{plan.null_seeds + plan.null_cases - 1}; its ratios "
+                     f"{', '.join(map(str, plan.ratios))})")
 
 
 def noisy_sensors(settings: own.Settings) -> SensorModel:
@@ -237,18 +255,29 @@ def noisy_sensors(settings: own.Settings) -> SensorModel:
                        travel_zero_error=settings.travel_zero_error)
 
 
-def noisy_case(template: str, gear_id: str, case: Case, settings: own.Settings,
-               folder: Path) -> Path:
-    """``case``'s campaign, sized on its own draws and recorded with the battery's sensors,
-    written into ``folder`` as :func:`run_case` writes it (its spec's path)."""
+def sized(template: str, gear_id: str, case: Case, settings: own.Settings) -> tuple:
+    """What ``case`` is made of: its shapes and nuisance physics (drawn from its key), its
+    runs' contact phases, and its truths, each form sized on those to the case's ratio (a
+    size None: out of the form's range)."""
     shapes, nuisances = draws(case.key, case.forms, case.plan)
     campaign = load_campaign(template)
     phases = contact_phases(case.key, len(campaign.spec.runs))
-    truths = tuple(truthgen.Truth(f, effect_sizes(campaign, gear_id, f, shape, [case.ratio],
+    chosen = tuple(truthgen.Truth(f, effect_sizes(campaign, gear_id, f, shape, [case.ratio],
                                                   settings, nuisances, phases,
                                                   case.measure)[case.ratio], shape)
                    for f, shape in zip(case.forms, shapes))
-    return write_case(template, gear_id, case, truths, folder, noisy_sensors(settings),
+    return shapes, nuisances, phases, chosen
+
+
+def noisy_case(template: str, gear_id: str, case: Case, settings: own.Settings,
+               folder: Path) -> Path:
+    """``case``'s campaign, sized and recorded with the battery's sensors, written into
+    ``folder`` as :func:`run_case` writes it (its spec's path); :class:`ValueError` for a
+    case the battery does not generate (a size out of its form's range)."""
+    _, nuisances, _, chosen = sized(template, gear_id, case, settings)
+    if any(t.size is None for t in chosen):
+        raise ValueError(f"{case.id}: not generated (a size out of its form's range)")
+    return write_case(template, gear_id, case, chosen, folder, noisy_sensors(settings),
                       "noisy", nuisances)
 
 
@@ -267,13 +296,8 @@ def run_case(template: str, gear_id: str, case: Case, settings: own.Settings) ->
              "form": "; ".join(f"{forms[f].label}: {forms[f].description}"
                                for f in case.forms) or "none (nuisances only)",
              "part": case.plan.name, "measure": case.measure}
-    shapes, nuisances = draws(case.key, case.forms, case.plan)
+    shapes, nuisances, phases, chosen = sized(template, gear_id, case, settings)
     campaign = load_campaign(template)
-    phases = contact_phases(case.key, len(campaign.spec.runs))
-    sizes = {f: effect_sizes(campaign, gear_id, f, shape, [case.ratio], settings, nuisances,
-                             phases, case.measure)[case.ratio]
-             for f, shape in zip(case.forms, shapes)}
-    chosen = tuple(truthgen.Truth(f, sizes[f], shape) for f, shape in zip(case.forms, shapes))
     truth["shapes"] = [dict(shape) for shape in shapes]
     truth["nuisances"] = {"pad_m": nuisances.pad, "gas": nuisances.gas,
                           "tyre_shape": nuisances.tyre_shape}
@@ -469,7 +493,8 @@ def _part_settings(plan: Plan) -> dict:
             "shape_ranges": {f: [list(r) for r in plan.shape_ranges(f)]
                              for f, form in truthgen.FORMS.items() if form.shape_ranges}
             if plan.drawn else None,
-            "nuisance_ranges": [list(r) for r in NUISANCE_RANGES] if plan.drawn else None}
+            "nuisance_ranges": [list(r) for r in NUISANCE_RANGES] if plan.drawn else None,
+            "only": list(plan.only)}
 
 
 def record(template: str, gear_id: str, plans: tuple, settings, cases: list[Case],
@@ -564,7 +589,7 @@ def main() -> int:
                              "command; its cases are kept)")
     args = parser.parse_args()
     template = str(Path(args.spec).resolve())
-    only = tuple(f for f in args.only.split(",") if f)
+    only = tuple(sorted(f for f in args.only.split(",") if f))   # one command for one set
     unknown = [f for f in only if f not in _library_forms() + [NO_EFFECT]]
     if unknown:
         parser.error(f"--only: unknown forms {unknown}; known: {_library_forms()} and "

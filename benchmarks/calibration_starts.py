@@ -43,10 +43,14 @@ def main() -> int:
     args = parser.parse_args()
     template = str(Path(args.spec).resolve())
     settings = battery.own.Settings()
-    for text in args.cases:
+    try:
+        cases = [battery.case_named(text) for text in args.cases]
+    except ValueError as error:
+        parser.error(str(error))
+    for text, case in zip(args.cases, cases):
         with tempfile.TemporaryDirectory() as folder:
             written = battery.load_campaign(battery.noisy_case(
-                template, args.gear, battery.case_named(text), settings, Path(folder)))
+                template, args.gear, case, settings, Path(folder)))
             training = list(split_for(written, args.gear)[0])
             first = calibrate_gear(written, args.gear, effects=[], run_ids=training)
             best = calibrate_gear(written, args.gear, effects=[], run_ids=training,

@@ -179,7 +179,9 @@ def test_the_spec_sets_the_further_starts_and_the_option_is_checked(measured):
         outcome = runner.invoke(app, ["validate", str(spec)])
         assert outcome.exit_code == 2, (value, outcome.output)
         message = " ".join(outcome.output.split())
-        assert "model.calibration.starts: input should be a valid integer; " + found in message
+        line = text[:text.index("\nmodel:\n  effects:")].count("\n") + 3   # the key's line
+        assert f"{spec.name}:{line} model.calibration.starts: input should be a valid " \
+            f"integer; {found}" in message
 
 
 def test_the_report_states_the_specs_further_starts(measured):

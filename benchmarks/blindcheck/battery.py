@@ -26,12 +26,9 @@ function runs in both.  Seeds are fixed; the same inputs give the same result do
 from __future__ import annotations
 
 import contextlib
-import csv
 import hashlib
-import json
 import math
 import multiprocessing
-import statistics
 import tempfile
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
