@@ -65,7 +65,8 @@ def main() -> int:
         parser.error(f"{', '.join(unrun)}: sealed, and not in a record given with --record: "
                      "a sealed case is read only after its one run")
     who = provenance(" ".join(["python", "benchmarks/case_decisions.py",
-                               Path(args.spec).name, "-g", args.gear, *args.cases]))
+                               Path(args.spec).name, "-g", args.gear, *args.cases]
+                              + (["--record", str(args.record)] if args.record else [])))
     print(f"read by certkit {who['certkit']} at commit {who['commit']} (diagnosis code "
           f"{who['code'][:12]}) on {who['date']}: {who['command']}", flush=True)
     for text, case in zip(args.cases, cases):
