@@ -247,6 +247,23 @@ def case_named(text: str) -> Case:
                      f"{', '.join(map(str, plan.ratios))})")
 
 
+def cases_read(parser: argparse.ArgumentParser, texts: list[str]) -> list[Case]:
+    """The cases ``texts`` name (:func:`case_named`) for a script that reads cases again;
+    a text naming none exits 2 through ``parser`` with the reason."""
+    try:
+        return [case_named(text) for text in texts]
+    except ValueError as error:
+        parser.error(str(error))
+
+
+def reader_line(command: str) -> str:
+    """The first line a script that reads cases again prints: who ran it (certkit's
+    version, commit and diagnosis code, the date) and ``command``."""
+    who = provenance(command)
+    return (f"run by certkit {who['certkit']} at commit {who['commit']} (diagnosis code "
+            f"{who['code'][:12]}) on {who['date']}: {who['command']}")
+
+
 def noisy_sensors(settings: own.Settings) -> SensorModel:
     """The sensors a case's campaign is recorded with (noise, steps, offsets, zero errors)."""
     return SensorModel(settings.load_noise, settings.load_step, settings.load_offset,

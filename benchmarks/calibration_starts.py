@@ -43,10 +43,7 @@ def main() -> int:
     args = parser.parse_args()
     template = str(Path(args.spec).resolve())
     settings = battery.own.Settings()
-    try:
-        cases = [battery.case_named(text) for text in args.cases]
-    except ValueError as error:
-        parser.error(str(error))
+    cases = battery.cases_read(parser, args.cases)
     for text, case in zip(args.cases, cases):
         with tempfile.TemporaryDirectory() as folder:
             written = battery.load_campaign(battery.noisy_case(

@@ -14,7 +14,7 @@ e.g.  .venv/bin/python benchmarks/case_decisions.py campaigns/lsa-main-gear-rig/
 Each case's noisy campaign is written as the battery writes it
 (:func:`blind_independent.noisy_case`) and diagnosed (:func:`certkit.gap.selection.diagnose`)
 as a battery run diagnoses it; nothing is scored or recorded.  The first line printed says
-who read the cases (commit, diagnosis code, date, command).  A sealed case is read only
+who ran this script (commit, diagnosis code, date, command).  A sealed case is read only
 after its one run: its record must be given and hold it.
 """
 
@@ -31,7 +31,6 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import blind_independent as battery  # noqa: E402
-from blindcheck.record import provenance  # noqa: E402
 
 from certkit.gap.selection import diagnose  # noqa: E402
 
@@ -52,10 +51,7 @@ def main() -> int:
     args = parser.parse_args()
     template = str(Path(args.spec).resolve())
     settings = battery.own.Settings()
-    try:
-        cases = [battery.case_named(text) for text in args.cases]
-    except ValueError as error:
-        parser.error(str(error))
+    cases = battery.cases_read(parser, args.cases)
     ran = set()
     if args.record is not None:
         ran = {o["id"] for o in battery.read_blind_check(args.record).cases}
@@ -64,11 +60,9 @@ def main() -> int:
     if unrun:
         parser.error(f"{', '.join(unrun)}: sealed, and not in a record given with --record: "
                      "a sealed case is read only after its one run")
-    who = provenance(" ".join(["python", "benchmarks/case_decisions.py",
-                               Path(args.spec).name, "-g", args.gear, *args.cases]
-                              + (["--record", str(args.record)] if args.record else [])))
-    print(f"read by certkit {who['certkit']} at commit {who['commit']} (diagnosis code "
-          f"{who['code'][:12]}) on {who['date']}: {who['command']}", flush=True)
+    print(battery.reader_line(" ".join(
+        ["python", "benchmarks/case_decisions.py", Path(args.spec).name, "-g", args.gear,
+         *args.cases] + (["--record", str(args.record)] if args.record else []))), flush=True)
     for text, case in zip(args.cases, cases):
         with tempfile.TemporaryDirectory() as folder:
             try:

@@ -31,7 +31,6 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import blind_independent as battery  # noqa: E402
 from blindcheck.plans import draws  # noqa: E402
-from blindcheck.record import provenance  # noqa: E402
 from blindcheck.truth_gap import held_out_load  # noqa: E402
 
 from certkit.gap.holdout import split_for  # noqa: E402
@@ -47,16 +46,12 @@ def main() -> int:
     parser.add_argument("cases", nargs="+", help="PLAN:SEED:none:none")
     args = parser.parse_args()
     template = str(Path(args.spec).resolve())
-    try:
-        cases = [battery.case_named(text) for text in args.cases]
-    except ValueError as error:
-        parser.error(str(error))
+    cases = battery.cases_read(parser, args.cases)
     if any(c.forms for c in cases) or any(c.plan.battery == "sealed" for c in cases):
         parser.error("no-effect cases of the development battery only")
-    who = provenance(" ".join(["python", "benchmarks/floor_nuisances.py",
-                               Path(args.spec).name, "-g", args.gear, *args.cases]))
-    print(f"run by certkit {who['certkit']} at commit {who['commit']} (diagnosis code "
-          f"{who['code'][:12]}) on {who['date']}: {who['command']}", flush=True)
+    print(battery.reader_line(" ".join(["python", "benchmarks/floor_nuisances.py",
+                                        Path(args.spec).name, "-g", args.gear,
+                                        *args.cases])), flush=True)
     for text, case in zip(args.cases, cases):
         _, drawn = draws(case.key, case.forms, case.plan)
         variants = {"drawn": drawn, "no real gas": replace(drawn, gas=0.0),
