@@ -279,12 +279,15 @@ def evidence_cache(tmp_path_factory) -> Path:
 @pytest.fixture(scope="session")
 def full_report_run(tmp_path_factory) -> tuple[Path, tuple[int, str, str]]:
     """The seed example's full report (drop-model appendices included), made once per test
-    worker by the command line in a fresh process, its drop-model evidence made afresh
-    (tests/full_reports.made): the output folder and the run's (exit code, stdout, stderr).
-    About a minute: only slow checks use it (tests/test_full_report_seed.py among them)."""
-    from .full_reports import made
+    session (by one of its pytest-xdist workers, the others wait for it and take it:
+    tests/full_reports.made_once) by the command line in a fresh process with one thread,
+    its drop-model evidence made afresh (tests/full_reports.made): the output folder and
+    the run's (exit code, stdout, stderr).  About a minute: only slow checks use it
+    (tests/test_full_report_seed.py, test_thread_counts.py, test_archive.py,
+    test_rendering.py, test_report.py), and only to read it."""
+    from .full_reports import made_once
 
-    return made(SEED, tmp_path_factory.mktemp("full-report"))
+    return made_once(SEED, tmp_path_factory, "full-report")
 
 
 @pytest.fixture(scope="session")

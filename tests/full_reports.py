@@ -2,8 +2,9 @@
 it (the drop model's calibration, identification and gap diagnosis included).  Each
 example's test module (test_full_report_*.py) runs them on its own report: the second
 example's in make test, the seed's (a minute of one core) among the slow checks, on the
-report they share (conftest.full_report_run); tests/test_thread_counts.py, slow, checks that
-two threads and two processes give the same bytes:
+report they share (conftest.full_report_run, made once per test session: :func:`made_once`);
+tests/test_thread_counts.py, slow, checks that two threads and two processes give the same
+bytes:
 
 * the compliance body first: page 1 names every reason a criterion is not PASS, the body
   (before the first appendix) fits in 22 pages, each appendix opens saying it is not
@@ -13,6 +14,7 @@ two threads and two processes give the same bytes:
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
@@ -55,6 +57,34 @@ def made(spec: Path, root: Path) -> tuple[Path, tuple[int, str, str]]:
     for entry in cache.glob("*.pickle"):
         shutil.copyfile(entry, SHARED_CACHE / entry.name)
     return out, finished
+
+
+def made_once(spec: Path, tmp_path_factory, name: str) -> tuple[Path, tuple[int, str, str]]:
+    """:func:`made`, once per test session however many pytest-xdist workers ask for it:
+    the first makes it in a folder ``name`` of the session's temporary folder (the parent
+    of every worker's, as pytest-xdist documents), holding a lock beside it, and keeps the
+    run's exit code and output there; the others wait for the lock and take the folder.
+    Without xdist, the report is made in this session's own temporary folder.  The checks
+    that take it only read it: one that writes there must copy it first."""
+    if not os.environ.get("PYTEST_XDIST_WORKER"):
+        return made(spec, tmp_path_factory.mktemp(name))
+    import fcntl
+
+    session = tmp_path_factory.getbasetemp().parent
+    root, record = session / name, session / f"{name}.json"
+    with open(session / f"{name}.lock", "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)   # released when the file is closed
+        if not record.is_file():
+            # a worker that failed while making it (made raised) left no record: again
+            shutil.rmtree(root, ignore_errors=True)
+            root.mkdir(mode=0o700)
+            _, (code, stdout, stderr) = made(spec, root)
+            written = record.with_suffix(".partial")
+            written.write_text(json.dumps({"code": code, "stdout": stdout, "stderr": stderr}),
+                               encoding="utf-8")
+            written.replace(record)
+        run = json.loads(record.read_text(encoding="utf-8"))
+    return root / "out", (run["code"], run["stdout"], run["stderr"])
 
 
 def files(folder: Path) -> dict[str, bytes]:

@@ -4,6 +4,7 @@ import hashlib
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -156,8 +157,11 @@ def test_model_section_is_reproducible_and_says_the_data_are_synthetic(full_repo
     # the example campaign: calibration, identification and gap diagnosis of both gears
     # (the same bytes made afresh in two processes at other thread counts: the fast
     # test_full_report_seed.py); a report that takes the evidence from the cache gives the
-    # same bytes as the one that made it
-    stderr = _render_in_fresh_process(SEED, tmp_path / "c", cache=full_report.parent / "cache")
+    # same bytes as the one that made it (its cache copied: the report and its cache are
+    # shared by the test session's workers, and a report process may write to its cache)
+    cache = tmp_path / "cache"
+    shutil.copytree(full_report.parent / "cache", cache)
+    stderr = _render_in_fresh_process(SEED, tmp_path / "c", cache=cache)
     assert "taken from the cache" in stderr and "calibrating" not in stderr
     assert _digests(full_report) == _digests(tmp_path / "c")
     html = (full_report / "report.html").read_text(encoding="utf-8")

@@ -8,8 +8,9 @@ and its full report failed on the one and not on the other.
 
 Slow (two full reports each): the seed's one-thread report is the one the other slow checks
 share (conftest.full_report_run: one thread, the stages in the process, evidence made
-afresh); the second example's takes the evidence the fast test_full_report_second.py made
-on this machine when there is one (CI runs it first); the two-thread reports make their own."""
+afresh, once per test session by whichever worker first needs it); the second example's
+takes the evidence the fast test_full_report_second.py made on this machine when there is
+one (CI runs it first); the two-thread reports make their own."""
 
 from __future__ import annotations
 
@@ -28,6 +29,9 @@ SECOND = REPO / "campaigns" / "lsa-main-gear-rig" / "campaign.yaml"
 @pytest.mark.parametrize("spec", [SEED, SECOND], ids=["seed example", "second example"])
 def test_one_thread_in_one_process_gives_the_bytes_of_two_threads_in_two(spec, tmp_path,
                                                                         request):
+    # the two-thread report first: while another test worker makes the shared one-thread
+    # report (conftest.full_report_run), this one does not wait for it idle
+    two = run_report(spec, tmp_path / "two", 2, 2, tmp_path / "own", "--no-cache")
     if spec == SEED:
         one_folder, one = request.getfixturevalue("full_report_run")
     else:
@@ -37,7 +41,6 @@ def test_one_thread_in_one_process_gives_the_bytes_of_two_threads_in_two(spec, t
             shutil.copyfile(entry, shared / entry.name)
         one_folder = tmp_path / "one"
         one = run_report(spec, one_folder, 1, 1, shared)
-    two = run_report(spec, tmp_path / "two", 2, 2, tmp_path / "own", "--no-cache")
     for code, _, stderr in (one, two):
         assert code == 0, stderr
     # its evidence made afresh, in two worker processes
