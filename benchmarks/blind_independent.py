@@ -175,8 +175,17 @@ def _plan_cases(plan: Plan, quick: bool) -> list[Case]:
 
 def plans_of(name: str, only: tuple = ()) -> tuple:
     """The plans of the battery ``name``, each restricted to ``only`` when it is given (a
-    plan restricted by itself keeps its restriction otherwise)."""
-    return tuple(replace(p, only=only) if only else p for p in PLANS[name])
+    plan restricted by itself keeps its restriction otherwise).  A plan restricted by itself
+    keeps only those of ``only`` it holds, and is left out when it holds none of them: the
+    cases picked are always cases of the whole battery."""
+    if not only:
+        return PLANS[name]
+    picked = []
+    for plan in PLANS[name]:
+        kept = tuple(f for f in only if not plan.only or f in plan.only)
+        if kept:
+            picked.append(replace(plan, only=kept))
+    return tuple(picked)
 
 
 def battery(plans=(Plan(),), quick: bool = False) -> list[Case]:
@@ -516,7 +525,7 @@ def _part_settings(plan: Plan) -> dict:
 
 def record(template: str, gear_id: str, plans: tuple, settings, cases: list[Case],
            outcomes: list[dict], run_by: dict | None = None, rescored: bool = False,
-           quick: bool = False) -> dict:
+           quick: bool = False, only: tuple | None = None) -> dict:
     """The blind-check record of ``outcomes`` (the cases run, in ``cases``' order) of the
     battery made of ``plans``.
 
@@ -525,7 +534,7 @@ def record(template: str, gear_id: str, plans: tuple, settings, cases: list[Case
     fingerprint is the one that ran the cases: a rescore never re-stamps the run."""
     plans = (plans,) if isinstance(plans, Plan) else tuple(plans)
     plan = plans[0]
-    command = _command(template, gear_id, plans, quick)
+    command = _command(template, gear_id, plans, quick, only)
     scored_by = provenance(command + " --rescore RECORD" if rescored else command)
     run_by = scored_by if run_by is None else run_by
     campaign = load_campaign(template)
@@ -577,10 +586,13 @@ def record(template: str, gear_id: str, plans: tuple, settings, cases: list[Case
     return document
 
 
-def _command(template: str, gear_id: str, plans: tuple, quick: bool = False) -> str:
-    """The command that runs ``plans``: ``--only`` when it restricted them all alike (a plan
-    restricted by itself alone is the battery's own part)."""
-    only = plans[0].only if len({p.only for p in plans}) == 1 else ()
+def _command(template: str, gear_id: str, plans: tuple, quick: bool = False,
+             only: tuple | None = None) -> str:
+    """The command that runs ``plans``: with ``only``, the ``--only`` given; without it,
+    ``--only`` when it restricted them all alike (a plan restricted by itself alone is the
+    battery's own part)."""
+    if only is None:
+        only = plans[0].only if len({p.only for p in plans}) == 1 else ()
     return (f"python benchmarks/blind_independent.py {Path(template).name} -g {gear_id} "
             f"--battery {plans[0].battery}" + (f" --only {','.join(only)}" if only else "")
             + (" --quick" if quick else "") + " -o DIR")
@@ -627,7 +639,7 @@ def main() -> int:
         # the cases were run by whoever ran them, not by this process
         run_by = earlier.cases_run_by.model_dump()
     else:
-        command = _command(template, args.gear, plans, args.quick)
+        command = _command(template, args.gear, plans, args.quick, only)
         now = header(provenance(command),                       # before the cases run
                      template_fingerprint(load_campaign(template)), args.gear,
                      [c.id for c in cases])
@@ -652,7 +664,7 @@ def main() -> int:
         finally:
             progress.close()
     document = record(template, args.gear, plans, settings, cases, outcomes, run_by,
-                      rescored=args.rescore is not None, quick=args.quick)
+                      rescored=args.rescore is not None, quick=args.quick, only=only)
     args.out.mkdir(parents=True, exist_ok=True)
     write_blind_check(document, args.out)
     if args.rescore is None:

@@ -14,13 +14,14 @@ Lagrange multiplier tests in econometrics", Handbook of Econometrics II, ch. 13,
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from certkit.physics.drop_model import DropModel
 from certkit.physics.effects import CANDIDATES, Candidate
-from certkit.physics.fitting import FitParameter, fit
+from certkit.physics.calibration import FIT_STEP
+from certkit.physics.fitting import FitParameter, fit, jacobian_at
 
 
 @dataclass(frozen=True)
@@ -107,20 +108,14 @@ def score_candidates(residuals, models: list[DropModel], nominal_jacobian: np.nd
     return Attribution(tuple(scores), confusability, sigma2)
 
 
-def central_jacobian(residuals, values, models_at, relative: float = 1e-4) -> np.ndarray:
-    """∂r/∂x at ``values`` by central differences, every stencil point in one batch;
-    ``models_at(x)`` gives the models (one per run) at parameter vector x."""
-    values = np.asarray(values, dtype=float)
-    sets, steps = [], []
-    for index in range(values.size):
-        h = relative * max(abs(values[index]), 1e-3)
-        steps.append(h)
-        for sign in (+1, -1):
-            x = values.copy()
-            x[index] += sign * h
-            sets.append(models_at(x))
-    r = residuals.evaluate(sets)
-    return np.column_stack([(r[2 * i] - r[2 * i + 1]) / (2 * h) for i, h in enumerate(steps)])
+def central_jacobian(residuals, parameters, values, models_at) -> np.ndarray:
+    """∂r/∂x at ``values`` by the differences of the drop-model fits
+    (:func:`certkit.physics.fitting.jacobian_at`: central, one-sided next to a bound, a step
+    of :data:`~certkit.physics.calibration.FIT_STEP` of each parameter's size), every
+    stencil point in one batch; ``parameters``: the fit's parameters of ``values`` (their
+    bounds and sizes); ``models_at(x)`` gives the models (one per run) at x."""
+    return jacobian_at(lambda matrix: residuals.evaluate([models_at(x) for x in matrix]),
+                       parameters, values, relative_step=FIT_STEP)
 
 
 def form_knobs(candidates) -> list:
@@ -163,7 +158,7 @@ def configured(residuals, knobs, candidates, x) -> list[DropModel]:
 
 def nominal_jacobian(residuals, calibration) -> np.ndarray:
     """∂r/∂θ of a calibration's knobs at its estimate."""
-    return central_jacobian(residuals, calibration.fit.estimate,
+    return central_jacobian(residuals, calibration.fit.parameters, calibration.fit.estimate,
                             lambda x: configured(residuals, calibration.knobs, [], x))
 
 
@@ -244,7 +239,12 @@ def refit(residuals, calibration, candidates: list[Candidate],
           max_strength: float = MAX_STRENGTH, start=None) -> Refit:
     """Fit the calibration's knobs and the strengths (bounded to [0, ``max_strength``] of
     each candidate's unit size) on the runs of ``residuals``, from ``start`` (knobs then
-    strengths; default: the calibration's estimate and every candidate at its probe)."""
+    strengths; default: the calibration's estimate and every candidate at its probe).
+
+    Each parameter keeps one size wherever the refit starts (the floor of its
+    finite-difference step, :data:`~certkit.physics.calibration.FIT_STEP` of it): a knob
+    the calibration's, a form's own knob that of its default start, a strength the
+    candidate's probe."""
 
     knobs = calibration.knobs
     extras = form_knobs(candidates)
@@ -252,14 +252,15 @@ def refit(residuals, calibration, candidates: list[Candidate],
         start = (list(calibration.fit.estimate) + form_starts(candidates)
                  + [c.probe for c in candidates])
     start = [float(v) for v in start]
-    parameters = [FitParameter(p.name, p.unit, min(max(v, p.lower), p.upper), p.lower, p.upper)
+    parameters = [replace(p, nominal=min(max(v, p.lower), p.upper))
                   for p, v in zip(calibration.fit.parameters, start)]
-    for knob, v in zip(extras, start[len(knobs):len(knobs) + len(extras)]):
+    for knob, v, default in zip(extras, start[len(knobs):len(knobs) + len(extras)],
+                                form_starts(candidates)):
         lower, upper = knob.bounds(0.0)
-        parameters.append(FitParameter(knob.name, knob.unit, min(max(v, lower), upper),
-                                       lower, upper))
+        sized = FitParameter(knob.name, knob.unit, min(max(default, lower), upper), lower, upper)
+        parameters.append(replace(sized, nominal=min(max(v, lower), upper)))
     parameters += [FitParameter(f"{c.key} strength", "1", min(max(v, 0.0), max_strength), 0.0,
-                                max_strength)
+                                max_strength, size=c.probe)
                    for c, v in zip(candidates, start[len(knobs) + len(extras):])]
 
     def many(matrix):
@@ -269,7 +270,8 @@ def refit(residuals, calibration, candidates: list[Candidate],
     # forward differences: refits are compared at GAIN (10 %) apart, far above their
     # truncation error, and cost half the simulations of central ones
     result = fit(lambda x: many(np.asarray(x)[None, :])[0], parameters, residuals_many=many,
-                 max_evaluations=40, tolerance=REFIT_TOLERANCE, differences="forward")
+                 max_evaluations=40, tolerance=REFIT_TOLERANCE, relative_step=FIT_STEP,
+                 differences="forward")
     k = len(knobs) + len(extras)
     return Refit(tuple(c.key for c in candidates), tuple(map(float, result.estimate[k:])),
                  tuple(map(float, result.standard_error[k:])),

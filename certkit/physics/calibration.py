@@ -37,7 +37,7 @@ from certkit.physics.effects.base import Knob, set_effect
 from certkit.physics.fitting import FitParameter, FitResult, fit
 from certkit.physics.gear_model import drop_model_for
 from certkit.physics.simulation import batch_step, simulate_batch
-from certkit.physics.starts import StartSearch, best_of_starts, starts_document
+from certkit.physics.starts import MOST_STARTS, StartSearch, best_of_starts, starts_document
 from certkit.spec.campaign import Campaign
 from certkit.units import STANDARD_GRAVITY
 from certkit.threads import one_blas_thread
@@ -272,10 +272,29 @@ def _residual_vector(runs: list[_Run], simulated: list[dict]) -> np.ndarray:
 #: The fit's budget and tolerance (``least_squares``'s max_nfev and its three tolerances).
 FIT_EVALUATIONS = 60
 FIT_TOLERANCE = 1e-6
+#: The finite-difference step of every drop-model fit (a share of each parameter's size,
+#: :attr:`certkit.physics.fitting.FitParameter.size`): the calibration, its further starts
+#: and the gap diagnosis's refits and Jacobians.  The residuals come from a fixed-step RK4
+#: integration of force laws that switch (seal friction's sign, the top-out stop, the tyre
+#: leaving the ground, the rebound valve): they are smooth only between the parameter
+#: values where a switch crosses an integration step, so a step near the rounding optimum
+#: eps^(1/3) differences the kinks, not the slope (J. J. Moré and S. M. Wild, "Estimating
+#: computational noise", SIAM J. Sci. Comput. 33(3) (2011) 1292-1314; "Estimating
+#: derivatives of noisy simulations", ACM TOMS 38(3) (2012) 19); docs/drop-model.md.
+FIT_STEP = 3e-3
+
+
+def _size(value: float, low: float, high: float) -> float:
+    """A parameter's size from its nominal value: |value|, or the larger bound magnitude
+    when it is zero (:attr:`certkit.physics.fitting.FitParameter.size`'s default rule)."""
+    return abs(value) if value != 0.0 else max(abs(low), abs(high))
+
+
 @one_blas_thread
 def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = None,
                    effects: list[str] | None = None, run_ids: list[str] | None = None,
-                   start: list[float] | None = None, starts: int = 0) -> GearCalibration:
+                   start: list[float] | None = None, starts: int = 0,
+                   step: float = FIT_STEP) -> GearCalibration:
     """Fit ``knobs`` of ``gear_id``'s drop model to the runs ``run_ids`` (default: every
     run recording it); every other recorded drop of the gear is simulated with the nominal
     and the fitted parameters and compared with its record (``role`` "held out").
@@ -293,11 +312,20 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
     one (a stiff top-out pad, say, barely moves the load until it is much softer); the
     gap diagnosis calibrates its nominal model so.
 
+    ``step``: the finite-difference step of the fits (:data:`FIT_STEP`).  Each knob is
+    sized by its nominal value wherever the fit starts (a start elsewhere, a further start),
+    so it is differenced over the same step.  A start outside a knob's bounds (a nominal
+    the bounds exclude: a rebound orifice wider than the main one) is moved to the nearer
+    bound.
+
     Raises
     ------
     CertkitInputError
         When no run records the gear unit, or a knob needs an effect that is off.
     """
+    if isinstance(starts, bool) or not isinstance(starts, int) or not 0 <= starts <= MOST_STARTS:
+        raise ValueError(f"further starts: expected a whole number from 0 to {MOST_STARTS}, "
+                         f"got {starts!r}")
     spec_file = campaign.spec_path.name
     chosen_effects = list(campaign.spec.model.effects if effects is None else effects)
     runs = _runs_for(campaign, gear_id, chosen_effects, run_ids)
@@ -330,7 +358,7 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
     for knob, value, initial in zip(chosen, nominal, first):
         low, high = knob.bounds(value)
         parameters.append(FitParameter(knob.name, knob.unit, min(max(initial, low), high),
-                                       low, high))
+                                       low, high, size=_size(value, low, high)))
 
     def configure(model: DropModel, values) -> DropModel:
         for knob, value in zip(chosen, values):
@@ -352,12 +380,12 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
                          for i in range(len(matrix))])
 
     result = fit(lambda x: many(np.asarray(x)[None, :])[0], parameters, residuals_many=many,
-                 max_evaluations=FIT_EVALUATIONS, tolerance=FIT_TOLERANCE)
+                 max_evaluations=FIT_EVALUATIONS, tolerance=FIT_TOLERANCE, relative_step=step)
     search = None
     if starts:
         result, search = best_of_starts(result, parameters,
                                         lambda x: many(np.asarray(x)[None, :])[0], many,
-                                        starts, FIT_EVALUATIONS, FIT_TOLERANCE)
+                                        starts, FIT_EVALUATIONS, FIT_TOLERANCE, step)
 
     fitted_ids = {r.run_id for r in runs}
     held = [] if run_ids is None else [r for r in _runs_for(campaign, gear_id, chosen_effects,

@@ -9,26 +9,29 @@ warnings.
 
 Choices, each explained where it is made:
 
-* **Scaling.** The optimiser works in ``u = x/scale`` with ``scale = |nominal|`` (the larger
-  bound magnitude when the nominal is zero), so a 1e6 Pa pre-charge and a 0.6 discharge
-  coefficient both start at ``|u| = 1``.  A linear map keeps linear models linear (the
-  Gauss-Newton statistics are then exact), allows parameters that are zero or change sign,
-  and keeps the bounds simple boxes; physical values are clipped into their bounds, so the
-  bounds are respected exactly.
-* **Finite differences** (when no analytic Jacobian is given): central differences in ``u``
-  with step ``eps^(1/3)·max(|u|, 1)``, one-sided second-order stencils next to a bound so no
-  residual is ever evaluated outside the bounds.  With ``residuals_many`` all stencil points
-  go to the simulator in one batched call.
+* **Sizes.** Every parameter has a size (:attr:`FitParameter.size`, by default
+  ``|nominal|``): the floor of its finite-difference step and the unit of its statistics
+  and bound test; a caller fitting one parameter from several starts gives it one size.
+* **Scaling.** The optimiser works in ``u = x/scale`` with ``scale = max(|start|, size)``,
+  so a 1e6 Pa pre-charge and a 0.6 discharge coefficient both start at ``|u| <= 1`` (the
+  solver's step test is relative to ``‖u‖``: a unit far below a start would loosen it for
+  every parameter).  A linear map keeps linear models linear, allows parameters that are
+  zero or change sign, and keeps the bounds simple boxes; physical values are clipped into
+  their bounds, so the bounds are respected exactly.
+* **Finite differences** (when no analytic Jacobian is given): central differences with
+  the step ``relative_step·max(|x|, size)``, one-sided second-order stencils next to a
+  bound so no residual is ever evaluated outside the bounds; with ``residuals_many`` all
+  stencil points go to the simulator in one batched call (:func:`jacobian_at` at any x).
 * **Statistics**: from the SVD of the Jacobian with respect to the log-parameters
-  (``∂r/∂ln x``, dimensionless); singular values below ``SINGULAR_CUTOFF`` times the largest
-  are treated as zero, i.e. as parameter combinations the data do not determine.
+  (``∂r/∂ln x``, dimensionless); singular values below :func:`singular_cutoff` times the
+  largest are treated as zero, i.e. as parameter combinations the data do not determine.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -37,12 +40,16 @@ from certkit.display import number
 from certkit.errors import CampaignError
 
 # A direction in log-parameter space whose singular value is below this fraction of the
-# largest is "not determined".  Its standard error would be at least 1e6 times that of the best
-# determined combination (already meaningless at, say, 0.1 % for the best: ±1000 in ln x),
-# while the central-difference Jacobian resolves singular values down to about eps^(2/3)
-# ≈ 4e-11 of the largest, so an exact degeneracy (only a product enters the model) falls
-# well below the cutoff and a merely weak dependence stays well above it.
+# largest is "not determined" (the floor of :func:`singular_cutoff`).  Its standard error
+# would be at least 1e6 times that of the best determined combination (already meaningless
+# at, say, 0.1 % for the best: ±1000 in ln x), while the central-difference Jacobian over
+# the default step resolves singular values down to about eps^(2/3) ≈ 4e-11 of the largest,
+# so an exact degeneracy (only a product enters the model) falls well below the cutoff and
+# a merely weak dependence stays well above it.
 SINGULAR_CUTOFF = 1e-6
+# How far above the differences' truncation error (h² central, h forward) the cutoff lies: a
+# ratio x/y differenced over a step h leaves a singular value of order h² or h, not zero.
+TRUNCATION_MARGIN = 10.0
 # A parameter is involved in an undetermined direction when at least this share of the
 # direction's squared length (in log-parameter space) lies on it: |component| >= 0.01.
 NULL_SHARE = 1e-4
@@ -55,7 +62,10 @@ Residuals = Callable[[np.ndarray], np.ndarray]
 
 
 class FitError(CampaignError, ValueError):
-    """The residuals could not be evaluated (non-finite or wrong shape) at some parameter values."""
+    """The residuals could not be evaluated (non-finite or wrong shape) at some parameter
+    values; ``evaluations``: the parameter sets the failed fit had evaluated (0 outside one)."""
+
+    evaluations: int = 0
 
 
 @dataclass(frozen=True)
@@ -74,6 +84,10 @@ class FitParameter:
     nominal: float  # starting value (SI), within the bounds
     lower: float
     upper: float
+    #: the parameter's size (SI, > 0): the floor of its finite-difference step and the unit
+    #: of its statistics; None gives |nominal|, or the larger bound magnitude for a zero
+    #: nominal.  ``dataclasses.replace(parameter, nominal=v)`` keeps it.
+    size: float | None = None
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name.strip():
@@ -93,6 +107,13 @@ class FitParameter:
         if not self.lower <= self.nominal <= self.upper:
             raise ValueError(f"fit parameter {self.name!r}: nominal {self.nominal:g} lies outside "
                              f"its bounds [{self.lower:g}, {self.upper:g}]")
+        if self.size is None:
+            size = abs(self.nominal) or max(abs(self.lower), abs(self.upper))
+            object.__setattr__(self, "size", float(size))
+        if not (isinstance(self.size, int | float) and math.isfinite(self.size)
+                and self.size > 0):
+            raise ValueError(f"fit parameter {self.name!r}: size must be a positive finite "
+                             f"number, got {self.size!r}")
 
     def describe(self, value: float) -> str:
         """'name = value unit', for messages."""
@@ -145,9 +166,11 @@ def fit(residuals: Residuals, parameters: Sequence[FitParameter], *,
     tolerance
         ``ftol``, ``xtol`` and ``gtol`` of ``least_squares``.
     relative_step
-        Finite-difference step as a fraction of the parameter scale.  The default
+        Finite-difference step as a fraction of ``max(|x|, size)``.  The default
         ``eps^(1/3)`` ≈ 6e-6 suits residuals accurate to machine precision; for residuals
-        with relative noise η (an ODE tolerance, say) use about ``η^(1/3)``.
+        with relative noise η (an ODE tolerance, say) use about ``η^(1/3)``, and for
+        residuals that are smooth only between kinks (a fixed-step integration of switching
+        force laws) a step longer than the kinks' spacing.
     differences
         "central" (second order, 2·p points a Jacobian; the default, for estimates whose
         standard errors are reported) or "forward" (first order, p + 1 points, the base
@@ -187,20 +210,25 @@ def fit(residuals: Residuals, parameters: Sequence[FitParameter], *,
 
     problem = _ScaledProblem(parameters, residuals, residuals_many, jacobian, relative_step,
                              differences == "forward")
-    u0 = problem.nominal / problem.scale
-    r0 = problem.residuals(u0)
-    solution = least_squares(problem.residuals, u0, jac=problem.jacobian,
-                             bounds=(problem.lower_u, problem.upper_u), method="trf",
-                             x_scale=1.0, ftol=tolerance, xtol=tolerance, gtol=tolerance,
-                             max_nfev=int(max_evaluations))
+    try:
+        u0 = problem.nominal / problem.scale
+        r0 = problem.residuals(u0)
+        solution = least_squares(problem.residuals, u0, jac=problem.jacobian,
+                                 bounds=(problem.lower_u, problem.upper_u), method="trf",
+                                 x_scale=1.0, ftol=tolerance, xtol=tolerance, gtol=tolerance,
+                                 max_nfev=int(max_evaluations))
+        estimate = problem.physical(solution.x)
+        r = problem.residuals(solution.x)
+        jac_x = problem.jacobian(solution.x) / problem.scale   # back to ∂r/∂x
+    except CampaignError as error:   # a FitError, or the caller's (a simulation failed)
+        error.evaluations = problem.evaluations
+        raise
+    cutoff = 0.0 if jacobian is not None else singular_cutoff(relative_step, differences)
+    standard_error, correlation, undetermined = _statistics(jac_x, r, estimate, problem.size,
+                                                            max(cutoff, SINGULAR_CUTOFF))
 
-    estimate = problem.physical(solution.x)
-    r = problem.residuals(solution.x)
-    jac_x = problem.jacobian(solution.x) / problem.scale   # back to ∂r/∂x
-    standard_error, correlation, undetermined = _statistics(jac_x, r, estimate, problem.scale)
-
-    at_bound, bound_warnings = _bound_report(parameters, estimate, problem.scale)
-    warnings = (_undetermined_warnings(parameters, undetermined)
+    at_bound, bound_warnings = _bound_report(parameters, estimate, problem.size)
+    warnings = (_undetermined_warnings(parameters, undetermined, jacobian is None)
                 + _correlation_warnings(parameters, correlation)
                 + bound_warnings)
     if r.size <= len(parameters):
@@ -215,6 +243,37 @@ def fit(residuals: Residuals, parameters: Sequence[FitParameter], *,
                      at_bound=at_bound, warnings=tuple(warnings),
                      evaluations=problem.evaluations, success=bool(solution.success),
                      message=_stop_reason(solution.status, tolerance, int(max_evaluations)))
+
+
+def singular_cutoff(relative_step: float, differences: str = "central") -> float:
+    """The share of the largest singular value of ∂r/∂ln x below which a direction counts
+    as not determined, for a Jacobian differenced over ``relative_step``: the truncation
+    error (h² central, h forward) times :data:`TRUNCATION_MARGIN`, never below
+    :data:`SINGULAR_CUTOFF` (above 1, for a forward step over 0.1, nothing is determined)."""
+    if differences not in ("central", "forward"):
+        raise ValueError(f"differences must be 'central' or 'forward', got {differences!r}")
+    truncation = relative_step ** 2 if differences == "central" else relative_step
+    return max(SINGULAR_CUTOFF, TRUNCATION_MARGIN * truncation)
+
+
+def jacobian_at(residuals_many: Callable[[np.ndarray], np.ndarray],
+                parameters: Sequence[FitParameter], x, *,
+                relative_step: float = DEFAULT_RELATIVE_STEP) -> np.ndarray:
+    """∂r/∂x at the SI values ``x`` (clipped into the bounds) by :func:`fit`'s central
+    differences, every stencil point in one ``residuals_many`` call; a :class:`FitError`
+    when the residuals are not finite, or have the wrong shape, at a stencil point."""
+    parameters = tuple(parameters)
+    _check_parameters(parameters)
+    x = np.asarray(x, dtype=float)
+    if x.shape != (len(parameters),):
+        raise ValueError(f"x has shape {x.shape} for {len(parameters)} parameters")
+    if not 0 < relative_step < 1:
+        raise ValueError(f"relative_step must lie in (0, 1), got {relative_step}")
+    at = tuple(replace(p, nominal=float(min(max(v, p.lower), p.upper)))
+               for p, v in zip(parameters, x, strict=True))
+    problem = _ScaledProblem(at, lambda v: residuals_many(np.asarray(v)[None, :])[0],
+                             residuals_many, None, relative_step)
+    return problem.jacobian(problem.nominal / problem.scale) / problem.scale
 
 
 def _stop_reason(status: int, tolerance: float, max_evaluations: int) -> str:
@@ -243,9 +302,9 @@ class _ScaledProblem:
         self.nominal = np.array([p.nominal for p in parameters], dtype=float)
         self.lower = np.array([p.lower for p in parameters], dtype=float)
         self.upper = np.array([p.upper for p in parameters], dtype=float)
-        # |nominal|, or for a zero nominal the larger bound magnitude (> 0 as lower < upper)
-        self.scale = np.where(self.nominal != 0.0, np.abs(self.nominal),
-                              np.maximum(np.abs(self.lower), np.abs(self.upper)))
+        self.size = np.array([p.size for p in parameters], dtype=float)
+        # the solver's unit: where the parameter starts, at least its size (> 0)
+        self.scale = np.maximum(np.abs(self.nominal), self.size)
         self.lower_u = self.lower / self.scale
         self.upper_u = self.upper / self.scale
         self._residuals = residuals
@@ -254,7 +313,7 @@ class _ScaledProblem:
         self.relative_step = relative_step
         self.forward = forward
         self.evaluations = 0
-        self.size = None            # m, fixed by the first evaluation
+        self.length = None          # m, fixed by the first evaluation
         self._last_r = (None, None)  # (u, r) of the latest single evaluation
         self._last_j = (None, None)  # (u, J) of the latest Jacobian
 
@@ -280,8 +339,8 @@ class _ScaledProblem:
         if self._jacobian is not None:
             x = self.physical(u)
             jac_x = np.asarray(self._jacobian(x.copy()), dtype=float)
-            if jac_x.shape != (self.size, self.nominal.size) or not np.all(np.isfinite(jac_x)):
-                raise FitError(f"the Jacobian must be finite with shape ({self.size}, "
+            if jac_x.shape != (self.length, self.nominal.size) or not np.all(np.isfinite(jac_x)):
+                raise FitError(f"the Jacobian must be finite with shape ({self.length}, "
                                f"{self.nominal.size}); got shape {jac_x.shape} at "
                                f"{self._describe(x)}")
             jac = jac_x * self.scale   # chain rule: ∂r/∂u = ∂r/∂x · scale
@@ -292,7 +351,8 @@ class _ScaledProblem:
         return jac
 
     def _difference_jacobian(self, u: np.ndarray) -> np.ndarray:
-        """Second-order finite differences in u, never stepping outside the bounds.
+        """Second-order finite differences, never stepping outside the bounds; the step of
+        each parameter is ``relative_step·max(|x|, size)`` (in u, divided by the scale).
 
         Central differences: their O(h²) truncation error with h = eps^(1/3) gives
         derivatives good to ~eps^(2/3) ≈ 4e-11 relative, against ~eps^(1/2) ≈ 1.5e-8 for
@@ -301,7 +361,7 @@ class _ScaledProblem:
         little when the simulator evaluates all of them in one batch.  Where u ± h would
         cross a bound the one-sided three-point formula (also O(h²)) is used instead."""
         p = u.size
-        h = self.relative_step * np.maximum(np.abs(u), 1.0)
+        h = self.relative_step * np.maximum(np.abs(u), self.size / self.scale)
         h = np.minimum(h, (self.upper_u - self.lower_u) / 4)  # a stencil always fits the box
         if self.forward:
             return self._forward_jacobian(u, h)
@@ -323,7 +383,7 @@ class _ScaledProblem:
         if need_base:
             base = values[-1]
 
-        jac = np.empty((self.size, p))
+        jac = np.empty((self.length, p))
         for j in range(p):
             f1, f2 = values[2 * j], values[2 * j + 1]
             if central[j]:
@@ -352,9 +412,11 @@ class _ScaledProblem:
             return np.array([self._checked(np.asarray(self._residuals(x.copy()), dtype=float), x)
                              for x in xs])
         values = np.asarray(self._residuals_many(xs.copy()), dtype=float)
-        if values.shape != (len(xs), self.size):
+        if self.length is None and values.ndim == 2 and values.shape[1] > 0:
+            self.length = values.shape[1]
+        if values.shape != (len(xs), self.length):
             raise FitError(f"residuals_many returned shape {values.shape} for {len(xs)} "
-                           f"parameter sets; expected ({len(xs)}, {self.size})")
+                           f"parameter sets; expected ({len(xs)}, {self.length})")
         for x, row in zip(xs, values, strict=True):
             self._checked(row, x)
         return values
@@ -363,10 +425,10 @@ class _ScaledProblem:
         if r.ndim != 1 or r.size == 0:
             raise FitError(f"the residuals must be a non-empty 1-D array; got shape {r.shape} "
                            f"at {self._describe(x)}")
-        if self.size is None:
-            self.size = r.size
-        elif r.size != self.size:
-            raise FitError(f"the residual vector changed length from {self.size} to {r.size} "
+        if self.length is None:
+            self.length = r.size
+        elif r.size != self.length:
+            raise FitError(f"the residual vector changed length from {self.length} to {r.size} "
                            f"at {self._describe(x)}")
         if not np.all(np.isfinite(r)):
             bad = int(np.count_nonzero(~np.isfinite(r)))
@@ -387,20 +449,21 @@ class _Undetermined:
     exponents: np.ndarray | None  # the one determined combination Π x_i^c_i, if exactly one
 
 
-def _statistics(jac_x: np.ndarray, r: np.ndarray, estimate: np.ndarray, scale: np.ndarray):
+def _statistics(jac_x: np.ndarray, r: np.ndarray, estimate: np.ndarray, size: np.ndarray,
+                cutoff: float = SINGULAR_CUTOFF):
     """Standard errors, correlation and undetermined groups from the Jacobian at the optimum.
 
-    The SVD is taken of G = ∂r/∂ln x = J·diag(x) (the scale replaces a zero value), which is
+    The SVD is taken of G = ∂r/∂ln x = J·diag(x) (the size replaces a zero value), which is
     dimensionless, so one relative cutoff serves all parameters and the right singular
     vectors of tiny singular values read directly as exponents of invariant products.
     Covariance: s²(JᵀJ)⁺ = D·V Σ⁻² Vᵀ·D over the determined directions, D = diag(x).
     """
     m, p = jac_x.shape
-    d = np.where(estimate != 0.0, estimate, scale)
+    d = np.where(estimate != 0.0, estimate, size)
     _, sigma, vt = np.linalg.svd(jac_x * d, full_matrices=m < p)
     sigma = np.concatenate([sigma, np.zeros(p - sigma.size)])
     v = vt.T
-    determined = sigma > SINGULAR_CUTOFF * sigma[0]   # all False if r ignores every parameter
+    determined = sigma > cutoff * sigma[0]   # all False if r ignores every parameter
     null = v[:, ~determined]
     projector = null @ null.T   # onto the undetermined directions (basis independent)
     undetermined = np.diag(projector) > NULL_SHARE
@@ -444,17 +507,24 @@ def _groups(projector: np.ndarray, undetermined: np.ndarray) -> list[_Undetermin
 
 
 # --------------------------------------------------------------------------- warnings
-def _undetermined_warnings(parameters, groups: list[_Undetermined]) -> list[str]:
+def _undetermined_warnings(parameters, groups: list[_Undetermined],
+                           differenced: bool = True) -> list[str]:
+    """The undetermined groups' warnings; ``differenced``: by finite differences, which
+    resolve a dependence down to their truncation error only (not an analytic Jacobian)."""
     warnings = []
     for group in groups:
         names = [parameters[i].name for i in group.members]
         listed = _join(names)
-        nan_note = ("its standard error is" if len(names) == 1 else
+        one = len(names) == 1
+        nan_note = ("its standard error is" if one else
                     "their standard errors are") + " reported as nan."
         if group.dimension >= len(names):
-            warnings.append(f"{listed} {'is' if len(names) == 1 else 'are'} not determined by "
-                            "the data: the residuals do not depend on "
-                            f"{'it' if len(names) == 1 else 'them'}; {nan_note}")
+            how = ("change with it by less than the fit's finite differences resolve" if one
+                   else "change with them by less than the fit's finite differences resolve")
+            if not differenced:
+                how = f"do not depend on {'it' if one else 'them'}"
+            warnings.append(f"{listed} {'is' if one else 'are'} not determined by "
+                            f"the data: the residuals {how}; {nan_note}")
         elif group.exponents is not None:
             kind, expression = _combination(names, group.exponents)
             warnings.append(f"Only the {kind} {expression} is determined by the data: {listed} "
@@ -496,9 +566,9 @@ def _correlation_warnings(parameters, correlation: np.ndarray) -> list[str]:
     return warnings
 
 
-def _bound_report(parameters, estimate: np.ndarray, scale: np.ndarray):
+def _bound_report(parameters, estimate: np.ndarray, sizes: np.ndarray):
     at_bound, warnings = [], []
-    for parameter, value, size in zip(parameters, estimate, scale, strict=True):
+    for parameter, value, size in zip(parameters, estimate, sizes, strict=True):
         for side, bound in (("lower", parameter.lower), ("upper", parameter.upper)):
             if abs(value - bound) <= BOUND_TOLERANCE * max(abs(bound), size):
                 at_bound.append(parameter.name)

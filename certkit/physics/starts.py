@@ -5,7 +5,14 @@ A fit of a drop model can stop in a basin of its cost far from the best one: a s
 top-out pad barely moves the load until it is much softer, so a trust-region step from the
 stiff pad sees almost no slope.  Fitting again from points spread over the bounds finds the
 other basins.  The points are fixed (Sobol's sequence, unscrambled), so the answer is the
-same on every machine.
+same on every machine.  Fitting locally from many points spread over the box and keeping
+the best is the multistart method (A. H. G. Rinnooy Kan and G. T. Timmer, "Stochastic
+global optimization methods, part I: clustering methods", Math. Programming 39 (1987)
+27-56); a low-discrepancy set in place of random points spreads the starts evenly (H.
+Niederreiter, Random Number Generation and Quasi-Monte Carlo Methods, SIAM, 1992, ch. 4:
+the first 2^m points of Sobol's sequence form a (t, m, s)-net in base 2).  The margin
+below which two costs count as one minimum (:data:`KEEP_MARGIN`) is a judgement, not a
+derived figure.
 """
 
 from __future__ import annotations
@@ -15,7 +22,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.stats import qmc
 
-from certkit.physics.fitting import FitError, FitParameter, FitResult, fit
+from certkit.physics.fitting import DEFAULT_RELATIVE_STEP, FitError, FitParameter, FitResult, fit
 from certkit.physics.simulation import SimulationError
 
 #: Each further start is fitted with forward differences (half the cost of central ones,
@@ -76,26 +83,30 @@ def sobol_starts(parameters, count: int) -> list[tuple[float, ...]]:
 
 
 def best_of_starts(first: FitResult, parameters: list[FitParameter], single, many,
-                   count: int, evaluations: int, tolerance: float):
+                   count: int, evaluations: int, tolerance: float,
+                   step: float = DEFAULT_RELATIVE_STEP):
     """The fit from the first start, or the fit from the best of ``count`` further starts
     when that reaches a cost lower by more than :data:`KEEP_MARGIN`.  Each further start is
     fitted with forward differences within :data:`START_EVALUATIONS`; the best (the
     earliest within :data:`KEEP_MARGIN` of the lowest cost) is fitted again from where it
     stopped, with central differences and the fit's own budget ``evaluations`` and
     ``tolerance``; ``single`` and ``many`` are the residuals of one parameter set and of a
-    batch (as :func:`certkit.physics.fitting.fit` takes them).  A start whose fit fails
-    (the model cannot be simulated there, or its residuals are not finite) is recorded so
-    and passed over; when every start fails, or the final fit does, the first fit is kept.
-    The result keeps the first start's parameters and cost at the start (what the report
-    calls "nominal") and counts every evaluation made."""
+    batch (as :func:`certkit.physics.fitting.fit` takes them).  Every fit differences over
+    ``step`` of each parameter's size, and the sizes are the first start's wherever a fit
+    starts.  A start whose fit fails (the model cannot be simulated there, or its residuals
+    are not finite) is recorded so and passed over; when every start fails, or the final fit
+    does, the first fit is kept.  The result keeps the first start's parameters and cost at
+    the start (what the report calls "nominal") and counts every evaluation made, a failed
+    fit's too."""
     points = sobol_starts(parameters, count)
     costs, fits, failures, spent = [], [], [], first.evaluations
     for index, point in enumerate(points):
         try:
             trial = fit(single, [replace(q, nominal=v) for q, v in zip(parameters, point)],
                         residuals_many=many, max_evaluations=START_EVALUATIONS,
-                        tolerance=tolerance, differences="forward")
+                        tolerance=tolerance, relative_step=step, differences="forward")
         except (FitError, SimulationError) as error:
+            spent += getattr(error, "evaluations", 0)
             costs.append(None)
             fits.append(None)
             failures.append(f"start {index + 1}: {error}")
@@ -113,8 +124,9 @@ def best_of_starts(first: FitResult, parameters: list[FitParameter], single, man
             refined = fit(single, [replace(q, nominal=float(v)) for q, v in
                                    zip(parameters, fits[best].estimate)],
                           residuals_many=many, max_evaluations=evaluations,
-                          tolerance=tolerance)
+                          tolerance=tolerance, relative_step=step)
         except (FitError, SimulationError) as error:
+            spent += getattr(error, "evaluations", 0)
             failures.append(f"start {best + 1}, fitted again: {error}")
         else:
             spent += refined.evaluations
