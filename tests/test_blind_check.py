@@ -300,6 +300,8 @@ def test_only_picks_forms_and_the_no_effect_cases_and_a_plans_own_restriction_st
     """``--only gain-skew,none``: each plan's gain-with-skew cases, then its no-effect cases,
     the same cases (ids, seeds) as the whole battery holds; without ``--only`` a plan
     restricted by itself keeps its restriction, and the command names no ``--only``."""
+    from dataclasses import replace
+
     import blind_independent as independent
     from blindcheck.plans import PLANS, Plan
 
@@ -326,7 +328,18 @@ def test_only_picks_forms_and_the_no_effect_cases_and_a_plans_own_restriction_st
     assert kept[1] is own and kept[0] is PLANS["sealed"][0]
     assert {c.forms for c in independent.battery(kept[1])} == {("bessel-delay",)}
     assert "--only" not in independent._command("c.yaml", "g", kept)
-    assert independent.plans_of("sealed", ("gain-skew",))[1].only == ("gain-skew",)
+    # --only keeps of a plan's own restriction only what it holds, and leaves out a plan
+    # that holds none of it: the cases picked are always cases of the whole battery
+    assert independent.plans_of("sealed", ("gain-skew",)) == (
+        replace(PLANS["sealed"][0], only=("gain-skew",)),)
+    both = independent.plans_of("sealed", ("bessel-delay", "gain-skew"))
+    assert [p.only for p in both] == [("bessel-delay", "gain-skew"), ("bessel-delay",)]
+    whole_sealed = {c.id for c in independent.battery(kept)}
+    assert {c.id for c in independent.battery(both)} <= whole_sealed
+    # the command names the --only given, though the plans are restricted differently
+    assert independent._command("c.yaml", "g", both, only=("bessel-delay", "gain-skew")) == \
+        "python benchmarks/blind_independent.py c.yaml -g g --battery sealed " \
+        "--only bessel-delay,gain-skew -o DIR"
 
     monkeypatch.setattr(sys, "argv", ["blind_independent.py", EXAMPLE, "-g", "left-main",
                                       "--only", "gain-skew,nothing", "-o", "unused"])
@@ -397,6 +410,20 @@ def test_the_examples_blind_check_record_is_what_this_code_gives():
 
 
 SEALED_RECORD = "campaigns/seed-amphibian/blind-check-sealed/blind-check.json"
+#: S5's record, run once while S5 was sealed and kept as it was measured
+KEPT_SEALED = BENCHMARKS / "records" / "seed-S5-c8840fe" / "blind-check.json"
+
+
+def _s5_sealed_again(monkeypatch) -> Path:
+    """The sealed battery made S5 again, for the checks of the runner's machinery that read
+    a kept sealed record (they need not move when a new sealed set is drawn); returns the
+    record's path."""
+    from dataclasses import replace
+
+    from blindcheck.plans import PLANS, S5
+
+    monkeypatch.setitem(PLANS, "sealed", (replace(S5, battery="sealed"),))
+    return KEPT_SEALED
 
 
 @pytest.mark.slow
@@ -447,7 +474,7 @@ def test_a_rescore_keeps_who_ran_the_cases(tmp_path, monkeypatch):
 
     example = BENCHMARKS.parent / EXAMPLE
 
-    committed = BENCHMARKS.parent / SEALED_RECORD
+    committed = _s5_sealed_again(monkeypatch)
     earlier = json.loads(committed.read_text(encoding="utf-8"))
     ran = {"certkit": "0.0.9", "code": "a" * 64, "commit": "b" * 40, "date": "2026-01-02",
            "files": {"gap/selection.py": "c" * 64}, "command": "the run's command"}
@@ -479,7 +506,7 @@ def _resumable_battery(monkeypatch):
     monkeypatch.setattr(blindcheck.record, "git_commit", lambda: "c" * 40)
 
     kept = {o["id"]: o for o in json.loads(
-        (BENCHMARKS.parent / SEALED_RECORD).read_text(encoding="utf-8"))["cases"]}
+        _s5_sealed_again(monkeypatch).read_text(encoding="utf-8"))["cases"]}
     calls, stop = [], [None]
 
     def fake(template, gear_id, case, settings):
@@ -658,13 +685,14 @@ def test_the_report_names_the_files_that_differ_from_the_running_certkit():
 def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
     import blind_independent as independent
     import truthgen
-    from blindcheck.plans import NUISANCE_RANGES, S1, S2, S3, S4, S5, S6, draws
+    from blindcheck.plans import NUISANCE_RANGES, S1, S2, S3, S4, S5, S6, S8, S8L, draws
 
     development, sealed = independent.PLANS["development"], independent.PLANS["sealed"]
     dev_cases, sealed_cases = independent.battery(development), independent.battery(sealed)
-    # S1 to S5, spent, are part of the development battery with their own seeds; S6 is
-    # sealed
-    assert {S1, S2, S3, S4, S5} <= set(development) and sealed == (S6,)
+    # S1 to S6, spent, are part of the development battery with their own seeds; S8 and
+    # its supplement S8L are sealed (S7, run once by code lost before it landed, is in no
+    # battery and its seeds are not reused)
+    assert {S1, S2, S3, S4, S5, S6} <= set(development) and sealed == (S8, S8L)
     assert {c.seed for c in dev_cases if c.plan is S1} == {7101, 7102} | set(range(7500, 7520))
     assert {c.seed for c in dev_cases if c.plan is S2} == {9101, 9102} | set(range(9500, 9520))
     assert {c.seed for c in dev_cases if c.plan is S3} == {9301, 9302} | set(range(9700, 9720))
@@ -672,7 +700,19 @@ def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
                                                                                    12820))
     assert {c.seed for c in dev_cases if c.plan is S5} == {14401, 14402} | set(range(14800,
                                                                                    14820))
-    assert {c.seed for c in sealed_cases} == {16401, 16402} | set(range(16800, 16820))
+    assert {c.seed for c in dev_cases if c.plan is S6} == {16401, 16402} | set(range(16800,
+                                                                                   16820))
+    assert {c.seed for c in sealed_cases} == {20401, 20402, 20403, 20404} | set(range(20800,
+                                                                                     20820))
+    assert not {c.seed for c in dev_cases + sealed_cases} & (set(range(18401, 18405))
+                                                              | set(range(18800, 18820)))
+    # S8L holds the sensor lag's two forms only, so the sealed battery holds the 8 cases of
+    # sensor lag at 2 × noise issue 27's target counts
+    assert {c.forms for c in sealed_cases if c.plan is S8L} == {("bessel-delay",),
+                                                               ("butterworth-delay",)}
+    lag = [c for c in sealed_cases if c.forms in (("bessel-delay",), ("butterworth-delay",))
+           and c.ratio == 2.0]
+    assert len(lag) == 8 and len(sealed_cases) == 110 + 12
     # S5's record, kept as it was run while S5 was sealed, holds exactly S5's cases, in order
     kept = BENCHMARKS / "records" / "seed-S5-c8840fe" / "blind-check.json"
     assert [o["id"] for o in json.loads(kept.read_text(encoding="utf-8"))["cases"]] == \
@@ -687,7 +727,7 @@ def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
         assert all(shape == () for shape in shapes) and nuisances == truthgen.Nuisances()
     # a drawn case draws every shape parameter inside its plan's range, and the same again
     drawn = {}
-    for case in sealed_cases + [c for c in dev_cases if c.plan in (S1, S2, S3, S4, S5)]:
+    for case in sealed_cases + [c for c in dev_cases if c.plan in (S1, S2, S3, S4, S5, S6)]:
         shapes, nuisances = draws(case.key, case.forms, case.plan)
         assert (shapes, nuisances) == draws(case.key, case.forms, case.plan)
         for form_id, shape in zip(case.forms, shapes):
@@ -710,7 +750,8 @@ def test_the_sealed_battery_is_drawn_apart_from_the_development_one():
         (-1e-3, 1e-3)
     assert S3.shape_ranges("bessel-delay") == S2.shape_ranges("bessel-delay")
     assert all(S4.shape_ranges(f) == S3.shape_ranges(f) == S5.shape_ranges(f)
-               == S6.shape_ranges(f) for f in truthgen.FORMS)
+               == S6.shape_ranges(f) == S8.shape_ranges(f) == S8L.shape_ranges(f)
+               for f in truthgen.FORMS)
     assert S1.shape_ranges("bessel-delay") == truthgen.FORMS["bessel-delay"].shape_ranges
 
 
@@ -885,8 +926,8 @@ def test_the_floor_is_the_better_of_two_calibrations_of_the_bare_case(monkeypatc
         knobs=(SimpleNamespace(name="k1"),), fit=SimpleNamespace(estimate=(7.0,))))
     costs = [0.02, 0.01]
     assert truth_gap.floor_calibration("bare", "g", diagnosis).fit.cost == 0.01
-    assert NOMINAL_STARTS == 8
-    assert made == [(None, ["D1", "D2"], None, 8), (["k1"], ["D1", "D2"], [7.0], 0)]
+    assert NOMINAL_STARTS == 16
+    assert made == [(None, ["D1", "D2"], None, 16), (["k1"], ["D1", "D2"], [7.0], 0)]
     made.clear()
     costs = [0.01, 0.02]
     assert truth_gap.floor_calibration("bare", "g", diagnosis).fit.cost == 0.01

@@ -190,7 +190,9 @@ def test_every_plan_has_crosstalk_sized_both_ways_and_the_earlier_cases_keep_the
     from blindcheck.plans import S4
 
     cases = independent.battery(independent.PLANS["development"])
-    for plan in independent.PLANS["development"] + independent.PLANS["sealed"]:
+    # every plan but one restricted by itself to some forms (S8L: the sensor lag's)
+    for plan in [p for p in independent.PLANS["development"] + independent.PLANS["sealed"]
+                 if not p.only]:
         mine = independent.battery(plan)
         beyond = [c for c in mine if c.measure == sizing.BEYOND_GAIN]
         assert {(c.forms, c.ratio, c.seed) for c in beyond} == {

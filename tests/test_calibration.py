@@ -206,3 +206,42 @@ def test_the_report_states_the_specs_further_starts(measured):
             assess(campaign), provenance(campaign.inputs), evidence))
         section = " ".join(markup.unescape(page[page.index('<section id="model"'):]).split())
         assert words in section
+
+
+@pytest.mark.parametrize("count", [21, -1, True, 2.0, "3"])
+def test_a_bad_count_of_further_starts_is_refused_before_any_fit(measured, monkeypatch, count):
+    import certkit.physics.calibration as calibration
+
+    def no_fit(*args, **kwargs):
+        raise AssertionError("a fit ran")
+
+    monkeypatch.setattr(calibration, "fit", no_fit)
+    with pytest.raises(ValueError, match="further starts: expected a whole number from 0 to 20"):
+        calibration.calibrate_gear(load_campaign(measured), "left-main", starts=count)
+
+
+def test_a_knob_whose_nominal_its_bounds_exclude_starts_at_the_nearer_bound(measured,
+                                                                            monkeypatch):
+    """A nominal its knob's bounds exclude (a rebound orifice wider than the main one has a
+    negative damping excess, and its knob's bounds start at 0; here the discharge
+    coefficient's bounds are narrowed past the spec's 0.6): the fit starts on the nearer
+    bound, and the knob is sized by its nominal."""
+    import certkit.physics.calibration as calibration
+    from certkit.physics.calibration import KNOBS, Knob
+
+    started = []
+
+    def first_only(single, parameters, **options):
+        started.extend(parameters)
+        raise calibration.CertkitInputError.single("x", None, "y", "stop after the start")
+
+    outside = Knob(**{**KNOBS["discharge-coefficient"].__dict__, "name": "outside-cd",
+                      "bounds": lambda nominal: (0.7, 1.0)})
+    monkeypatch.setitem(KNOBS, "outside-cd", outside)
+    monkeypatch.setattr(calibration, "fit", first_only)
+    with pytest.raises(calibration.CertkitInputError, match="stop after the start"):
+        calibration.calibrate_gear(load_campaign(measured), "left-main", knobs=["outside-cd"])
+    [parameter] = started
+    # the spec's C_d is 0.6, below the bounds [0.7, 1.0]
+    assert (parameter.nominal, parameter.lower, parameter.size) == (0.7, 0.7, 0.6)
+

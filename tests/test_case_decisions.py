@@ -50,7 +50,7 @@ def test_a_case_is_named_by_its_plan_seed_ratio_and_forms_as_the_battery_makes_i
     sealed = next(c for c in independent.battery(independent.plans_of("sealed"))
                   if c.forms == ("blow-off",))
     monkeypatch.setattr(sys, "argv", ["case_decisions.py", EXAMPLE, "-g", "left-main",
-                                      f"S6:{sealed.seed}:{sealed.ratio}:blow-off"])
+                                      f"{sealed.plan.name}:{sealed.seed}:{sealed.ratio}:blow-off"])
     with pytest.raises(SystemExit) as refused:
         case_decisions.main()
     assert refused.value.code == 2

@@ -6,11 +6,13 @@ Every expected value is computed here from the model's own algebra (design matri
 analytic derivatives, closed-form constrained estimates), not from certkit.physics.fitting."""
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from certkit.physics.fitting import FitError, FitParameter, fit
+import certkit.physics.fitting as fitting
+from certkit.physics.fitting import FitError, FitParameter, fit, jacobian_at, singular_cutoff
 
 SIGMA = 0.2  # noise standard deviation; residuals are normalised by it
 
@@ -277,3 +279,122 @@ def test_the_solver_says_why_it_stopped_in_words():
     cut = fit(decay_residuals, DECAY, max_evaluations=2)
     assert not cut.success
     assert cut.message == "stopped at the limit of 2 model evaluations, not converged."
+
+
+# --------------------------------------------------------------------------- steps and sizes
+def test_a_parameter_has_one_size_wherever_it_starts():
+    """The size defaults to |nominal| (the larger bound magnitude for a zero nominal), is
+    kept by ``replace`` when only the start moves, and must be positive and finite."""
+    assert FitParameter("k", "N/m", -3.0, -5.0, 5.0).size == 3.0
+    assert FitParameter("c", "1", 0.0, -2.0, 0.5).size == 2.0
+    moved = replace(FitParameter("k", "N/m", 3.0, 0.0, 10.0), nominal=8.0)
+    assert moved.nominal == 8.0 and moved.size == 3.0
+    for bad in (0.0, -1.0, math.inf, math.nan, "1"):
+        with pytest.raises(ValueError, match="'k'.*size must be a positive finite"):
+            FitParameter("k", "N/m", 3.0, 0.0, 10.0, size=bad)
+
+
+def test_a_parameter_started_above_its_size_fits_the_same_whatever_its_size():
+    """The solver's unit is max(|start|, size) and the step's floor the size: where a fit
+    starts and stays above the size, the size plays no part, to the last bit.  (With the
+    size as the solver's unit, a start 256 sizes out loosened the solver's step test for
+    every parameter.)"""
+    sized = [[replace(p, size=p.nominal * share) for p in DECAY] for share in (0.1, 1e-2, 1e-4)]
+    fits = [fit(decay_residuals, parameters, relative_step=3e-3) for parameters in sized]
+    for other in fits[1:]:
+        assert np.array_equal(other.estimate, fits[0].estimate)
+        assert other.evaluations == fits[0].evaluations
+    # the amplitude moves from 3 m to about 4.9 m, the time constant from 0.5 s to about
+    # 0.30 s: both stay above a tenth of their start, the largest size tried
+    assert fits[0].estimate[0] > 0.3 and fits[0].estimate[1] > 0.05
+
+
+def test_the_differences_step_a_share_of_the_value_or_of_the_size_if_larger():
+    """jacobian_at on a linear map r = A·x: the stencil points worked out by hand (central
+    where x ± h fits the bounds, (x, x + h, x + 2h) next to the lower bound, h = 0.01 ·
+    max(|x|, size)), and the Jacobian is A to rounding."""
+    a = np.array([[1.0, 2.0, -1.0], [0.5, -3.0, 4.0], [2.0, 0.0, 1.0], [1.0, 1.0, 1.0]])
+    seen = []
+
+    def many(xs):
+        seen.extend(map(tuple, xs))
+        return xs @ a.T
+
+    parameters = [FitParameter("p", "Pa", 2.0e5, 1.0e5, 3.0e5),   # size 2e5, x above it
+                  FitParameter("q", "m", 4.0, 0.0, 10.0, size=20.0),  # x below its size
+                  FitParameter("r", "1", 0.5, 0.5, 2.0)]             # on its lower bound
+    x = np.array([2.5e5, 4.0, 0.5])
+    jac = jacobian_at(many, parameters, x, relative_step=0.01)
+    np.testing.assert_allclose(jac, a, rtol=1e-9)
+    hp, hq, hr = 0.01 * 2.5e5, 0.01 * 20.0, 0.01 * 0.5
+    expected = {(2.5e5 - hp, 4.0, 0.5), (2.5e5 + hp, 4.0, 0.5),
+                (2.5e5, 4.0 - hq, 0.5), (2.5e5, 4.0 + hq, 0.5),
+                (2.5e5, 4.0, 0.5 + hr), (2.5e5, 4.0, 0.5 + 2 * hr), (2.5e5, 4.0, 0.5)}
+    assert len(seen) == len(expected)
+    for point in seen:
+        assert any(np.allclose(point, e, rtol=1e-12, atol=0) for e in expected), point
+
+
+def test_the_cutoff_allows_for_the_truncation_of_the_step():
+    """10·h² (central) or 10·h (forward), never below 1e-6: worked out by hand."""
+    assert singular_cutoff(3e-3) == pytest.approx(9e-5, rel=1e-12)
+    assert singular_cutoff(3e-3, "forward") == pytest.approx(3e-2, rel=1e-12)
+    assert singular_cutoff(fitting.DEFAULT_RELATIVE_STEP) == 1e-6
+    with pytest.raises(ValueError, match="differences"):
+        singular_cutoff(1e-3, "backward")
+
+
+@pytest.mark.parametrize("differences", ["central", "forward"])
+@pytest.mark.parametrize("combination, truth, kind", [
+    (lambda k, m: k / m, 0.5, "ratio k/m"), (lambda k, m: k * m ** 2, 6.0, "k^0.5·m")])
+def test_a_degeneracy_differenced_over_a_long_step_is_still_reported(
+        monkeypatch, differences, combination, truth, kind):
+    """r = exp(−q·t) − y with q = k/m or k·m²: only q is determined.  Differenced over 3e-3
+    of sizes below the values, the two columns of ∂r/∂ln x differ by the step's truncation
+    (a singular value of about 2e-6 to 4e-6 of the largest, above the 1e-6 floor), so the
+    floor alone reports a strong correlation with finite errors; the cutoff that allows for
+    the step reports the combination."""
+    t = np.linspace(0.0, 3.0, 30)
+    y = np.exp(-truth * t) + 0.02 * np.random.default_rng(11).standard_normal(t.size)
+    parameters = [FitParameter("k", "1", 1.0, 0.1, 10.0), FitParameter("m", "1", 2.0, 0.1, 10.0,
+                                                                         size=1.0)]
+
+    def run():
+        return fit(lambda x: (np.exp(-combination(*x) * t) - y) / 0.02, parameters,
+                   relative_step=3e-3, differences=differences)
+
+    result = run()
+    assert np.all(np.isnan(result.standard_error))
+    assert any(kind in w and "is determined by the data" in w for w in result.warnings)
+    monkeypatch.setattr(fitting, "TRUNCATION_MARGIN", 0.0)
+    floor_only = run()
+    assert np.all(np.isfinite(floor_only.standard_error))
+    assert not any("is determined by the data" in w for w in floor_only.warnings)
+
+
+def test_an_undetermined_parameter_is_worded_as_the_jacobian_came():
+    """By differences the residuals change with it by less than they resolve; by an
+    analytic Jacobian they do not depend on it."""
+    t = np.linspace(0.0, 1.0, 20)
+    y = 2.0 * t
+    parameters = [FitParameter("k", "N/m", 1.0, 0.0, 5.0), FitParameter("d", "m", 1.0, 0.0, 5.0)]
+    differenced = fit(lambda x: x[0] * t - y, parameters)
+    analytic = fit(lambda x: x[0] * t - y, parameters,
+                   jacobian=lambda x: np.column_stack([t, np.zeros_like(t)]))
+    [by_differences] = [w for w in differenced.warnings if w.startswith("d is not determined")]
+    [by_jacobian] = [w for w in analytic.warnings if w.startswith("d is not determined")]
+    assert "change with it by less than the fit's finite differences resolve" in by_differences
+    assert "the residuals do not depend on it" in by_jacobian
+
+
+def test_a_failed_fit_says_how_many_parameter_sets_it_evaluated():
+    calls = []
+    t = np.linspace(0.0, 1.0, 10)
+
+    def residuals(x):
+        calls.append(float(x[0]))
+        return x[0] * t - 5.0 * t if x[0] < 3.0 else np.full(t.size, np.nan)
+
+    with pytest.raises(FitError) as failed:
+        fit(residuals, [FitParameter("stiffness", "N/m", 1.0, 0.0, 10.0)])
+    assert failed.value.evaluations == len(calls) > 1

@@ -186,3 +186,44 @@ def test_the_report_says_what_the_starts_found_in_each_case():
     assert again.endswith("The model was then calibrated again from a refit's parameters "
                           "(training cost 0.4000), and that calibration is the one used.")
     assert starts_words(None) == ""
+
+
+def test_a_failed_start_s_evaluations_are_counted():
+    """Every parameter set evaluated counts, those of a fit that failed too: counted here by
+    the residual function itself, apart from the fit's own count."""
+    calls = []
+
+    def partly(x):
+        value = float(np.asarray(x).ravel()[0])
+        calls.append(value)
+        return _two_basins(x) if value <= 7.2 else np.array([np.nan, np.nan])
+
+    def many(matrix):
+        return np.array([partly(row) for row in np.atleast_2d(matrix)])
+
+    parameters = [FitParameter("x", "1", 3.0, 0.0, 10.0)]
+    first = fit(partly, parameters, residuals_many=many, tolerance=1e-10)
+    result, search = best_of_starts(first, parameters, partly, many, 2, 100, 1e-10)
+    assert search.start_costs[1] is None     # the start at 7.5 failed at once
+    assert result.evaluations == len(calls)
+
+
+def test_every_start_is_fitted_over_the_step_with_the_first_start_s_sizes(monkeypatch):
+    import certkit.physics.starts as starts
+
+    seen = []
+
+    def recording(single, parameters, **options):
+        seen.append(([p.size for p in parameters], options.get("relative_step")))
+        return fit(single, parameters, **options)
+
+    monkeypatch.setattr(starts, "fit", recording)
+    parameters = [FitParameter("x", "1", 3.0, 0.0, 10.0, size=0.5)]
+
+    def many(matrix):
+        return np.array([_two_basins(row) for row in np.atleast_2d(matrix)])
+
+    first = fit(_two_basins, parameters, residuals_many=many, tolerance=1e-10)
+    best_of_starts(first, parameters, _two_basins, many, 3, 100, 1e-10, step=3e-3)
+    assert len(seen) == 4   # three starts and the best one fitted again
+    assert all(sizes == [0.5] and step == 3e-3 for sizes, step in seen)
