@@ -64,3 +64,18 @@ def test_the_gap_method_states_the_timing_rule_the_diagnosis_applies(monkeypatch
     seconds = units.model_copy(update={"time": "s"})
     text = " ".join(str(v) for v in gap_method(seconds).values())
     assert "shifted by up to ±0.04500 s, would remove" in text     # 4 significant digits
+
+
+def test_the_method_text_states_the_fits_step_as_the_code_sets_it(monkeypatch):
+    """Appendix A's method and the gap method state the fits' step from FIT_STEP: 0.3 % for
+    3e-3, and another figure when the constant changes."""
+    import certkit.physics.calibration as calibration
+    from certkit.evidence.methods import fit_step_method, gap_method, model_method
+
+    from .conftest import SEED
+
+    assert "finite differences over 0.3 % of each parameter's size" in fit_step_method()
+    assert fit_step_method() in model_method(0) and fit_step_method() in model_method(16)
+    assert fit_step_method() in gap_method(load_campaign(SEED).spec.report.units)["which"]
+    monkeypatch.setattr(calibration, "FIT_STEP", 1e-2)
+    assert "over 1.0 % of each parameter's size" in fit_step_method()

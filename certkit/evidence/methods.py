@@ -24,15 +24,29 @@ MODEL_METHOD = ("The two-mass governing equations of a gear drop (airframe mass 
                 "play no part in the fit.")
 
 
+def fit_step_method() -> str:
+    """How every drop-model fit differences its residuals
+    (:data:`certkit.physics.calibration.FIT_STEP`), in words."""
+    from certkit.physics.calibration import FIT_STEP
+    return (f"Every fit of the drop model takes its derivatives by finite differences over "
+            f"{percent(FIT_STEP, 1)} of each parameter's size (the magnitude of its nominal "
+            f"value; of a candidate effect's strength, the strength its score is taken at; "
+            f"of a form's own shape parameter, where its refit starts by default), or of the "
+            f"parameter's value when that is larger: the simulation's force laws "
+            f"switch (seal friction's sign, the end stops, the tyre leaving the ground), so "
+            f"the residuals are smooth only between kinks, and a step near the rounding limit "
+            f"would difference the kinks, not the slope.")
+
+
 def model_method(starts: int) -> str:
-    """Appendix A's method: :data:`MODEL_METHOD` and where the fit starts from
-    (``model.calibration.starts``)."""
+    """Appendix A's method: :data:`MODEL_METHOD`, the fits' step and where the fit starts
+    from (``model.calibration.starts``)."""
     if not starts:
-        return (f"{MODEL_METHOD} The fit starts from the spec's values only "
+        return (f"{MODEL_METHOD} {fit_step_method()} The fit starts from the spec's values only "
                 f"(model.calibration.starts is 0); a fit can stop at a local best fit (no "
                 f"small change of the parameters improves it) short of the best one, which "
                 f"further starts might find.")
-    return (f"{MODEL_METHOD} The fit starts from the spec's values and "
+    return (f"{MODEL_METHOD} {fit_step_method()} The fit starts from the spec's values and "
             f"{starts_method(starts, 'model.calibration.starts')}.")
 
 
@@ -145,7 +159,8 @@ def gap_method(units) -> dict:
                   f"profile already cuts the training cost by {percent(GAIN, 0)}. The "
                   f"best-profiled form of each of the {LEADING} relevant effects with the best profiles is refitted together with "
                   f"the bare model's parameters on the training runs, from its profile's best "
-                  f"strength. When the bare model's parameters a first-step refit reached, "
+                  f"strength. {fit_step_method()} "
+                  f"When the bare model's parameters a first-step refit reached, "
                   f"its effect left out, fit the training runs more than "
                   f"{percent(RECALIBRATE, 0)} better than the calibration, the calibration "
                   f"had not reached the best fit of those parameters and an effect would be "
