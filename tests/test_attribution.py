@@ -627,3 +627,63 @@ def test_every_restart_repeats_the_first_step_and_an_unsettled_one_names_nothing
         "Whether an effect of the library explains the gap is not decided on this "
         "calibration.")
     assert "No effect in the library explains the gap" not in diagnosis.statement
+
+
+def test_a_refit_keeps_each_parameter_s_size_wherever_it_starts(monkeypatch):
+    """The refit's parameters are sized as the calibration sized its knobs, a form's own
+    knob by its default start (the skew's 0 s: the larger bound magnitude, MAX_SKEW) and a
+    strength by the candidate's probe, wherever the refit starts; it differences forward
+    over FIT_STEP."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    import certkit.gap.attribution as attribution
+    from certkit.physics.calibration import FIT_STEP
+    from certkit.physics.effects import CANDIDATES
+    from certkit.physics.effects.load_cell_gain import MAX_SKEW
+    from certkit.physics.fitting import FitParameter
+
+    class Stop(Exception):
+        pass
+
+    seen = []
+
+    def capture(single, parameters, **options):
+        seen.append((parameters, options))
+        raise Stop
+
+    monkeypatch.setattr(attribution, "fit", capture)
+    gain = next(c for c in CANDIDATES if c.name == "load-cell gain" and c.form == "reading high")
+    knob = FitParameter("gas-precharge", "Pa", 9.0e5, 4.5e5, 1.35e6, size=9.5e5)
+    calibration = SimpleNamespace(knobs=("gas-precharge",),
+                                  fit=SimpleNamespace(parameters=(knob,),
+                                                      estimate=np.array([9.0e5])))
+    with pytest.raises(Stop):
+        attribution.refit(None, calibration, [gain], start=[1.2e6, 4.0e-4, 3.2])
+    [(parameters, options)] = seen
+    assert [(p.nominal, p.size) for p in parameters] == [(1.2e6, 9.5e5), (4.0e-4, MAX_SKEW),
+                                                         (3.2, gain.probe)]
+    assert options["relative_step"] == FIT_STEP and options["differences"] == "forward"
+
+
+def test_the_diagnosis_s_jacobians_difference_as_its_fits_do(monkeypatch):
+    """∂r/∂θ at the calibration comes from the fits' own differences: the calibration's
+    parameters (their bounds and sizes) and FIT_STEP."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    import certkit.gap.attribution as attribution
+    from certkit.physics.calibration import FIT_STEP
+    from certkit.physics.fitting import FitParameter
+
+    seen = []
+    monkeypatch.setattr(attribution, "jacobian_at",
+                        lambda many, parameters, x, relative_step: seen.append(
+                            (parameters, list(x), relative_step)) or np.zeros((3, 1)))
+    knob = FitParameter("gas-precharge", "Pa", 9.0e5, 4.5e5, 1.35e6, size=9.5e5)
+    calibration = SimpleNamespace(knobs=(), fit=SimpleNamespace(parameters=(knob,),
+                                                                estimate=np.array([1.1e6])))
+    attribution.nominal_jacobian(SimpleNamespace(models=[]), calibration)
+    assert seen == [((knob,), [1.1e6], FIT_STEP)]
