@@ -492,3 +492,14 @@ def test_results_json_states_every_threshold_of_the_diagnosis_and_its_starts():
         assert THRESHOLDS[key] == value, name
     assert THRESHOLDS["middle_height_held_out_from_heights"] == MIDDLE_FROM
     assert len(THRESHOLDS) == len(keys) + 1
+
+
+def test_a_blind_check_setting_left_unset_reads_as_a_dash():
+    """The record's ``only: []`` (the battery ran whole) is "—" in the settings table, not
+    an empty cell; other settings read as before."""
+    from certkit.evidence.gap_view import plain_setting
+
+    assert plain_setting([]) == plain_setting(None) == plain_setting({}) == "—"
+    assert plain_setting(["gain-skew", "none"]) == "gain-skew, none"
+    assert plain_setting({"S1": [1.0, 2.0], "S2": 3}) == "S1: 1 + 2; S2: 3"
+    assert plain_setting(0.25) == "0.25" and plain_setting(0) == "0"

@@ -197,6 +197,19 @@ def _made_by(step: str, who, code: str, advice: str = RUN_AGAIN) -> str:
             + f"), so the figures describe that code: {advice}.")
 
 
+
+def plain_setting(value, depth: int = 0) -> str:
+    """A blind-check record's setting in words for its table: a mapping "key: value; …", a
+    list joined by commas (by " + " within another), an unset one (None, an empty list or
+    mapping: "only" when the battery ran whole) "—"."""
+    if value is None or value == [] or value == {}:
+        return "—"
+    if isinstance(value, dict):
+        return "; ".join(f"{k}: {plain_setting(v, depth + 1)}" for k, v in value.items())
+    if isinstance(value, list):
+        return (" + " if depth else ", ").join(plain_setting(v, depth + 1) for v in value)
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
 def _blind_view(campaign, units) -> dict:
     """The blind check's record (model.gap.blind_check) in words and tables, or how to make
     one."""
@@ -249,18 +262,9 @@ def _blind_view(campaign, units) -> dict:
         verdict = "Every metric with a target meets it."
     else:
         verdict = "No metric of the record has a target."
-    def plain(value, depth=0) -> str:
-        if isinstance(value, dict):
-            return "; ".join(f"{k}: {plain(v, depth + 1)}" for k, v in value.items())
-        if isinstance(value, list):
-            return (" + " if depth else ", ").join(plain(v, depth + 1) for v in value)
-        if value is None:
-            return "—"
-        return f"{value:g}" if isinstance(value, float) else str(value)
-
     # each metric's target is in the metrics table: a record's words for them are not repeated
-    settings = [(key.replace("_", " "), plain(value)) for key, value in record.settings.items()
-                if key != "targets"]
+    settings = [(key.replace("_", " "), plain_setting(value))
+                for key, value in record.settings.items() if key != "targets"]
     confusion = record.confusion
     curve_figure = None
     if record.curve:
