@@ -849,22 +849,26 @@ def test_a_tyre_loop_beside_friction_that_harms_the_load_is_stated_undecided():
 
 
 @pytest.mark.slow
-def test_a_nominal_calibration_in_a_local_minimum_is_done_again_before_effects_are_judged():
+def test_a_nominal_calibration_in_a_local_minimum_is_escaped_before_effects_are_judged():
     """S3's no-effect case of seed 9706 (now in the development battery), written by the
     independent simulator: its top-out pad compresses 1.6 mm under the preload (the case's
-    drawn nuisance), and the nominal calibration from the spec's values stops with the
-    pad's compression near its lower bound.  Started instead from the truth's pad
-    compression (a start the diagnosis does not know), the same calibration fits the
-    training runs more than 2 % better: the first was a local minimum.  The diagnosis,
-    which named tyre hysteresis here before (it closed 86 % of the held-out gap, on no
-    effect), now calibrates again, names nothing and says why."""
+    drawn nuisance), and the calibration from the spec's values alone stops with the pad's
+    compression near its lower bound, a local minimum: started instead from the truth's
+    pad compression (a start the diagnosis does not know), the same calibration fits the
+    training runs more than 2 % better.  The diagnosis named tyre hysteresis here once (it
+    closed 86 % of the held-out gap, on no effect).  Its nominal calibration, from the
+    spec's values and NOMINAL_STARTS further starts, reaches the truth-started fit's cost,
+    and the diagnosis names nothing; handed the stuck calibration, it names nothing either.
+    (The rule that calibrates again from a refit's parameters is checked on costs set by
+    hand in test_attribution: on this case, since the fits' step and the further starts
+    changed, no refit leaves the stuck calibration's basin by its 2 %.)"""
     import tempfile
 
     import blind_independent as independent
     from blindcheck.plans import S3, draws
 
     from certkit.gap.holdout import split_for
-    from certkit.gap.selection import diagnose
+    from certkit.gap.selection import diagnose, nominal_calibration
     from certkit.physics.calibration import calibrate_gear
     from certkit.physics.synthetic import SensorModel
 
@@ -882,25 +886,21 @@ def test_a_nominal_calibration_in_a_local_minimum_is_done_again_before_effects_a
                                          Path(folder), noisy, "noisy", nuisances)
         campaign = load_campaign(written)
         training = list(split_for(campaign, "left-main")[0])
-        first = calibrate_gear(campaign, "left-main", effects=[], run_ids=training)
-        names = [knob.name for knob in first.knobs]
-        start = list(first.fit.estimate)
+        stuck = calibrate_gear(campaign, "left-main", effects=[], run_ids=training)
+        names = [knob.name for knob in stuck.knobs]
+        start = list(stuck.fit.estimate)
         start[names.index("top-out-compression")] = nuisances.pad
         from_truth = calibrate_gear(campaign, "left-main", effects=[], run_ids=training,
                                     start=start)
-        assert from_truth.fit.cost < 0.98 * first.fit.cost
-        diagnosis = diagnose(campaign, "left-main", calibration=first)
-    assert first.fit.estimate[names.index("top-out-compression")] < 0.1e-3
-    assert diagnosis.answer == ()
-    assert [d.rule for d in diagnosis.recalibrated] == ["calibrated again"]
-    assert diagnosis.calibration.fit.cost <= 1.05 * from_truth.fit.cost
-    assert diagnosis.step_costs[0] == diagnosis.calibration.fit.cost == \
-        diagnosis.recalibrated[-1].figures["cost_after"]
-    assert len(diagnosis.steps) == len(diagnosis.step_costs) == \
-        len(diagnosis.refit_decisions) == len(diagnosis.evidence) == 1
-    assert diagnosis.statement.startswith(
-        "The nominal model's calibration on the training runs did not reach the best fit")
+        production = nominal_calibration(campaign, "left-main", training)
+        handed = diagnose(campaign, "left-main", calibration=stuck)
+        diagnosis = diagnose(campaign, "left-main", calibration=production)
+    assert stuck.fit.estimate[names.index("top-out-compression")] < 0.1e-3
+    assert from_truth.fit.cost < 0.98 * stuck.fit.cost
+    assert production.fit.cost <= 1.001 * from_truth.fit.cost
+    assert diagnosis.answer == () and diagnosis.recalibrated == ()
     assert diagnosis.statement.endswith("No effect in the library explains the gap.")
+    assert handed.answer == ()
 
 
 def test_the_floor_is_the_better_of_two_calibrations_of_the_bare_case(monkeypatch):
