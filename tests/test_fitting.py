@@ -289,9 +289,11 @@ def test_a_parameter_has_one_size_wherever_it_starts():
     assert FitParameter("c", "1", 0.0, -2.0, 0.5).size == 2.0
     moved = replace(FitParameter("k", "N/m", 3.0, 0.0, 10.0), nominal=8.0)
     assert moved.nominal == 8.0 and moved.size == 3.0
-    for bad in (0.0, -1.0, math.inf, math.nan, "1"):
+    for bad in (0.0, -1.0, math.inf, math.nan, "1", True):
         with pytest.raises(ValueError, match="'k'.*size must be a positive finite"):
             FitParameter("k", "N/m", 3.0, 0.0, 10.0, size=bad)
+    numpy_sized = FitParameter("k", "N/m", 3.0, 0.0, 10.0, size=np.float32(2.0))
+    assert numpy_sized.size == 2.0 and type(numpy_sized.size) is float
 
 
 def test_a_parameter_started_above_its_size_fits_the_same_whatever_its_size():
@@ -398,3 +400,25 @@ def test_a_failed_fit_says_how_many_parameter_sets_it_evaluated():
     with pytest.raises(FitError) as failed:
         fit(residuals, [FitParameter("stiffness", "N/m", 1.0, 0.0, 10.0)])
     assert failed.value.evaluations == len(calls) > 1
+
+
+def test_a_combination_is_worded_as_the_jacobian_came():
+    """Only the product is determined: by differences, to within what they resolve; by an
+    analytic Jacobian, exactly."""
+    t = np.linspace(0.0, 1.0, 30)
+    y = noisy(6.0 * t)
+    differenced = fit(lambda x: (x[0] * x[1] * t - y) / SIGMA, product_parameters("k", "m"))
+    analytic = fit(lambda x: (x[0] * x[1] * t - y) / SIGMA, product_parameters("k", "m"),
+                   jacobian=lambda x: np.column_stack([x[1] * t, x[0] * t]) / SIGMA)
+    assert differenced.warnings[0].endswith(
+        "without changing the residuals by more than the fit's finite differences resolve; "
+        "their standard errors are reported as nan.")
+    assert analytic.warnings[0].endswith(
+        "without changing the residuals; their standard errors are reported as nan.")
+
+
+def test_a_batch_of_the_wrong_shape_is_named_before_any_row_is_known():
+    parameters = [FitParameter("k", "N/m", 1.0, 0.0, 5.0)]
+    with pytest.raises(FitError, match=r"shape \(2,\) for 2 parameter sets; expected \(2, m\)"):
+        jacobian_at(lambda xs: np.zeros(len(xs)), parameters, [1.0])
+

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from certkit.physics.fitting import FitParameter, fit
+from certkit.physics.fitting import DEFAULT_RELATIVE_STEP, FitParameter, fit
 from certkit.physics.starts import (KEEP_MARGIN, MOST_STARTS, best_of_starts, sobol_starts,
                                     starts_document)
 
@@ -63,7 +63,8 @@ def test_a_fit_stuck_in_the_worse_basin_is_replaced_by_the_best_start():
     parameters = [FitParameter("x", "1", 3.0, 0.0, 10.0)]
     first = fit(_two_basins, parameters, residuals_many=_many, tolerance=1e-10)
     assert first.estimate[0] == pytest.approx(math.pi, abs=0.1)   # the local minimum near π
-    result, search = best_of_starts(first, parameters, _two_basins, _many, 4, 100, 1e-10)
+    result, search = best_of_starts(first, parameters, _two_basins, _many, 4, 100, 1e-10,
+                                    step=DEFAULT_RELATIVE_STEP)
     assert [p[0] for p in search.points] == [5.0, 7.5, 2.5, 3.75]
     where, lowest = _grid_minimum(0.0, 10.0)
     assert where == pytest.approx(2 * math.pi, abs=0.05)
@@ -82,7 +83,8 @@ def test_a_fit_stuck_in_the_worse_basin_is_replaced_by_the_best_start():
 def test_one_basin_keeps_the_first_fit_exactly():
     parameters = [FitParameter("x", "1", 3.0, 2.0, 4.5)]   # only the basin of π inside
     first = fit(_two_basins, parameters, residuals_many=_many, tolerance=1e-10)
-    result, search = best_of_starts(first, parameters, _two_basins, _many, 4, 100, 1e-10)
+    result, search = best_of_starts(first, parameters, _two_basins, _many, 4, 100, 1e-10,
+                                    step=DEFAULT_RELATIVE_STEP)
     assert search.kept is None
     assert result.estimate[0] == first.estimate[0] and result.cost == first.cost
     assert all(c == pytest.approx(first.cost, rel=1e-6) for c in search.start_costs)
@@ -102,7 +104,8 @@ def test_a_start_that_cannot_be_fitted_is_passed_over():
 
     parameters = [FitParameter("x", "1", 3.0, 0.0, 10.0)]
     first = fit(partly, parameters, residuals_many=many, tolerance=1e-10)
-    result, search = best_of_starts(first, parameters, partly, many, 2, 100, 1e-10)
+    result, search = best_of_starts(first, parameters, partly, many, 2, 100, 1e-10,
+                                    step=DEFAULT_RELATIVE_STEP)
     assert search.start_costs[1] is None and search.failures[0].startswith("start 2: ")
     assert search.kept == 0
     assert result.estimate[0] == pytest.approx(_grid_minimum(0.0, 10.0)[0], abs=1e-4)
@@ -120,7 +123,8 @@ def test_when_every_start_fails_the_first_fit_stands():
     parameters = [FitParameter("x", "1", 3.0, 0.0, 10.0)]
     first = fit(only_near_pi, parameters, residuals_many=many, tolerance=1e-10)
     # the starts at 5 and 7.5 cannot be evaluated at all
-    result, search = best_of_starts(first, parameters, only_near_pi, many, 2, 100, 1e-10)
+    result, search = best_of_starts(first, parameters, only_near_pi, many, 2, 100, 1e-10,
+                                    step=DEFAULT_RELATIVE_STEP)
     assert search.kept is None and search.start_costs == (None, None)
     assert len(search.failures) == 2
     assert result.estimate[0] == first.estimate[0]
@@ -203,7 +207,8 @@ def test_a_failed_start_s_evaluations_are_counted():
 
     parameters = [FitParameter("x", "1", 3.0, 0.0, 10.0)]
     first = fit(partly, parameters, residuals_many=many, tolerance=1e-10)
-    result, search = best_of_starts(first, parameters, partly, many, 2, 100, 1e-10)
+    result, search = best_of_starts(first, parameters, partly, many, 2, 100, 1e-10,
+                                    step=DEFAULT_RELATIVE_STEP)
     assert search.start_costs[1] is None     # the start at 7.5 failed at once
     assert result.evaluations == len(calls)
 

@@ -285,8 +285,8 @@ FIT_STEP = 3e-3
 
 
 def _size(value: float, low: float, high: float) -> float:
-    """A parameter's size from its nominal value: |value|, or the larger bound magnitude
-    when it is zero (:attr:`certkit.physics.fitting.FitParameter.size`'s default rule)."""
+    """A knob's size from its nominal value, also where the bounds exclude that value:
+    |value|, or the larger bound magnitude when it is zero."""
     return abs(value) if value != 0.0 else max(abs(low), abs(high))
 
 
@@ -312,16 +312,16 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
     one (a stiff top-out pad, say, barely moves the load until it is much softer); the
     gap diagnosis calibrates its nominal model so.
 
-    ``step``: the finite-difference step of the fits (:data:`FIT_STEP`).  Each knob is
-    sized by its nominal value wherever the fit starts (a start elsewhere, a further start),
-    so it is differenced over the same step.  A start outside a knob's bounds (a nominal
-    the bounds exclude: a rebound orifice wider than the main one) is moved to the nearer
-    bound.
+    ``step``: the fits' finite-difference step (:data:`FIT_STEP`); each knob is sized by
+    its nominal value wherever a fit starts.  A start outside a knob's bounds (a rebound
+    orifice wider than the main one) is moved to the nearer bound.
 
     Raises
     ------
     CertkitInputError
         When no run records the gear unit, or a knob needs an effect that is off.
+    ValueError
+        When ``starts`` is not a whole number from 0 to MOST_STARTS (before any fit).
     """
     if isinstance(starts, bool) or not isinstance(starts, int) or not 0 <= starts <= MOST_STARTS:
         raise ValueError(f"further starts: expected a whole number from 0 to {MOST_STARTS}, "
@@ -373,8 +373,8 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
         # residuals by the RK4 error only (below 1e-6 of the signals)
         batch_runs = [run for _ in matrix for run in runs]
         models = [configure(run.model, x) for x in matrix for run in runs]
-        step = batch_step(models, [r.velocity for r in batch_runs], rate)
-        simulated = _simulated(batch_runs, models, step, rate)
+        dt = batch_step(models, [r.velocity for r in batch_runs], rate)
+        simulated = _simulated(batch_runs, models, dt, rate)
         width = len(runs)
         return np.array([_residual_vector(runs, simulated[i * width:(i + 1) * width])
                          for i in range(len(matrix))])
@@ -385,7 +385,7 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
     if starts:
         result, search = best_of_starts(result, parameters,
                                         lambda x: many(np.asarray(x)[None, :])[0], many,
-                                        starts, FIT_EVALUATIONS, FIT_TOLERANCE, step)
+                                        starts, FIT_EVALUATIONS, FIT_TOLERANCE, step=step)
 
     fitted_ids = {r.run_id for r in runs}
     held = [] if run_ids is None else [r for r in _runs_for(campaign, gear_id, chosen_effects,
@@ -393,9 +393,9 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
     shown = runs + held
     nominal_models = [configure(r.model, nominal) for r in shown]
     fitted_models = [configure(r.model, result.estimate) for r in shown]
-    step = batch_step(nominal_models + fitted_models, [r.velocity for r in shown] * 2, rate)
-    before = _simulated(shown, nominal_models, step, rate)
-    after = _simulated(shown, fitted_models, step, rate)
+    dt = batch_step(nominal_models + fitted_models, [r.velocity for r in shown] * 2, rate)
+    before = _simulated(shown, nominal_models, dt, rate)
+    after = _simulated(shown, fitted_models, dt, rate)
     errors, traces = [], []
     for run, sim0, sim1 in zip(shown, before, after):
         role = "training" if run.run_id in fitted_ids else "held out"
@@ -409,7 +409,7 @@ def calibrate_gear(campaign: Campaign, gear_id: str, knobs: list[str] | None = N
         gear_id=gear_id, runs=tuple(r.run_id for r in runs), knobs=tuple(chosen), fit=result,
         errors=tuple(errors), traces=tuple(traces),
         contact_velocities={r.run_id: (r.velocity, r.velocity_source) for r in shown},
-        step=step, nominal_model=base, calibrated_model=configure(base, result.estimate),
+        step=dt, nominal_model=base, calibrated_model=configure(base, result.estimate),
         held_out=tuple(r.run_id for r in held), search=search)
 
 

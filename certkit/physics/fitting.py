@@ -22,9 +22,8 @@ Choices, each explained where it is made:
   the step ``relative_step·max(|x|, size)``, one-sided second-order stencils next to a
   bound so no residual is ever evaluated outside the bounds; with ``residuals_many`` all
   stencil points go to the simulator in one batched call (:func:`jacobian_at` at any x).
-* **Statistics**: from the SVD of the Jacobian with respect to the log-parameters
-  (``∂r/∂ln x``, dimensionless); singular values below :func:`singular_cutoff` times the
-  largest are treated as zero, i.e. as parameter combinations the data do not determine.
+* **Statistics**: from the SVD of ``∂r/∂ln x`` (dimensionless); singular values below
+  :func:`singular_cutoff` times the largest count as combinations not determined.
 """
 
 from __future__ import annotations
@@ -32,6 +31,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
+from numbers import Real
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -40,12 +40,9 @@ from certkit.display import number
 from certkit.errors import CampaignError
 
 # A direction in log-parameter space whose singular value is below this fraction of the
-# largest is "not determined" (the floor of :func:`singular_cutoff`).  Its standard error
-# would be at least 1e6 times that of the best determined combination (already meaningless
-# at, say, 0.1 % for the best: ±1000 in ln x), while the central-difference Jacobian over
-# the default step resolves singular values down to about eps^(2/3) ≈ 4e-11 of the largest,
-# so an exact degeneracy (only a product enters the model) falls well below the cutoff and
-# a merely weak dependence stays well above it.
+# largest is "not determined" (the floor of :func:`singular_cutoff`): its standard error
+# would be 1e6 times the best determined one's, while central differences over the default
+# step resolve singular values down to about eps^(2/3) ≈ 4e-11 of the largest.
 SINGULAR_CUTOFF = 1e-6
 # How far above the differences' truncation error (h² central, h forward) the cutoff lies: a
 # ratio x/y differenced over a step h leaves a singular value of order h² or h, not zero.
@@ -107,13 +104,13 @@ class FitParameter:
         if not self.lower <= self.nominal <= self.upper:
             raise ValueError(f"fit parameter {self.name!r}: nominal {self.nominal:g} lies outside "
                              f"its bounds [{self.lower:g}, {self.upper:g}]")
-        if self.size is None:
+        size = self.size
+        if size is None:
             size = abs(self.nominal) or max(abs(self.lower), abs(self.upper))
-            object.__setattr__(self, "size", float(size))
-        if not (isinstance(self.size, int | float) and math.isfinite(self.size)
-                and self.size > 0):
+        if isinstance(size, bool) or not isinstance(size, Real) or not 0 < size < math.inf:
             raise ValueError(f"fit parameter {self.name!r}: size must be a positive finite "
-                             f"number, got {self.size!r}")
+                             f"number, got {size!r}")
+        object.__setattr__(self, "size", float(size))
 
     def describe(self, value: float) -> str:
         """'name = value unit', for messages."""
@@ -155,8 +152,7 @@ def fit(residuals: Residuals, parameters: Sequence[FitParameter], *,
         The parameters to fit, in the order of ``x``.
     residuals_many
         Optional ``residuals_many(X) -> R``: X of shape (k, p) to R of shape (k, m), for a
-        simulator that evaluates many parameter sets at once.  When given, each
-        finite-difference Jacobian costs one call.
+        simulator that evaluates many parameter sets at once (a Jacobian: one call).
     jacobian
         Optional analytic ``jacobian(x) -> J``, J[i, j] = ∂r_i/∂x_j in physical units, shape
         (m, p).  Replaces the finite differences (and ``residuals_many``).
@@ -166,11 +162,9 @@ def fit(residuals: Residuals, parameters: Sequence[FitParameter], *,
     tolerance
         ``ftol``, ``xtol`` and ``gtol`` of ``least_squares``.
     relative_step
-        Finite-difference step as a fraction of ``max(|x|, size)``.  The default
-        ``eps^(1/3)`` ≈ 6e-6 suits residuals accurate to machine precision; for residuals
-        with relative noise η (an ODE tolerance, say) use about ``η^(1/3)``, and for
-        residuals that are smooth only between kinks (a fixed-step integration of switching
-        force laws) a step longer than the kinks' spacing.
+        Finite-difference step, a share of ``max(|x|, size)``: the default ``eps^(1/3)`` ≈
+        6e-6 suits residuals exact to rounding; residuals smooth only between kinks (a
+        fixed-step integration of switching force laws) need a step longer than their spacing.
     differences
         "central" (second order, 2·p points a Jacobian; the default, for estimates whose
         standard errors are reported) or "forward" (first order, p + 1 points, the base
@@ -184,10 +178,9 @@ def fit(residuals: Residuals, parameters: Sequence[FitParameter], *,
 
     Notes
     -----
-    The statistics are the Gauss-Newton linearisation at the optimum.  A parameter on a
-    bound keeps its unconstrained standard error, flagged by the at-bound warning.  "Only the
-    product/ratio is determined" is read from the null direction of ∂r/∂ln x at the optimum:
-    exact for a model that depends on x_i^a·x_j^b only, a local statement otherwise.
+    The statistics are the Gauss-Newton linearisation at the optimum (a parameter on a bound
+    keeps its unconstrained standard error, and a warning).  "Only the product/ratio is
+    determined" is read from the null direction of ∂r/∂ln x there: a local statement.
 
     Raises
     ------
@@ -249,7 +242,9 @@ def singular_cutoff(relative_step: float, differences: str = "central") -> float
     """The share of the largest singular value of ∂r/∂ln x below which a direction counts
     as not determined, for a Jacobian differenced over ``relative_step``: the truncation
     error (h² central, h forward) times :data:`TRUNCATION_MARGIN`, never below
-    :data:`SINGULAR_CUTOFF` (above 1, for a forward step over 0.1, nothing is determined)."""
+    :data:`SINGULAR_CUTOFF`.  Differences cannot tell a direction weaker than that from an
+    exact degeneracy: forward over 3e-3, one below 3 % of the strongest is not determined
+    (a forward-differenced fit reports fewer standard errors); above 1, nothing is."""
     if differences not in ("central", "forward"):
         raise ValueError(f"differences must be 'central' or 'forward', got {differences!r}")
     truncation = relative_step ** 2 if differences == "central" else relative_step
@@ -260,8 +255,7 @@ def jacobian_at(residuals_many: Callable[[np.ndarray], np.ndarray],
                 parameters: Sequence[FitParameter], x, *,
                 relative_step: float = DEFAULT_RELATIVE_STEP) -> np.ndarray:
     """∂r/∂x at the SI values ``x`` (clipped into the bounds) by :func:`fit`'s central
-    differences, every stencil point in one ``residuals_many`` call; a :class:`FitError`
-    when the residuals are not finite, or have the wrong shape, at a stencil point."""
+    differences, in one ``residuals_many`` call; a :class:`FitError` if a residual is bad."""
     parameters = tuple(parameters)
     _check_parameters(parameters)
     x = np.asarray(x, dtype=float)
@@ -284,8 +278,7 @@ def _stop_reason(status: int, tolerance: float, max_evaluations: int) -> str:
         0: f"stopped at the limit of {max_evaluations} model evaluations, not converged.",
         1: f"converged: the scaled gradient fell below {limit}.",
         2: f"converged: the last step changed the cost by less than {limit} of it.",
-        3: f"converged: the last step changed the parameters by less than {limit} of their "
-           f"size.",
+        3: f"converged: the last step changed the parameters by less than {limit} of their size.",
         4: f"converged: the last step changed both the cost and the parameters by less than "
            f"{limit} of their size."}
     return reasons.get(status, f"stopped with solver status {status}, not converged.")
@@ -407,16 +400,21 @@ class _ScaledProblem:
     def _evaluate_rows(self, points_u: np.ndarray) -> np.ndarray:
         """Residuals at each row of ``points_u``: one ``residuals_many`` call if available."""
         xs = np.array([self.physical(u) for u in points_u])
-        self.evaluations += len(xs)
         if self._residuals_many is None:
-            return np.array([self._checked(np.asarray(self._residuals(x.copy()), dtype=float), x)
-                             for x in xs])
+            rows = []
+            for x in xs:    # counted one by one: a failure part-way counts what was evaluated
+                self.evaluations += 1
+                rows.append(self._checked(np.asarray(self._residuals(x.copy()), dtype=float), x))
+            return np.array(rows)
+        self.evaluations += len(xs)
         values = np.asarray(self._residuals_many(xs.copy()), dtype=float)
         if self.length is None and values.ndim == 2 and values.shape[1] > 0:
             self.length = values.shape[1]
         if values.shape != (len(xs), self.length):
+            expected = f"({len(xs)}, {self.length})" if self.length else \
+                f"({len(xs)}, m), one row of m > 0 residuals per parameter set"
             raise FitError(f"residuals_many returned shape {values.shape} for {len(xs)} "
-                           f"parameter sets; expected ({len(xs)}, {self.length})")
+                           f"parameter sets; expected {expected}")
         for x, row in zip(xs, values, strict=True):
             self._checked(row, x)
         return values
@@ -527,9 +525,11 @@ def _undetermined_warnings(parameters, groups: list[_Undetermined],
                             f"the data: the residuals {how}; {nan_note}")
         elif group.exponents is not None:
             kind, expression = _combination(names, group.exponents)
+            unchanged = ("changing the residuals by more than the fit's finite differences "
+                         "resolve" if differenced else "changing the residuals")
             warnings.append(f"Only the {kind} {expression} is determined by the data: {listed} "
                             f"can change together, keeping {expression} fixed, without "
-                            f"changing the residuals; {nan_note}")
+                            f"{unchanged}; {nan_note}")
         else:
             count = ("one combination of them is" if group.dimension == 1
                      else f"{group.dimension} independent combinations of them are")

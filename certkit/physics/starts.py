@@ -22,7 +22,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.stats import qmc
 
-from certkit.physics.fitting import DEFAULT_RELATIVE_STEP, FitError, FitParameter, FitResult, fit
+from certkit.physics.fitting import FitError, FitParameter, FitResult, fit
 from certkit.physics.simulation import SimulationError
 
 #: Each further start is fitted with forward differences (half the cost of central ones,
@@ -83,8 +83,7 @@ def sobol_starts(parameters, count: int) -> list[tuple[float, ...]]:
 
 
 def best_of_starts(first: FitResult, parameters: list[FitParameter], single, many,
-                   count: int, evaluations: int, tolerance: float,
-                   step: float = DEFAULT_RELATIVE_STEP):
+                   count: int, evaluations: int, tolerance: float, *, step: float):
     """The fit from the first start, or the fit from the best of ``count`` further starts
     when that reaches a cost lower by more than :data:`KEEP_MARGIN`.  Each further start is
     fitted with forward differences within :data:`START_EVALUATIONS`; the best (the
@@ -92,8 +91,8 @@ def best_of_starts(first: FitResult, parameters: list[FitParameter], single, man
     stopped, with central differences and the fit's own budget ``evaluations`` and
     ``tolerance``; ``single`` and ``many`` are the residuals of one parameter set and of a
     batch (as :func:`certkit.physics.fitting.fit` takes them).  Every fit differences over
-    ``step`` of each parameter's size, and the sizes are the first start's wherever a fit
-    starts.  A start whose fit fails (the model cannot be simulated there, or its residuals
+    ``step`` of each parameter's size (the first fit's step: the caller gives it), and the
+    sizes are the first start's wherever a fit starts.  A start whose fit fails (the model cannot be simulated there, or its residuals
     are not finite) is recorded so and passed over; when every start fails, or the final fit
     does, the first fit is kept.  The result keeps the first start's parameters and cost at
     the start (what the report calls "nominal") and counts every evaluation made, a failed
