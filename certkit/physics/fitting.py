@@ -44,8 +44,8 @@ from certkit.errors import CampaignError
 # would be 1e6 times the best determined one's, while central differences over the default
 # step resolve singular values down to about eps^(2/3) ≈ 4e-11 of the largest.
 SINGULAR_CUTOFF = 1e-6
-# How far above the differences' truncation error (h² central, h forward) the cutoff lies: a
-# ratio x/y differenced over a step h leaves a singular value of order h² or h, not zero.
+# The cutoff over the truncation error (h² central, h forward): a ratio x/y differenced
+# over h leaves a singular value of order h² or h, not zero.
 TRUNCATION_MARGIN = 10.0
 # A parameter is involved in an undetermined direction when at least this share of the
 # direction's squared length (in log-parameter space) lies on it: |component| >= 0.01.
@@ -166,11 +166,11 @@ def fit(residuals: Residuals, parameters: Sequence[FitParameter], *,
         6e-6 suits residuals exact to rounding; residuals smooth only between kinks (a
         fixed-step integration of switching force laws) need a step longer than their spacing.
     differences
-        "central" (second order, 2·p points a Jacobian; the default, for estimates whose
-        standard errors are reported) or "forward" (first order, p + 1 points, the base
-        point evaluated in the same call as the others so that a simulator choosing its
-        step per call differences one discretisation): enough for a fit that is compared
-        with others at a tolerance far above its truncation error, at half the cost.
+        The fit's Jacobians: "central" (second order, 2·p points) or "forward" (first
+        order, p + 1 points evaluated in one call, so a simulator choosing its step per call
+        differences one discretisation): enough to find a fit compared with others at a
+        tolerance far above its truncation error, at half the cost.  The statistics at the
+        optimum come from central differences either way.
 
     Returns
     -------
@@ -212,11 +212,11 @@ def fit(residuals: Residuals, parameters: Sequence[FitParameter], *,
                                  max_nfev=int(max_evaluations))
         estimate = problem.physical(solution.x)
         r = problem.residuals(solution.x)
-        jac_x = problem.jacobian(solution.x) / problem.scale   # back to ∂r/∂x
+        jac_x = problem.statistics_jacobian(solution.x) / problem.scale   # back to ∂r/∂x
     except CampaignError as error:   # a FitError, or the caller's (a simulation failed)
         error.evaluations = problem.evaluations
         raise
-    cutoff = 0.0 if jacobian is not None else singular_cutoff(relative_step, differences)
+    cutoff = 0.0 if jacobian is not None else singular_cutoff(relative_step)
     standard_error, correlation, undetermined = _statistics(jac_x, r, estimate, problem.size,
                                                             max(cutoff, SINGULAR_CUTOFF))
 
@@ -242,9 +242,8 @@ def singular_cutoff(relative_step: float, differences: str = "central") -> float
     """The share of the largest singular value of ∂r/∂ln x below which a direction counts
     as not determined, for a Jacobian differenced over ``relative_step``: the truncation
     error (h² central, h forward) times :data:`TRUNCATION_MARGIN`, never below
-    :data:`SINGULAR_CUTOFF`.  Differences cannot tell a direction weaker than that from an
-    exact degeneracy: forward over 3e-3, one below 3 % of the strongest is not determined
-    (a forward-differenced fit reports fewer standard errors); above 1, nothing is."""
+    :data:`SINGULAR_CUTOFF`: differences cannot tell a weaker direction from an exact
+    degeneracy (:func:`fit`'s statistics are always central: 9e-5 over 3e-3)."""
     if differences not in ("central", "forward"):
         raise ValueError(f"differences must be 'central' or 'forward', got {differences!r}")
     truncation = relative_step ** 2 if differences == "central" else relative_step
@@ -343,20 +342,21 @@ class _ScaledProblem:
         self._last_j = (np.array(u, dtype=float), jac)
         return jac
 
-    def _difference_jacobian(self, u: np.ndarray) -> np.ndarray:
-        """Second-order finite differences, never stepping outside the bounds; the step of
-        each parameter is ``relative_step·max(|x|, size)`` (in u, divided by the scale).
+    def statistics_jacobian(self, u: np.ndarray) -> np.ndarray:
+        """The statistics' Jacobian: the caller's, or central differences even after a forward
+        fit (a first-order error of order h would hide directions weaker than about 10·h)."""
+        if self._jacobian is not None or not self.forward:
+            return self.jacobian(u)
+        return self._difference_jacobian(np.asarray(u, dtype=float), forward=False)
 
-        Central differences: their O(h²) truncation error with h = eps^(1/3) gives
-        derivatives good to ~eps^(2/3) ≈ 4e-11 relative, against ~eps^(1/2) ≈ 1.5e-8 for
-        forward differences; the Jacobian at the optimum feeds the standard errors and the
-        null-space test, so the accuracy matters more than the p extra points, which cost
-        little when the simulator evaluates all of them in one batch.  Where u ± h would
-        cross a bound the one-sided three-point formula (also O(h²)) is used instead."""
+    def _difference_jacobian(self, u: np.ndarray, forward: bool | None = None) -> np.ndarray:
+        """Second-order (central) differences over ``relative_step·max(|x|, size)``, the
+        one-sided three-point formula (also O(h²)) where u ± h would cross a bound; or,
+        ``forward`` (default: the fit's), first-order ones."""
         p = u.size
         h = self.relative_step * np.maximum(np.abs(u), self.size / self.scale)
         h = np.minimum(h, (self.upper_u - self.lower_u) / 4)  # a stencil always fits the box
-        if self.forward:
+        if self.forward if forward is None else forward:
             return self._forward_jacobian(u, h)
         central = (u - h >= self.lower_u) & (u + h <= self.upper_u)
         forward = ~central & (u + 2 * h <= self.upper_u)
